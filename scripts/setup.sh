@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs every build and test dependency of dynterrain from Debian packages.
+# Idempotent: installs only what is missing. Needs root or sudo.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config git iproute2 util-linux
+  libeigen3-dev
+  liblcm-dev liblcm-bin
+  cyclonedds-dev cyclonedds-tools
+  libosmesa6-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libcli11-dev libtomlplusplus-dev libspdlog-dev libfmt-dev
+  libsqlite3-dev libpng-dev libxxhash-dev
+  clang libclang-rt-14-dev
+  python3 python3-pip
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all Debian packages present"
+fi
+
+# LCM's own Python module, used by the cross-language PDU test to decode our traffic.
+if ! python3 -c 'import lcm' 2>/dev/null; then
+  echo "setup: installing the lcm Python module"
+  python3 -m pip install --quiet lcm || echo "setup: warning: could not install the lcm Python module; the Python decode test will be skipped"
+fi

@@ -1,0 +1,142 @@
+#include "terrain/height_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace dt {
+namespace {
+
+void CheckShape(int posts_per_side, double spacing_m) {
+  if (posts_per_side < 2 || posts_per_side > 65536) {
+    throw std::invalid_argument(
+        fmt::format("posts_per_side = {} must be in [2, 65536]", posts_per_side));
+  }
+  if (!std::isfinite(spacing_m) || spacing_m <= 0.0) {
+    throw std::invalid_argument(fmt::format("spacing_m = {} must be finite and > 0", spacing_m));
+  }
+}
+
+}  // namespace
+
+HeightGrid::HeightGrid(int posts_per_side, double spacing_m, float elevation_m, Material soil)
+    : HeightGrid(posts_per_side, spacing_m,
+                 std::vector<float>(static_cast<size_t>(std::max(posts_per_side, 0)) *
+                                        static_cast<size_t>(std::max(posts_per_side, 0)),
+                                    elevation_m),
+                 soil) {}
+
+HeightGrid::HeightGrid(int posts_per_side, double spacing_m, std::vector<float> posts_m,
+                       Material soil)
+    : n_(posts_per_side), spacing_m_(spacing_m), posts_(std::move(posts_m)) {
+  CheckShape(posts_per_side, spacing_m);
+  const size_t expected = static_cast<size_t>(n_) * static_cast<size_t>(n_);
+  if (posts_.size() != expected) {
+    throw std::invalid_argument(fmt::format("{} posts given for a {} x {} grid (expected {})",
+                                            posts_.size(), n_, n_, expected));
+  }
+  for (size_t k = 0; k < posts_.size(); ++k) {
+    if (!std::isfinite(posts_[k])) {
+      throw std::invalid_argument(
+          fmt::format("post ({}, {}) is not finite ({})", k % n_, k / n_, posts_[k]));
+    }
+  }
+  if (!IsValidMaterial(static_cast<uint16_t>(soil))) {
+    throw std::invalid_argument(fmt::format("unknown soil {}", static_cast<uint16_t>(soil)));
+  }
+  soil_.assign(static_cast<size_t>(n_ - 1) * static_cast<size_t>(n_ - 1) * 2, soil);
+}
+
+bool HeightGrid::Contains(double x_m, double z_m) const {
+  const double size = size_m();
+  // Written so that NaN fails every comparison.
+  return x_m >= 0.0 && x_m <= size && z_m >= 0.0 && z_m <= size;
+}
+
+void HeightGrid::set_post(int i, int j, float elevation_m) {
+  if (i < 0 || j < 0 || i >= n_ || j >= n_) {
+    throw std::out_of_range(fmt::format("post ({}, {}) is outside the {} x {} grid", i, j, n_, n_));
+  }
+  if (!std::isfinite(elevation_m)) {
+    throw std::invalid_argument(fmt::format("post ({}, {}) elevation {} is not finite", i, j,
+                                            elevation_m));
+  }
+  posts_[Index(i, j)] = elevation_m;
+}
+
+void HeightGrid::Locate(double x_m, double z_m, SquareIndex& square, double& u, double& v) const {
+  if (!Contains(x_m, z_m)) {
+    throw std::out_of_range(fmt::format("position (x {}, z {}) m is outside the terrain [0, {}]^2",
+                                        x_m, z_m, size_m()));
+  }
+  const double gx = x_m / spacing_m_;
+  const double gz = z_m / spacing_m_;
+  square.i = std::min(static_cast<int>(gx), n_ - 2);
+  square.j = std::min(static_cast<int>(gz), n_ - 2);
+  u = gx - square.i;
+  v = gz - square.j;
+}
+
+SquareIndex HeightGrid::SquareAt(double x_m, double z_m) const {
+  SquareIndex s;
+  double u, v;
+  Locate(x_m, z_m, s, u, v);
+  return s;
+}
+
+TriangleHalf HeightGrid::HalfAt(double x_m, double z_m) const {
+  SquareIndex s;
+  double u, v;
+  Locate(x_m, z_m, s, u, v);
+  return u + v >= 1.0 ? TriangleHalf::kUpper : TriangleHalf::kLower;
+}
+
+double HeightGrid::ElevationAt(double x_m, double z_m) const {
+  SquareIndex s;
+  double u, v;
+  Locate(x_m, z_m, s, u, v);
+  const double h01 = post(s.i, s.j + 1);
+  const double h10 = post(s.i + 1, s.j);
+  if (u + v >= 1.0) {
+    const double h11 = post(s.i + 1, s.j + 1);
+    return h11 + (1.0 - u) * (h01 - h11) + (1.0 - v) * (h10 - h11);
+  }
+  const double h00 = post(s.i, s.j);
+  return h00 + u * (h10 - h00) + v * (h01 - h00);
+}
+
+Eigen::Vector3d HeightGrid::NormalAt(double x_m, double z_m) const {
+  SquareIndex s;
+  double u, v;
+  Locate(x_m, z_m, s, u, v);
+  const double h01 = post(s.i, s.j + 1);
+  const double h10 = post(s.i + 1, s.j);
+  double dh_du, dh_dv;
+  if (u + v >= 1.0) {
+    const double h11 = post(s.i + 1, s.j + 1);
+    dh_du = h11 - h01;
+    dh_dv = h11 - h10;
+  } else {
+    const double h00 = post(s.i, s.j);
+    dh_du = h10 - h00;
+    dh_dv = h01 - h00;
+  }
+  // Surface y = h(x, z): the upward normal is (-dh/dx, 1, -dh/dz), normalised.
+  return Eigen::Vector3d(-dh_du / spacing_m_, 1.0, -dh_dv / spacing_m_).normalized();
+}
+
+void HeightGrid::set_soil(SquareIndex square, TriangleHalf half, Material soil) {
+  if (square.i < 0 || square.j < 0 || square.i >= n_ - 1 || square.j >= n_ - 1) {
+    throw std::out_of_range(
+        fmt::format("square ({}, {}) is outside the {} x {} squares", square.i, square.j, n_ - 1,
+                    n_ - 1));
+  }
+  if (!IsValidMaterial(static_cast<uint16_t>(soil)) || soil == Material::kFromGround) {
+    throw std::invalid_argument(fmt::format("{} is not a soil", static_cast<uint16_t>(soil)));
+  }
+  soil_[SoilIndex(square, half)] = soil;
+}
+
+}  // namespace dt

@@ -1,0 +1,80 @@
+// HeightGrid: the bare ground, n x n elevation posts with a soil type per triangle.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "terrain/material.h"
+
+namespace dt {
+
+// Which triangle of a grid square. The diagonal runs from the top-left (x0, z1) to the
+// bottom-right (x1, z0) corner (thesis fig. 2): kUpper holds (x1, z1), kLower holds (x0, z0).
+enum class TriangleHalf : uint8_t { kLower = 0, kUpper = 1 };
+
+// A grid square, by its lower-left post: square (i, j) spans [i, i+1] x [j, j+1] posts.
+struct SquareIndex {
+  int i = 0;  // along x
+  int j = 0;  // along z
+  bool operator==(const SquareIndex&) const = default;
+};
+
+// Post (i, j) stands at x = i * spacing_m, z = j * spacing_m; the grid covers
+// [0, size_m()] x [0, size_m()]. Elevations are y, up (docs/conventions.md).
+class HeightGrid {
+ public:
+  // Flat ground. Throws std::invalid_argument unless posts_per_side >= 2 and spacing_m > 0.
+  HeightGrid(int posts_per_side, double spacing_m, float elevation_m = 0.0f,
+             Material soil = Material::kGrass);
+  // Posts given row by row along x: index = j * posts_per_side + i. Throws on a size mismatch
+  // or a non-finite elevation.
+  HeightGrid(int posts_per_side, double spacing_m, std::vector<float> posts_m,
+             Material soil = Material::kGrass);
+
+  int posts_per_side() const { return n_; }
+  int squares_per_side() const { return n_ - 1; }
+  double spacing_m() const { return spacing_m_; }
+  double size_m() const { return spacing_m_ * (n_ - 1); }
+
+  // True if (x, z) is finite and inside [0, size_m()]^2.
+  bool Contains(double x_m, double z_m) const;
+
+  float post(int i, int j) const { return posts_[Index(i, j)]; }
+  // Throws std::out_of_range for a post outside the grid, std::invalid_argument for non-finite.
+  void set_post(int i, int j, float elevation_m);
+  const std::vector<float>& posts() const { return posts_; }
+
+  // Bare-ground elevation by linear interpolation in the point's triangle.
+  // Throws std::out_of_range if !Contains(x_m, z_m).
+  double ElevationAt(double x_m, double z_m) const;
+  // Unit upward normal of the point's triangle. Throws like ElevationAt.
+  Eigen::Vector3d NormalAt(double x_m, double z_m) const;
+
+  // The square holding (x, z); points on the far edge belong to the last square.
+  // Throws std::out_of_range if !Contains(x_m, z_m).
+  SquareIndex SquareAt(double x_m, double z_m) const;
+  TriangleHalf HalfAt(double x_m, double z_m) const;
+
+  Material soil(SquareIndex square, TriangleHalf half) const {
+    return soil_[SoilIndex(square, half)];
+  }
+  void set_soil(SquareIndex square, TriangleHalf half, Material soil);
+  const std::vector<Material>& soils() const { return soil_; }
+
+ private:
+  size_t Index(int i, int j) const { return static_cast<size_t>(j) * n_ + i; }
+  size_t SoilIndex(SquareIndex s, TriangleHalf h) const {
+    return (static_cast<size_t>(s.j) * (n_ - 1) + s.i) * 2 + static_cast<size_t>(h);
+  }
+  // Local coordinates of (x, z) in its square, each in [0, 1].
+  void Locate(double x_m, double z_m, SquareIndex& square, double& u, double& v) const;
+
+  int n_;
+  double spacing_m_;
+  std::vector<float> posts_;
+  std::vector<Material> soil_;  // two per square: lower, upper
+};
+
+}  // namespace dt

@@ -1,0 +1,260 @@
+#include "terrain/terrain.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace dt {
+
+Terrain::Terrain(HeightGrid ground) : ground_(std::move(ground)) {
+  const size_t squares = static_cast<size_t>(ground_.squares_per_side()) *
+                         static_cast<size_t>(ground_.squares_per_side());
+  squares_.resize(squares);
+  bits_.assign(squares, 0);
+}
+
+void Terrain::SquareRange(const Rect& rect, SquareIndex& lo, SquareIndex& hi) const {
+  const double s = ground_.spacing_m();
+  const int last = ground_.squares_per_side() - 1;
+  auto clamp_index = [&](double v) {
+    const double g = std::floor(v / s);
+    if (!(g >= 0.0)) return 0;  // also catches NaN
+    if (g > last) return last;
+    return static_cast<int>(g);
+  };
+  lo = {clamp_index(rect.min_x), clamp_index(rect.min_z)};
+  hi = {clamp_index(rect.max_x), clamp_index(rect.max_z)};
+}
+
+Status Terrain::CheckPlacement(const Feature& candidate, const Feature* replacing) const {
+  const Rect b = candidate.Bounds();
+  if (!ground_.Contains(b.min_x, b.min_z) || !ground_.Contains(b.max_x, b.max_z)) {
+    return Error{fmt::format(
+        "{} {} covers x [{}, {}] z [{}, {}] m, which leaves the terrain [0, {}]^2",
+        FeatureTypeName(candidate.type()), candidate.id().ToString(), b.min_x, b.max_x, b.min_z,
+        b.max_z, ground_.size_m())};
+  }
+  SquareIndex lo, hi;
+  SquareRange(b, lo, hi);
+  for (int j = lo.j; j <= hi.j; ++j) {
+    for (int i = lo.i; i <= hi.i; ++i) {
+      for (const Feature* other : squares_[SquareSlot({i, j})]) {
+        if (other == replacing) continue;
+        if (candidate.ConflictsWith(*other) || other->ConflictsWith(candidate)) {
+          return Error{fmt::format("{} {} overlaps {} {}", FeatureTypeName(candidate.type()),
+                                   candidate.id().ToString(), FeatureTypeName(other->type()),
+                                   other->id().ToString())};
+        }
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+void Terrain::Index(const Feature* feature) {
+  SquareIndex lo, hi;
+  SquareRange(feature->Bounds(), lo, hi);
+  for (int j = lo.j; j <= hi.j; ++j) {
+    for (int i = lo.i; i <= hi.i; ++i) {
+      squares_[SquareSlot({i, j})].push_back(feature);
+      RecomputeBits({i, j});
+    }
+  }
+}
+
+void Terrain::Unindex(const Feature* feature) {
+  SquareIndex lo, hi;
+  SquareRange(feature->Bounds(), lo, hi);
+  for (int j = lo.j; j <= hi.j; ++j) {
+    for (int i = lo.i; i <= hi.i; ++i) {
+      auto& list = squares_[SquareSlot({i, j})];
+      list.erase(std::remove(list.begin(), list.end(), feature), list.end());
+      if (list.empty()) list.shrink_to_fit();
+      RecomputeBits({i, j});
+    }
+  }
+}
+
+void Terrain::RecomputeBits(SquareIndex square) {
+  const double s = ground_.spacing_m();
+  const double cell = s / kBitgridCellsPerSide;
+  uint16_t mask = 0;
+  for (const Feature* f : squares_[SquareSlot(square)]) {
+    for (int cz = 0; cz < kBitgridCellsPerSide; ++cz) {
+      for (int cx = 0; cx < kBitgridCellsPerSide; ++cx) {
+        const double x0 = square.i * s + cx * cell;
+        const double z0 = square.j * s + cz * cell;
+        if (f->MayCover({x0, z0, x0 + cell, z0 + cell})) {
+          mask = static_cast<uint16_t>(mask | (1u << (cz * kBitgridCellsPerSide + cx)));
+        }
+      }
+    }
+  }
+  bits_[SquareSlot(square)] = mask;
+}
+
+Status Terrain::Add(FeatureId id, const FeatureParams& params) {
+  if (features_.contains(id)) {
+    return Error{fmt::format("feature {} already exists", id.ToString())};
+  }
+  auto made = MakeFeature(id, params, ground_);
+  if (!made) return made.error();
+  if (auto s = CheckPlacement(*made.value(), nullptr); !s) return s;
+  const Feature* raw = made.value().get();
+  features_.emplace(id, std::move(made).value());
+  Index(raw);
+  return Status::Ok();
+}
+
+Status Terrain::Update(FeatureId id, const FeatureParams& params) {
+  auto it = features_.find(id);
+  if (it == features_.end()) {
+    return Error{fmt::format("feature {} does not exist", id.ToString())};
+  }
+  if (it->second->type() != params.type) {
+    return Error{fmt::format("feature {} is a {}; an update cannot make it a {}", id.ToString(),
+                             FeatureTypeName(it->second->type()), FeatureTypeName(params.type))};
+  }
+  auto made = MakeFeature(id, params, ground_);
+  if (!made) return made.error();
+  if (auto s = CheckPlacement(*made.value(), it->second.get()); !s) return s;
+  Unindex(it->second.get());
+  it->second = std::move(made).value();
+  Index(it->second.get());
+  return Status::Ok();
+}
+
+Status Terrain::Remove(FeatureId id) {
+  auto it = features_.find(id);
+  if (it == features_.end()) {
+    return Error{fmt::format("feature {} does not exist", id.ToString())};
+  }
+  Unindex(it->second.get());
+  features_.erase(it);
+  return Status::Ok();
+}
+
+std::vector<FeatureId> Terrain::RemoveAt(double x_m, double z_m) {
+  std::vector<FeatureId> ids;
+  for (const Feature* f : FeaturesNear(x_m, z_m)) {
+    if (f->Covers(x_m, z_m)) ids.push_back(f->id());
+  }
+  std::sort(ids.begin(), ids.end());
+  for (const auto& id : ids) {
+    auto removed = Remove(id);
+    if (!removed) std::abort();  // the ID came from the index: it must exist
+  }
+  return ids;
+}
+
+void Terrain::RemoveAll() {
+  features_.clear();
+  for (auto& list : squares_) std::vector<const Feature*>().swap(list);
+  std::fill(bits_.begin(), bits_.end(), uint16_t{0});
+}
+
+Status Terrain::SetPostElevation(int i, int j, float elevation_m) {
+  const int n = ground_.posts_per_side();
+  if (i < 0 || j < 0 || i >= n || j >= n) {
+    return Error{fmt::format("post ({}, {}) is outside the {} x {} grid", i, j, n, n)};
+  }
+  if (!std::isfinite(elevation_m)) {
+    return Error{fmt::format("post ({}, {}) elevation {} is not finite", i, j, elevation_m)};
+  }
+  ground_.set_post(i, j, elevation_m);
+  // The post is a corner of up to four squares; every feature touching them recomputes once.
+  std::vector<Feature*> touched;
+  for (int dj = -1; dj <= 0; ++dj) {
+    for (int di = -1; di <= 0; ++di) {
+      const int si = i + di, sj = j + dj;
+      if (si < 0 || sj < 0 || si >= n - 1 || sj >= n - 1) continue;
+      for (const Feature* f : squares_[SquareSlot({si, sj})]) {
+        touched.push_back(const_cast<Feature*>(f));
+      }
+    }
+  }
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  for (Feature* f : touched) f->OnGroundChanged(ground_);
+  return Status::Ok();
+}
+
+Status Terrain::SetSoil(SquareIndex square, TriangleHalf half, Material soil) {
+  const int m = ground_.squares_per_side();
+  if (square.i < 0 || square.j < 0 || square.i >= m || square.j >= m) {
+    return Error{fmt::format("square ({}, {}) is outside the {} x {} squares", square.i, square.j,
+                             m, m)};
+  }
+  if (!IsValidMaterial(static_cast<uint16_t>(soil)) || soil == Material::kFromGround) {
+    return Error{fmt::format("{} is not a soil", static_cast<uint16_t>(soil))};
+  }
+  ground_.set_soil(square, half, soil);
+  return Status::Ok();
+}
+
+const Feature* Terrain::Find(FeatureId id) const {
+  auto it = features_.find(id);
+  return it == features_.end() ? nullptr : it->second.get();
+}
+
+std::vector<const Feature*> Terrain::FeaturesById() const {
+  std::vector<const Feature*> out;
+  out.reserve(features_.size());
+  for (const auto& [id, f] : features_) out.push_back(f.get());
+  std::sort(out.begin(), out.end(),
+            [](const Feature* a, const Feature* b) { return a->id() < b->id(); });
+  return out;
+}
+
+std::span<const Feature* const> Terrain::FeaturesInSquare(SquareIndex square) const {
+  return squares_[SquareSlot(square)];
+}
+
+std::span<const Feature* const> Terrain::FeaturesNear(double x_m, double z_m) const {
+  return squares_[SquareSlot(ground_.SquareAt(x_m, z_m))];
+}
+
+double Terrain::ElevationAt(double x_m, double z_m) const {
+  const SquareIndex square = ground_.SquareAt(x_m, z_m);
+  const double ground = ground_.ElevationAt(x_m, z_m);
+  const size_t slot = SquareSlot(square);
+  if (bits_[slot] == 0) return ground;
+  double highest_offset = 0.0;
+  for (const Feature* f : squares_[slot]) {
+    if (auto offset = f->OffsetAboveGround(x_m, z_m); offset && *offset > highest_offset) {
+      highest_offset = *offset;
+    }
+  }
+  return ground + highest_offset;
+}
+
+bool Terrain::FeatureBitAt(double x_m, double z_m) const {
+  const SquareIndex square = ground_.SquareAt(x_m, z_m);
+  const double s = ground_.spacing_m();
+  const double cell = s / kBitgridCellsPerSide;
+  const int cx = std::clamp(static_cast<int>((x_m - square.i * s) / cell), 0,
+                            kBitgridCellsPerSide - 1);
+  const int cz = std::clamp(static_cast<int>((z_m - square.j * s) / cell), 0,
+                            kBitgridCellsPerSide - 1);
+  return (bits_[SquareSlot(square)] >> (cz * kBitgridCellsPerSide + cx)) & 1u;
+}
+
+Material Terrain::SoilAt(double x_m, double z_m) const {
+  double highest = -1.0;
+  const Feature* top = nullptr;
+  for (const Feature* f : FeaturesNear(x_m, z_m)) {
+    if (!f->Covers(x_m, z_m)) continue;
+    const double offset = f->OffsetAboveGround(x_m, z_m).value_or(0.0);
+    // Ties go to the smaller ID, so the answer is independent of insertion order.
+    if (offset > highest || (offset == highest && top && f->id() < top->id())) {
+      highest = offset;
+      top = f;
+    }
+  }
+  if (top) return top->material();
+  return ground_.soil(ground_.SquareAt(x_m, z_m), ground_.HalfAt(x_m, z_m));
+}
+
+}  // namespace dt

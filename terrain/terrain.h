@@ -1,0 +1,87 @@
+// Terrain: the bare ground plus every dynamic feature, indexed by the grid squares they touch.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "terrain/feature.h"
+#include "terrain/feature_id.h"
+#include "terrain/feature_params.h"
+#include "terrain/height_grid.h"
+#include "terrain/result.h"
+
+namespace dt {
+
+// Each grid square is divided into 4 x 4 cells; bit (cz * 4 + cx) of a square's mask is set when
+// some feature may cover cell (cx, cz). Vehicles use it to pick two- or six-point orientation.
+inline constexpr int kBitgridCellsPerSide = 4;
+
+// Owns the ground and the features. Every square keeps the features that touch it, wherever their
+// placement point is. Not thread-safe: one node's loop owns it.
+//
+// Mutations validate everything first and change nothing on failure.
+class Terrain {
+ public:
+  explicit Terrain(HeightGrid ground);
+
+  const HeightGrid& ground() const { return ground_; }
+
+  // Adds a feature. Refused if the ID exists, the parameters are invalid, the feature leaves the
+  // terrain, or it conflicts with another (overlapping bridges).
+  Status Add(FeatureId id, const FeatureParams& params);
+  // Replaces a feature's parameters (same type). Refused like Add, or if the ID is unknown.
+  Status Update(FeatureId id, const FeatureParams& params);
+  Status Remove(FeatureId id);
+  // Removes every feature covering (x, z); returns their IDs, sorted.
+  std::vector<FeatureId> RemoveAt(double x_m, double z_m);
+  void RemoveAll();
+
+  // Sets one post; every feature touching the squares around it recomputes.
+  Status SetPostElevation(int i, int j, float elevation_m);
+  Status SetSoil(SquareIndex square, TriangleHalf half, Material soil);
+
+  const Feature* Find(FeatureId id) const;
+  size_t feature_count() const { return features_.size(); }
+  // All features, sorted by ID.
+  std::vector<const Feature*> FeaturesById() const;
+  // Features touching the square (in no particular order).
+  std::span<const Feature* const> FeaturesInSquare(SquareIndex square) const;
+  // Features touching the square holding (x, z). Throws std::out_of_range off the terrain.
+  std::span<const Feature* const> FeaturesNear(double x_m, double z_m) const;
+
+  bool Contains(double x_m, double z_m) const { return ground_.Contains(x_m, z_m); }
+  // Bare ground (thesis `nodef_elev`). Throws std::out_of_range off the terrain or for NaN.
+  double GroundElevationAt(double x_m, double z_m) const { return ground_.ElevationAt(x_m, z_m); }
+  // The greatest of the ground and every earthwork covering (x, z) (thesis III.B). Bridges are
+  // not included: a vehicle reaches a deck through VehicleTerrain. Throws like GroundElevationAt.
+  double ElevationAt(double x_m, double z_m) const;
+
+  // The feature-presence bit of the cell holding (x, z). Throws off the terrain.
+  bool FeatureBitAt(double x_m, double z_m) const;
+  uint16_t SquareBits(SquareIndex square) const { return bits_[SquareSlot(square)]; }
+
+  // The material at a point: the highest earthwork's material where one covers it, otherwise the
+  // soil of the ground triangle. Throws off the terrain.
+  Material SoilAt(double x_m, double z_m) const;
+
+ private:
+  size_t SquareSlot(SquareIndex s) const {
+    return static_cast<size_t>(s.j) * ground_.squares_per_side() + s.i;
+  }
+  // The squares a rectangle touches, clipped to the grid.
+  void SquareRange(const Rect& rect, SquareIndex& lo, SquareIndex& hi) const;
+  Status CheckPlacement(const Feature& candidate, const Feature* replacing) const;
+  void Index(const Feature* feature);
+  void Unindex(const Feature* feature);
+  void RecomputeBits(SquareIndex square);
+
+  HeightGrid ground_;
+  std::unordered_map<FeatureId, std::unique_ptr<Feature>> features_;
+  std::vector<std::vector<const Feature*>> squares_;  // features touching each square
+  std::vector<uint16_t> bits_;                        // 4 x 4 presence bits per square
+};
+
+}  // namespace dt

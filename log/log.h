@@ -1,0 +1,25 @@
+// Logging: the one entry point for every process's log lines, each carrying the process's name.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include <spdlog/spdlog.h>
+
+namespace dt::log {
+
+// Names the process ("node-2", "server") and sets the level ("debug", "info", "warn", "error").
+// Every line then reads "<time> <level> [<name>] <message>". Throws std::invalid_argument for an
+// unknown level. Safe to call again (tests), which replaces the previous settings.
+void Init(std::string_view process_name, std::string_view level = "info");
+
+// The process's logger; usable before Init (then named "dynterrain").
+spdlog::logger& Logger();
+
+}  // namespace dt::log
+
+// fmt-style logging: DT_LOG_INFO("applied {} PDUs", n).
+#define DT_LOG_DEBUG(...) ::dt::log::Logger().debug(__VA_ARGS__)
+#define DT_LOG_INFO(...) ::dt::log::Logger().info(__VA_ARGS__)
+#define DT_LOG_WARN(...) ::dt::log::Logger().warn(__VA_ARGS__)
+#define DT_LOG_ERROR(...) ::dt::log::Logger().error(__VA_ARGS__)

@@ -1,0 +1,34 @@
+// MakeFeature: validates parameters and dispatches to the feature classes.
+#include <fmt/format.h>
+
+#include "terrain/berm.h"
+#include "terrain/bridge.h"
+#include "terrain/crater.h"
+#include "terrain/feature.h"
+
+namespace dt {
+
+Result<std::unique_ptr<Feature>> MakeFeature(FeatureId id, const FeatureParams& params,
+                                             const HeightGrid& ground) {
+  if (id.number == 0) {
+    return Error{fmt::format("feature {} has number 0, which means 'no feature'", id.ToString())};
+  }
+  if (auto s = ValidateFeatureParams(params); !s) {
+    return Error{fmt::format("feature {}: {}", id.ToString(), s.error().message)};
+  }
+  if (!ground.Contains(params.x_m, params.z_m)) {
+    return Error{fmt::format("feature {}: placement point (x {}, z {}) m is off the terrain [0, {}]^2",
+                             id.ToString(), params.x_m, params.z_m, ground.size_m())};
+  }
+  switch (params.type) {
+    case FeatureType::kCrater:
+      return MakeCrater(id, params, ground);
+    case FeatureType::kBerm:
+      return MakeBerm(id, params, ground);
+    case FeatureType::kBridge:
+      return MakeBridge(id, params, ground);
+  }
+  std::abort();  // ValidateFeatureParams accepted an unknown type
+}
+
+}  // namespace dt

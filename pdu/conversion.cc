@@ -1,0 +1,160 @@
+#include "pdu/conversion.h"
+
+#include <fmt/format.h>
+
+#include "pdu/pdu_type.h"
+
+namespace dt {
+namespace {
+
+// Construct and Update have the same fields; one template serves both so they cannot drift.
+template <typename Pdu>
+Pdu FeatureToPdu(const FeaturePdu& f) {
+  Pdu pdu{};
+  pdu.origin = ToPdu(OriginOf(f.id));
+  pdu.feature_number = f.id.number;
+  pdu.feature_type = static_cast<int16_t>(f.params.type);
+  pdu.changed_by = ToPdu(f.change.changed_by);
+  pdu.change_seq = f.change.change_seq;
+  pdu.lamport = static_cast<int64_t>(f.change.lamport);
+  pdu.position_m[0] = f.params.x_m;
+  pdu.position_m[1] = 0.0;  // every node places the feature on its own ground
+  pdu.position_m[2] = f.params.z_m;
+  pdu.direction_rad = f.params.direction_rad;
+  pdu.height_m[0] = f.params.height_m[0];
+  pdu.height_m[1] = f.params.height_m[1];
+  for (int i = 0; i < 3; ++i) pdu.length_m[i] = f.params.length_m[i];
+  pdu.width_m = f.params.width_m;
+  pdu.material = static_cast<int16_t>(f.params.material);
+  pdu.status = static_cast<int32_t>(f.params.status);
+  pdu.num_vertex_edits = static_cast<int16_t>(f.params.vertex_edits.size());
+  pdu.vertex_edits.reserve(f.params.vertex_edits.size());
+  for (const auto& e : f.params.vertex_edits) {
+    dtpdu::crater_vertex_edit_t out{};
+    out.spoke = e.spoke;
+    out.ring = e.ring;
+    out.offset_m = e.offset_m;
+    pdu.vertex_edits.push_back(out);
+  }
+  return pdu;
+}
+
+Status CheckSerial(const char* field, int64_t value, int64_t min) {
+  if (value < min || value > kMaxSerial) {
+    return Error{fmt::format("{} = {} is outside [{}, {}]", field, value, min, kMaxSerial)};
+  }
+  return Status::Ok();
+}
+
+template <typename Pdu>
+Result<ChangeStamp> StampFromPdu(const Pdu& pdu) {
+  if (auto s = CheckSerial("change_seq", pdu.change_seq, 1); !s) return s.error();
+  if (pdu.lamport < 1) return Error{fmt::format("lamport = {} is below 1", pdu.lamport)};
+  ChangeStamp c;
+  c.changed_by = FromPdu(pdu.changed_by);
+  c.change_seq = static_cast<uint32_t>(pdu.change_seq);
+  c.lamport = static_cast<uint64_t>(pdu.lamport);
+  return c;
+}
+
+template <typename Pdu>
+Result<FeatureId> IdFromPdu(const Pdu& pdu) {
+  if (auto s = CheckSerial("feature_number", pdu.feature_number, 1); !s) return s.error();
+  const NodeAddress origin = FromPdu(pdu.origin);
+  return FeatureId{origin.site, origin.host, static_cast<uint32_t>(pdu.feature_number)};
+}
+
+Result<FeatureType> TypeFromPdu(int16_t raw) {
+  if (raw < 0 || !IsValidFeatureType(static_cast<uint16_t>(raw))) {
+    return Error{fmt::format("unknown feature type {}", raw)};
+  }
+  return static_cast<FeatureType>(raw);
+}
+
+template <typename Pdu>
+Result<FeaturePdu> FeatureFromPdu(const Pdu& pdu) {
+  FeaturePdu f;
+  auto id = IdFromPdu(pdu);
+  if (!id) return id.error();
+  f.id = id.value();
+  auto stamp = StampFromPdu(pdu);
+  if (!stamp) return stamp.error();
+  f.change = stamp.value();
+  auto type = TypeFromPdu(pdu.feature_type);
+  if (!type) return type.error();
+  f.params.type = type.value();
+  if (pdu.material < 0 || !IsValidMaterial(static_cast<uint16_t>(pdu.material))) {
+    return Error{fmt::format("unknown material {}", pdu.material)};
+  }
+  f.params.material = static_cast<Material>(pdu.material);
+  if (pdu.status != 0 && pdu.status != 1) {
+    return Error{fmt::format("unknown bridge status {}", pdu.status)};
+  }
+  f.params.status = static_cast<BridgeStatus>(pdu.status);
+  f.params.x_m = pdu.position_m[0];
+  f.params.z_m = pdu.position_m[2];
+  f.params.direction_rad = pdu.direction_rad;
+  f.params.height_m = {pdu.height_m[0], pdu.height_m[1]};
+  f.params.length_m = {pdu.length_m[0], pdu.length_m[1], pdu.length_m[2]};
+  f.params.width_m = pdu.width_m;
+  if (pdu.num_vertex_edits < 0 || pdu.num_vertex_edits > kMaxVertexEdits ||
+      static_cast<size_t>(pdu.num_vertex_edits) != pdu.vertex_edits.size()) {
+    return Error{fmt::format("num_vertex_edits = {} is outside [0, {}] or disagrees with {} edits",
+                             pdu.num_vertex_edits, kMaxVertexEdits, pdu.vertex_edits.size())};
+  }
+  f.params.vertex_edits.reserve(pdu.vertex_edits.size());
+  for (const auto& e : pdu.vertex_edits) {
+    f.params.vertex_edits.push_back(CraterVertexEdit{e.spoke, e.ring, e.offset_m});
+  }
+  return f;
+}
+
+}  // namespace
+
+dtpdu::node_address_t ToPdu(const NodeAddress& address) {
+  dtpdu::node_address_t out{};
+  out.site = static_cast<int16_t>(address.site);
+  out.host = static_cast<int16_t>(address.host);
+  return out;
+}
+
+NodeAddress FromPdu(const dtpdu::node_address_t& address) {
+  return NodeAddress{static_cast<uint16_t>(address.site), static_cast<uint16_t>(address.host)};
+}
+
+dtpdu::construct_t ToConstruct(const FeaturePdu& feature) {
+  return FeatureToPdu<dtpdu::construct_t>(feature);
+}
+dtpdu::update_t ToUpdate(const FeaturePdu& feature) {
+  return FeatureToPdu<dtpdu::update_t>(feature);
+}
+
+dtpdu::destruct_t ToDestruct(const DestructPdu& d) {
+  dtpdu::destruct_t pdu{};
+  pdu.origin = ToPdu(OriginOf(d.id));
+  pdu.feature_number = d.id.number;
+  pdu.feature_type = static_cast<int16_t>(d.type);
+  pdu.changed_by = ToPdu(d.change.changed_by);
+  pdu.change_seq = d.change.change_seq;
+  pdu.lamport = static_cast<int64_t>(d.change.lamport);
+  return pdu;
+}
+
+Result<FeaturePdu> FromConstruct(const dtpdu::construct_t& pdu) { return FeatureFromPdu(pdu); }
+Result<FeaturePdu> FromUpdate(const dtpdu::update_t& pdu) { return FeatureFromPdu(pdu); }
+
+Result<DestructPdu> FromDestruct(const dtpdu::destruct_t& pdu) {
+  DestructPdu d;
+  auto id = IdFromPdu(pdu);
+  if (!id) return id.error();
+  d.id = id.value();
+  auto stamp = StampFromPdu(pdu);
+  if (!stamp) return stamp.error();
+  d.change = stamp.value();
+  auto type = TypeFromPdu(pdu.feature_type);
+  if (!type) return type.error();
+  d.type = type.value();
+  return d;
+}
+
+}  // namespace dt

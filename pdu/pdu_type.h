@@ -23,9 +23,9 @@ enum class PduType : uint8_t {
   kPlayback = 224,
 };
 
-inline constexpr std::array<PduType, 5> kAllPduTypes = {
-    PduType::kConstruct, PduType::kUpdate, PduType::kDestruct, PduType::kMaxFeature,
-    PduType::kPlayback};
+inline constexpr std::array<PduType, 5> kAllPduTypes = {PduType::kConstruct, PduType::kUpdate,
+                                                        PduType::kDestruct, PduType::kMaxFeature,
+                                                        PduType::kPlayback};
 
 // "CONSTRUCT", "UPDATE", "DESTRUCT", "MAXFEATURE", "PLAYBACK".
 std::string_view PduTypeName(PduType type);

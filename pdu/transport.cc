@@ -13,10 +13,10 @@ std::unique_ptr<Transport> MakeTransport(std::string_view url, uint8_t exercise_
   if (u == "memq://" || u.rfind("udpm://", 0) == 0) {
     return std::make_unique<LcmTransport>(u, exercise_id);
   }
-  throw std::invalid_argument(fmt::format(
-      "unknown transport URL '{}': expected memq://, udpm://<group>:<port>[?...] or "
-      "dds://<domain>[?config=<file>]",
-      u));
+  throw std::invalid_argument(
+      fmt::format("unknown transport URL '{}': expected memq://, udpm://<group>:<port>[?...] or "
+                  "dds://<domain>[?config=<file>]",
+                  u));
 }
 
 }  // namespace dt

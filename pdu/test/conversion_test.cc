@@ -84,8 +84,8 @@ TEST(Conversion, KeepsSignedZeroAndSubnormals) {
   FeaturePdu f;
   f.id = {1, 2, 3};
   f.change = {{1, 2}, 1, 1};
-  f.params = FeatureParams::Berm(std::numeric_limits<double>::denorm_min(), 10.0, -0.0, 10.0, 2.0,
-                                 1.0);
+  f.params =
+      FeatureParams::Berm(std::numeric_limits<double>::denorm_min(), 10.0, -0.0, 10.0, 2.0, 1.0);
   auto back = FromConstruct(ToConstruct(f));
   ASSERT_TRUE(back.ok());
   EXPECT_TRUE(std::signbit(back.value().params.direction_rad));

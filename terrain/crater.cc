@@ -1,0 +1,235 @@
+#include "terrain/crater.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace dt {
+namespace {
+
+// Unit vectors of the 16 spokes, spoke k along direction k * pi / 8 (plus spoke 16 == spoke 0 so
+// sector k always has k + 1). Written out so no trigonometry runs at start-up or per query.
+constexpr double kC1 = 0.92387953251128674;  // cos(pi / 8)
+constexpr double kS1 = 0.38268343236508978;  // sin(pi / 8)
+constexpr double kH = 0.70710678118654757;   // cos(pi / 4)
+constexpr std::array<std::array<double, 2>, kCraterSpokes + 1> kSpokes = {{
+    {1.0, 0.0},
+    {kC1, kS1},
+    {kH, kH},
+    {kS1, kC1},
+    {0.0, 1.0},
+    {-kS1, kC1},
+    {-kH, kH},
+    {-kC1, kS1},
+    {-1.0, 0.0},
+    {-kC1, -kS1},
+    {-kH, -kH},
+    {-kS1, -kC1},
+    {0.0, -1.0},
+    {kS1, -kC1},
+    {kH, -kH},
+    {kC1, -kS1},
+    {1.0, 0.0},
+}};
+
+// Points this far outside the rim still count as covered, so mesh vertices computed in floating
+// point (and points on the outline) are covered however they round.
+constexpr double kEdgeToleranceM = 1e-9;
+
+// Counter-clockwise turn from spoke k to (dx, dz), times the distance: >= 0 when the point is at
+// or counter-clockwise of the spoke (within half a turn).
+double Cross(int k, double dx, double dz) { return kSpokes[k][0] * dz - kSpokes[k][1] * dx; }
+
+// The sector [spoke k, spoke k + 1) holding the non-zero offset (dx, dz), found by comparisons
+// (no atan2): the quadrant from the signs, then two cross products.
+int SectorOf(double dx, double dz) {
+  int base;
+  if (dz >= 0.0) {
+    base = dx > 0.0 ? 0 : 4;
+  } else {
+    base = dx < 0.0 ? 8 : 12;
+  }
+  if (dz == 0.0 && dx < 0.0) base = 8;  // direction pi starts sector 8
+  const int mid = base + 2;
+  if (Cross(mid, dx, dz) >= 0.0) {
+    return Cross(mid + 1, dx, dz) >= 0.0 ? mid + 1 : mid;
+  }
+  return Cross(base + 1, dx, dz) >= 0.0 ? base + 1 : base;
+}
+
+// The standard profile along a radius, q = r / radius in [0, 1]: floor at the ground inside ring
+// 0, rising linearly to the rim (rings 1 and 2), falling linearly to the ground at ring 3.
+double StandardProfile(double q, double rim_m) {
+  constexpr auto& f = kCraterRingFractions;
+  if (q <= f[0]) return 0.0;
+  if (q < f[1]) return rim_m * (q - f[0]) / (f[1] - f[0]);
+  if (q <= f[2]) return rim_m;
+  return rim_m * std::max(0.0, (f[3] - q) / (f[3] - f[2]));
+}
+
+Status CheckUnused(const FeatureParams& p) {
+  for (auto [name, v] : {std::pair{"direction_rad", p.direction_rad},
+                         {"height_m[0]", p.height_m[0]},
+                         {"height_m[1]", p.height_m[1]},
+                         {"length_m[1]", p.length_m[1]},
+                         {"length_m[2]", p.length_m[2]},
+                         {"width_m", p.width_m}}) {
+    if (v != 0.0)
+      return Error{fmt::format("a crater does not use {}; it must be 0, not {}", name, v)};
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+double StandardCraterRingOffset(double radius_m, int ring) {
+  if (ring < 0 || ring >= kCraterRings) {
+    throw std::out_of_range(fmt::format("crater ring {} is outside 0..{}", ring, kCraterRings - 1));
+  }
+  return (ring == 1 || ring == 2) ? kCraterRimHeightFraction * radius_m : 0.0;
+}
+
+Crater::Crater(FeatureId id, double x_m, double z_m, double radius_m, Material given,
+               Material resolved, std::unique_ptr<const Edits> edits)
+    : Feature(id),
+      x_m_(x_m),
+      z_m_(z_m),
+      radius_m_(radius_m),
+      edits_(std::move(edits)),
+      given_material_(given),
+      resolved_material_(resolved) {}
+
+FeatureParams Crater::params() const {
+  FeatureParams p = FeatureParams::Crater(x_m_, z_m_, radius_m_, given_material_);
+  if (edits_) p.vertex_edits = edits_->list;
+  return p;
+}
+
+Rect Crater::Bounds() const {
+  return {x_m_ - radius_m_, z_m_ - radius_m_, x_m_ + radius_m_, z_m_ + radius_m_};
+}
+
+double Crater::CoveredRadiusSquared() const {
+  const double r = radius_m_ + kEdgeToleranceM;
+  return r * r;
+}
+
+bool Crater::Covers(double x_m, double z_m) const {
+  const double dx = x_m - x_m_, dz = z_m - z_m_;
+  return dx * dx + dz * dz <= CoveredRadiusSquared();
+}
+
+bool Crater::MayCover(const Rect& rect) const {
+  // Distance from the centre to the nearest point of the rectangle.
+  const double dx = x_m_ - std::clamp(x_m_, rect.min_x, rect.max_x);
+  const double dz = z_m_ - std::clamp(z_m_, rect.min_z, rect.max_z);
+  return dx * dx + dz * dz <= CoveredRadiusSquared();
+}
+
+std::optional<double> Crater::OffsetAboveGround(double x_m, double z_m) const {
+  const double dx = x_m - x_m_, dz = z_m - z_m_;
+  const double d2 = dx * dx + dz * dz;
+  if (!(d2 <= CoveredRadiusSquared())) return std::nullopt;  // also refuses NaN
+  const double q = std::min(1.0, std::sqrt(d2) / radius_m_);
+  if (!edits_) return StandardProfile(q, rim_height_m());
+  if (d2 == 0.0) return 0.0;  // the centre: the floor is at the ground
+  const int k = SectorOf(dx, dz);
+  // Fraction of the way from spoke k to spoke k + 1, from the perpendicular distances to both
+  // (monotone, 0 on spoke k, 1 on spoke k + 1; within 0.0025 of the angular fraction).
+  const double a = std::max(0.0, Cross(k, dx, dz));
+  const double b = std::max(0.0, -Cross(k + 1, dx, dz));
+  const double t = a + b > 0.0 ? a / (a + b) : 0.0;
+  return EditedOffset(k, t, q);
+}
+
+double Crater::EditedOffset(int k, double t, double q) const {
+  const int k1 = (k + 1) % kCraterSpokes;
+  auto at_ring = [&](int ring) {
+    return (1.0 - t) * VertexOffset(k, ring) + t * VertexOffset(k1, ring);
+  };
+  constexpr auto& f = kCraterRingFractions;
+  if (q <= f[0]) return at_ring(0) * (q / f[0]);  // the floor: the centre is at the ground
+  int ring = 0;
+  while (ring < kCraterRings - 2 && q > f[ring + 1]) ++ring;
+  const double s = std::min(1.0, (q - f[ring]) / (f[ring + 1] - f[ring]));
+  return (1.0 - s) * at_ring(ring) + s * at_ring(ring + 1);
+}
+
+double Crater::VertexOffset(int spoke, int ring) const {
+  if (edits_) return edits_->offsets_m[static_cast<size_t>(spoke * kCraterRings + ring)];
+  return StandardCraterRingOffset(radius_m_, ring);
+}
+
+CraterVertex Crater::Vertex(int spoke, int ring) const {
+  if (spoke < 0 || spoke >= kCraterSpokes || ring < 0 || ring >= kCraterRings) {
+    throw std::out_of_range(
+        fmt::format("crater vertex (spoke {}, ring {}) is outside 16 x 4", spoke, ring));
+  }
+  const double r = kCraterRingFractions[static_cast<size_t>(ring)] * radius_m_;
+  return {x_m_ + r * kSpokes[spoke][0], z_m_ + r * kSpokes[spoke][1], VertexOffset(spoke, ring)};
+}
+
+Result<std::unique_ptr<Feature>> MakeCrater(FeatureId id, const FeatureParams& params,
+                                            const HeightGrid& ground) {
+  if (params.type != FeatureType::kCrater) {
+    return Error{fmt::format("feature {}: MakeCrater given a {}", id.ToString(),
+                             FeatureTypeName(params.type))};
+  }
+  if (auto s = ValidateFeatureParams(params); !s) {
+    return Error{fmt::format("feature {}: {}", id.ToString(), s.error().message)};
+  }
+  if (auto s = CheckUnused(params); !s) {
+    return Error{fmt::format("feature {}: {}", id.ToString(), s.error().message)};
+  }
+  if (!ground.Contains(params.x_m, params.z_m)) {
+    return Error{fmt::format("crater {}: centre (x {}, z {}) m is off the terrain [0, {}]^2",
+                             id.ToString(), params.x_m, params.z_m, ground.size_m())};
+  }
+  Material resolved = params.material;
+  if (resolved == Material::kFromGround) {
+    resolved =
+        ground.soil(ground.SquareAt(params.x_m, params.z_m), ground.HalfAt(params.x_m, params.z_m));
+  }
+  std::unique_ptr<Crater::Edits> edits;
+  if (!params.vertex_edits.empty()) {
+    edits = std::make_unique<Crater::Edits>();
+    edits->list = params.vertex_edits;
+    for (int spoke = 0; spoke < kCraterSpokes; ++spoke) {
+      for (int ring = 0; ring < kCraterRings; ++ring) {
+        edits->offsets_m[static_cast<size_t>(spoke * kCraterRings + ring)] =
+            StandardCraterRingOffset(params.length_m[0], ring);
+      }
+    }
+    for (const auto& e : params.vertex_edits) {
+      edits->offsets_m[static_cast<size_t>(e.spoke * kCraterRings + e.ring)] = e.offset_m;
+    }
+  }
+  return std::unique_ptr<Feature>(new Crater(id, params.x_m, params.z_m, params.length_m[0],
+                                             params.material, resolved, std::move(edits)));
+}
+
+FeatureParams WithCraterVertexEdit(const FeatureParams& params, const CraterVertexEdit& edit) {
+  if (params.type != FeatureType::kCrater) {
+    throw std::invalid_argument(
+        fmt::format("cannot edit a crater vertex of a {}", FeatureTypeName(params.type)));
+  }
+  if (edit.spoke >= kCraterSpokes || edit.ring >= kCraterRings) {
+    throw std::invalid_argument(
+        fmt::format("crater vertex (spoke {}, ring {}) is outside 16 x 4", edit.spoke, edit.ring));
+  }
+  FeatureParams out = params;
+  auto& edits = out.vertex_edits;
+  auto key = [](const CraterVertexEdit& e) { return std::pair(e.spoke, e.ring); };
+  auto it = std::lower_bound(edits.begin(), edits.end(), edit,
+                             [&](const auto& a, const auto& b) { return key(a) < key(b); });
+  if (it != edits.end() && key(*it) == key(edit)) {
+    it->offset_m = edit.offset_m;
+  } else {
+    edits.insert(it, edit);
+  }
+  return out;
+}
+
+}  // namespace dt

@@ -1,0 +1,98 @@
+#include "terrain/random_terrain.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace dt {
+namespace {
+
+constexpr int64_t kWeightOne = int64_t{1} << 16;  // smoothstep weights in 16-bit fixed point
+constexpr int64_t kLatticeHalfRange = int64_t{1} << 20;
+
+// Lattice value of octave `octave` at lattice point (a, b): 21 random bits centred on zero.
+int64_t LatticeValue(uint64_t seed, int octave, uint64_t a, uint64_t b) {
+  const uint64_t h = SplitMix64(SplitMix64(SplitMix64(SplitMix64(seed) + octave) + a) + b);
+  return static_cast<int64_t>(h >> 43) - kLatticeHalfRange;
+}
+
+// Smoothstep 3t^2 - 2t^3 at t = r / cell, in 16-bit fixed point, rounded down. Integer only, so
+// every machine gets the same weight; r^2 (3 cell - 2 r) <= cell^3 < 2^48, so the shift fits.
+int64_t SmoothWeight(int64_t r, int64_t cell) {
+  const uint64_t num = static_cast<uint64_t>(r * r * (3 * cell - 2 * r));
+  const uint64_t den = static_cast<uint64_t>(cell * cell * cell);
+  return static_cast<int64_t>((num << 16) / den);
+}
+
+}  // namespace
+
+uint64_t SplitMix64(uint64_t state) {
+  uint64_t z = state + 0x9E3779B97F4A7C15ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+HeightGrid MakeRandomTerrain(const RandomTerrainParams& params) {
+  if (!std::isfinite(params.relief_m) || params.relief_m < 0.0) {
+    throw std::invalid_argument(
+        fmt::format("relief_m = {} must be finite and >= 0", params.relief_m));
+  }
+  const int n = params.posts_per_side;
+  if (n < 2 || n > 65536) {
+    throw std::invalid_argument(fmt::format("posts_per_side = {} must be in [2, 65536]", n));
+  }
+  const size_t count = static_cast<size_t>(n) * static_cast<size_t>(n);
+  // Octave o adds value noise with cells of cell[o] posts and weight 2^(K-1-o): the first octave
+  // spans half the grid, each next one halves the cell and the amplitude.
+  int64_t cell[kRandomTerrainOctaves];
+  for (int o = 0; o < kRandomTerrainOctaves; ++o) {
+    cell[o] = std::max<int64_t>(1, static_cast<int64_t>(n - 1) >> (o + 1));
+  }
+  std::vector<int64_t> total(count, 0);
+  for (int o = 0; o < kRandomTerrainOctaves; ++o) {
+    const int64_t c = cell[o];
+    const int64_t octave_weight = int64_t{1} << (kRandomTerrainOctaves - 1 - o);
+    // Lattice values for this octave, computed once per lattice point.
+    const int64_t lattice_side = (n - 1) / c + 2;
+    std::vector<int64_t> lattice(static_cast<size_t>(lattice_side * lattice_side));
+    for (int64_t b = 0; b < lattice_side; ++b) {
+      for (int64_t a = 0; a < lattice_side; ++a) {
+        lattice[static_cast<size_t>(b * lattice_side + a)] =
+            LatticeValue(params.seed, o, static_cast<uint64_t>(a), static_cast<uint64_t>(b));
+      }
+    }
+    auto at = [&](int64_t a, int64_t b) {
+      return lattice[static_cast<size_t>(b * lattice_side + a)];
+    };
+    for (int64_t j = 0; j < n; ++j) {
+      const int64_t b = j / c;
+      const int64_t wz = SmoothWeight(j % c, c);
+      for (int64_t i = 0; i < n; ++i) {
+        const int64_t a = i / c;
+        const int64_t wx = SmoothWeight(i % c, c);
+        // |L| <= 2^20 and the weights of each pair sum to 2^16, so |v| <= 2^52.
+        const int64_t south = at(a, b) * (kWeightOne - wx) + at(a + 1, b) * wx;
+        const int64_t north = at(a, b + 1) * (kWeightOne - wx) + at(a + 1, b + 1) * wx;
+        const int64_t v = south * (kWeightOne - wz) + north * wz;
+        total[static_cast<size_t>(j * n + i)] += v * octave_weight;
+      }
+    }
+  }
+  // |total| < 2^52 * 63 < 2^58; total >> 6 is below 2^52, so its conversion to double is exact,
+  // and the division below maps it to [-1, 1). The remaining steps are single IEEE operations
+  // (no multiply feeding an add, so no fused multiply-add can change the result).
+  constexpr int64_t kWeightSum = (int64_t{1} << kRandomTerrainOctaves) - 1;
+  const double denominator = static_cast<double>(kWeightSum * (int64_t{1} << 46));
+  const double half_relief_m = 0.5 * params.relief_m;
+  std::vector<float> posts(count);
+  for (size_t k = 0; k < count; ++k) {
+    const double unit = static_cast<double>(total[k] >> 6) / denominator;
+    posts[k] = static_cast<float>((unit + 1.0) * half_relief_m);
+  }
+  return HeightGrid(n, params.spacing_m, std::move(posts), params.soil);
+}
+
+}  // namespace dt

@@ -1,0 +1,64 @@
+// PduTraits and EncodePdu: which PduType each generated LCM type is, and its wire encoding.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "dtpdu/construct_t.hpp"
+#include "dtpdu/destruct_t.hpp"
+#include "dtpdu/max_feature_t.hpp"
+#include "dtpdu/playback_t.hpp"
+#include "dtpdu/update_t.hpp"
+#include "pdu/pdu_type.h"
+#include "terrain/feature_id.h"
+
+namespace dt {
+
+template <typename Pdu>
+struct PduTraits;
+template <>
+struct PduTraits<dtpdu::construct_t> {
+  static constexpr PduType kType = PduType::kConstruct;
+};
+template <>
+struct PduTraits<dtpdu::update_t> {
+  static constexpr PduType kType = PduType::kUpdate;
+};
+template <>
+struct PduTraits<dtpdu::destruct_t> {
+  static constexpr PduType kType = PduType::kDestruct;
+};
+template <>
+struct PduTraits<dtpdu::max_feature_t> {
+  static constexpr PduType kType = PduType::kMaxFeature;
+};
+template <>
+struct PduTraits<dtpdu::playback_t> {
+  static constexpr PduType kType = PduType::kPlayback;
+};
+
+template <typename Pdu>
+concept AnyPdu = requires {
+  PduTraits<Pdu>::kType;
+};
+
+// LCM encoding: the 8-byte fingerprint, then the fields big-endian in declaration order.
+template <AnyPdu Pdu>
+std::vector<uint8_t> EncodePdu(const Pdu& pdu) {
+  std::vector<uint8_t> bytes(static_cast<size_t>(pdu.getEncodedSize()));
+  const int n = pdu.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  if (n != static_cast<int>(bytes.size())) std::abort();  // LCM sized the buffer itself
+  return bytes;
+}
+
+// Every PDU type starts with the header (7 bytes) and the sender (site, host) right after the
+// fingerprint, so a carrier can see who sent a message without decoding it (fault injection's
+// partitions). nullopt if the bytes are too short. The value is unvalidated.
+std::optional<NodeAddress> PeekSender(std::span<const uint8_t> bytes);
+
+// Byte offset of sender.site in every encoded PDU.
+inline constexpr size_t kSenderOffset = 8 + 7;
+
+}  // namespace dt

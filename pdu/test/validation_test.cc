@@ -1,0 +1,301 @@
+// Tests that every rejection reason is detected, counted and rate-limited, and valid PDUs pass.
+#include "pdu/validation.h"
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "pdu/test/sample_pdus.h"
+
+namespace dt {
+namespace {
+
+using sample::Context;
+
+template <typename Pdu>
+std::optional<RejectReason> ReasonFor(const Pdu& pdu, const ValidationContext& ctx = Context()) {
+  Pdu out;
+  auto r = DecodeAndValidate(std::span<const uint8_t>(EncodePdu(pdu)), ctx, out);
+  if (!r) return std::nullopt;
+  EXPECT_FALSE(r->detail.empty());
+  return r->reason;
+}
+
+template <typename Pdu>
+std::optional<RejectReason> ReasonForBytes(std::vector<uint8_t> bytes) {
+  Pdu out;
+  auto r = DecodeAndValidate(std::span<const uint8_t>(bytes), Context(), out);
+  if (!r) return std::nullopt;
+  return r->reason;
+}
+
+TEST(Validation, SamplesOfEveryTypePassAndDecodeToWhatWasSent) {
+  EXPECT_EQ(ReasonFor(sample::Construct()), std::nullopt);
+  EXPECT_EQ(ReasonFor(sample::Update()), std::nullopt);
+  EXPECT_EQ(ReasonFor(sample::Destruct()), std::nullopt);
+  EXPECT_EQ(ReasonFor(sample::MaxFeature()), std::nullopt);
+  EXPECT_EQ(ReasonFor(sample::Playback()), std::nullopt);
+  dtpdu::construct_t out;
+  const auto bytes = EncodePdu(sample::Construct());
+  ASSERT_EQ(DecodeAndValidate(std::span<const uint8_t>(bytes), Context(), out), std::nullopt);
+  EXPECT_EQ(EncodePdu(out), bytes);
+}
+
+TEST(Validation, Oversized) {
+  std::vector<uint8_t> bytes = EncodePdu(sample::Construct());
+  bytes.resize(kMaxPduBytes + 1);
+  EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>(bytes), RejectReason::kOversized);
+}
+
+TEST(Validation, Truncated) {
+  EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>({}), RejectReason::kTruncated);
+  EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>({1, 2, 3}), RejectReason::kTruncated);
+  for (const auto& full : {EncodePdu(sample::Construct()), EncodePdu(sample::Update())}) {
+    for (size_t n = 8; n < full.size(); n += 5) {
+      std::vector<uint8_t> cut(full.begin(), full.begin() + static_cast<long>(n));
+      EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>(cut), RejectReason::kTruncated) << n;
+    }
+  }
+  const auto full = EncodePdu(sample::Playback());
+  EXPECT_EQ(ReasonForBytes<dtpdu::playback_t>({full.begin(), full.end() - 1}),
+            RejectReason::kTruncated);
+}
+
+TEST(Validation, TruncatedWhenTheArrayLengthIsNegativeOrTooLong) {
+  auto pdu = sample::Construct();
+  std::vector<uint8_t> bytes = EncodePdu(pdu);
+  // num_vertex_edits is the int16 just before the 2 edits of 10 bytes each.
+  const size_t at = bytes.size() - 2 * 10 - 2;
+  ASSERT_EQ(bytes[at], 0);
+  ASSERT_EQ(bytes[at + 1], 2);
+  bytes[at] = 0xFF;  // -254
+  EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>(bytes), RejectReason::kTruncated);
+  bytes[at] = 0x7F;  // 32514 edits in 20 bytes
+  EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>(bytes), RejectReason::kTruncated);
+}
+
+TEST(Validation, WrongFingerprint) {
+  std::vector<uint8_t> bytes = EncodePdu(sample::Construct());
+  bytes[3] ^= 0x10;
+  EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>(bytes), RejectReason::kWrongFingerprint);
+  EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>(EncodePdu(sample::Destruct())),
+            RejectReason::kWrongFingerprint);
+  EXPECT_EQ(ReasonForBytes<dtpdu::playback_t>(EncodePdu(sample::MaxFeature())),
+            RejectReason::kWrongFingerprint);
+}
+
+TEST(Validation, TrailingBytes) {
+  std::vector<uint8_t> bytes = EncodePdu(sample::Destruct());
+  bytes.push_back(0);
+  EXPECT_EQ(ReasonForBytes<dtpdu::destruct_t>(bytes), RejectReason::kTrailingBytes);
+}
+
+TEST(Validation, WrongProtocolVersion) {
+  auto pdu = sample::MaxFeature();
+  pdu.header.protocol_version = kProtocolVersion + 1;
+  EXPECT_EQ(ReasonFor(pdu), RejectReason::kWrongProtocolVersion);
+}
+
+TEST(Validation, ForeignExercise) {
+  EXPECT_EQ(ReasonFor(sample::Construct(), {sample::kSampleExercise + 1, 1000.0}),
+            RejectReason::kForeignExercise);
+}
+
+TEST(Validation, UnknownPduType) {
+  auto pdu = sample::Destruct();
+  pdu.header.pdu_type = 1;  // a DIS Entity State PDU
+  EXPECT_EQ(ReasonFor(pdu), RejectReason::kUnknownPduType);
+}
+
+TEST(Validation, PduTypeMismatch) {
+  // Construct and Update share their fields, hence their LCM fingerprint: only the header tells
+  // an Update published on the Construct channel apart.
+  ASSERT_EQ(dtpdu::construct_t::getHash(), dtpdu::update_t::getHash());
+  EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>(EncodePdu(sample::Update())),
+            RejectReason::kPduTypeMismatch);
+  EXPECT_EQ(ReasonForBytes<dtpdu::update_t>(EncodePdu(sample::Construct())),
+            RejectReason::kPduTypeMismatch);
+}
+
+TEST(Validation, UnknownFeatureType) {
+  auto c = sample::Construct();
+  c.feature_type = 9;
+  EXPECT_EQ(ReasonFor(c), RejectReason::kUnknownFeatureType);
+  auto d = sample::Destruct();
+  d.feature_type = -1;
+  EXPECT_EQ(ReasonFor(d), RejectReason::kUnknownFeatureType);
+}
+
+TEST(Validation, UnknownMaterial) {
+  auto u = sample::Update();
+  u.material = kMaterialCount;
+  EXPECT_EQ(ReasonFor(u), RejectReason::kUnknownMaterial);
+  u.material = -3;
+  EXPECT_EQ(ReasonFor(u), RejectReason::kUnknownMaterial);
+}
+
+TEST(Validation, NotFinite) {
+  const double bad[] = {std::numeric_limits<double>::quiet_NaN(),
+                        std::numeric_limits<double>::infinity(),
+                        -std::numeric_limits<double>::infinity()};
+  for (double v : bad) {
+    auto c = sample::Construct();
+    c.position_m[0] = v;
+    EXPECT_EQ(ReasonFor(c), RejectReason::kNotFinite);
+    c = sample::Construct();
+    c.position_m[1] = v;
+    EXPECT_EQ(ReasonFor(c), RejectReason::kNotFinite);
+    c = sample::Construct();
+    c.vertex_edits[1].offset_m = v;
+    EXPECT_EQ(ReasonFor(c), RejectReason::kNotFinite);
+    auto u = sample::Update();
+    u.direction_rad = v;
+    EXPECT_EQ(ReasonFor(u), RejectReason::kNotFinite);
+    u = sample::Update();
+    u.width_m = v;
+    EXPECT_EQ(ReasonFor(u), RejectReason::kNotFinite);
+    u = sample::Update();
+    u.height_m[1] = v;
+    EXPECT_EQ(ReasonFor(u), RejectReason::kNotFinite);
+    u = sample::Update();
+    u.length_m[2] = v;
+    EXPECT_EQ(ReasonFor(u), RejectReason::kNotFinite);
+  }
+}
+
+TEST(Validation, SizesAtOrBelowZeroOrBeyondTheMaxima) {
+  auto c = sample::Construct();
+  c.length_m[0] = 0.0;
+  EXPECT_EQ(ReasonFor(c), RejectReason::kOutOfRange);
+  c.length_m[0] = -1.0;
+  EXPECT_EQ(ReasonFor(c), RejectReason::kOutOfRange);
+  c.length_m[0] = kMaxCraterRadiusM;
+  EXPECT_EQ(ReasonFor(c), std::nullopt);
+  c.length_m[0] = std::nextafter(kMaxCraterRadiusM, 1e9);
+  EXPECT_EQ(ReasonFor(c), RejectReason::kOutOfRange);
+  auto u = sample::Update();
+  u.width_m = kMaxBridgeWidthM * 2;
+  EXPECT_EQ(ReasonFor(u), RejectReason::kOutOfRange);
+  u = sample::Update();
+  u.height_m[0] = 0.0;
+  EXPECT_EQ(ReasonFor(u), RejectReason::kOutOfRange);
+  // Vertex edits out of order are inconsistent feature fields.
+  c = sample::Construct();
+  std::swap(c.vertex_edits[0], c.vertex_edits[1]);
+  EXPECT_EQ(ReasonFor(c), RejectReason::kOutOfRange);
+}
+
+TEST(Validation, OffTerrain) {
+  auto c = sample::Construct();
+  c.position_m[0] = -0.001;
+  EXPECT_EQ(ReasonFor(c), RejectReason::kOffTerrain);
+  c = sample::Construct();
+  c.position_m[2] = sample::kSampleTerrainM + 0.001;
+  EXPECT_EQ(ReasonFor(c), RejectReason::kOffTerrain);
+  c.position_m[2] = sample::kSampleTerrainM;  // the edge is on the terrain
+  EXPECT_EQ(ReasonFor(c), std::nullopt);
+  auto u = sample::Update();
+  u.position_m[0] = 1e6;
+  EXPECT_EQ(ReasonFor(u), RejectReason::kOffTerrain);
+}
+
+TEST(Validation, BadFields) {
+  auto c = sample::Construct();
+  c.feature_number = 0;
+  EXPECT_EQ(ReasonFor(c), RejectReason::kBadField);
+  c = sample::Construct();
+  c.feature_number = kMaxSerial + 1;
+  EXPECT_EQ(ReasonFor(c), RejectReason::kBadField);
+  c = sample::Construct();
+  c.sender_seq = 0;
+  EXPECT_EQ(ReasonFor(c), RejectReason::kBadField);
+  c = sample::Construct();
+  c.changed_by.host = 99;  // a Construct is made by the feature's origin
+  EXPECT_EQ(ReasonFor(c), RejectReason::kBadField);
+  c = sample::Construct();
+  c.num_vertex_edits = 65;
+  c.vertex_edits.resize(65);
+  EXPECT_EQ(ReasonFor(c), RejectReason::kBadField);
+  auto u = sample::Update();
+  u.status = 2;
+  EXPECT_EQ(ReasonFor(u), RejectReason::kBadField);
+  u = sample::Update();
+  u.lamport = 0;
+  EXPECT_EQ(ReasonFor(u), RejectReason::kBadField);
+  auto d = sample::Destruct();
+  d.change_seq = 0;
+  EXPECT_EQ(ReasonFor(d), RejectReason::kBadField);
+  auto m = sample::MaxFeature();
+  m.role = 3;
+  EXPECT_EQ(ReasonFor(m), RejectReason::kBadField);
+  m = sample::MaxFeature();
+  m.max_feature_number = -1;
+  EXPECT_EQ(ReasonFor(m), RejectReason::kBadField);
+  m = sample::MaxFeature();
+  m.max_change_seq = kMaxSerial + 1;
+  EXPECT_EQ(ReasonFor(m), RejectReason::kBadField);
+  m = sample::MaxFeature();
+  m.lamport = -5;
+  EXPECT_EQ(ReasonFor(m), RejectReason::kBadField);
+  auto p = sample::Playback();
+  p.range_kind = 2;
+  EXPECT_EQ(ReasonFor(p), RejectReason::kBadField);
+  p = sample::Playback();
+  p.range_complete = 1;  // only a response can complete a range
+  EXPECT_EQ(ReasonFor(p), RejectReason::kBadField);
+  p.is_response = 1;
+  EXPECT_EQ(ReasonFor(p), std::nullopt);
+  p = sample::Playback();
+  p.start = 0;
+  EXPECT_EQ(ReasonFor(p), RejectReason::kBadField);
+}
+
+TEST(Validation, InvertedPlaybackRange) {
+  auto p = sample::Playback();
+  p.start = 21;
+  p.end = 20;
+  EXPECT_EQ(ReasonFor(p), RejectReason::kInvertedRange);
+  p.start = 20;
+  EXPECT_EQ(ReasonFor(p), std::nullopt);
+}
+
+TEST(Validation, HugePlaybackRange) {
+  auto p = sample::Playback();
+  p.start = 1;
+  p.end = kMaxPlaybackSpan;
+  EXPECT_EQ(ReasonFor(p), std::nullopt);
+  p.end = kMaxPlaybackSpan + 1;
+  EXPECT_EQ(ReasonFor(p), RejectReason::kHugeRange);
+  p.end = kMaxSerial;
+  EXPECT_EQ(ReasonFor(p), RejectReason::kHugeRange);
+}
+
+TEST(Validation, EveryReasonHasItsOwnName) {
+  std::set<std::string_view> names;
+  for (size_t i = 0; i < kRejectReasonCount; ++i) {
+    names.insert(RejectReasonName(static_cast<RejectReason>(i)));
+  }
+  EXPECT_EQ(names.size(), kRejectReasonCount);
+  EXPECT_EQ(names.count("unknown"), 0u);
+}
+
+TEST(RejectLog, CountsEveryRejectionButLogsAtMostOncePerIntervalPerReason) {
+  RejectLog log(std::chrono::milliseconds(1000));
+  const RejectLog::Clock::time_point t0{};
+  const Rejection trunc{RejectReason::kTruncated, "x"};
+  const Rejection foreign{RejectReason::kForeignExercise, "y"};
+  EXPECT_TRUE(log.Record(PduType::kConstruct, trunc, t0));
+  EXPECT_TRUE(log.Record(PduType::kConstruct, foreign, t0));
+  for (int i = 1; i <= 100; ++i) {
+    EXPECT_FALSE(log.Record(PduType::kConstruct, trunc, t0 + std::chrono::milliseconds(i)));
+  }
+  EXPECT_TRUE(log.Record(PduType::kUpdate, trunc, t0 + std::chrono::milliseconds(1000)));
+  EXPECT_EQ(log.counters().count(RejectReason::kTruncated), 102u);
+  EXPECT_EQ(log.counters().count(RejectReason::kForeignExercise), 1u);
+  EXPECT_EQ(log.counters().total(), 103u);
+}
+
+}  // namespace
+}  // namespace dt

@@ -1,0 +1,229 @@
+#include "pdu/validation.h"
+
+#include <cmath>
+#include <exception>
+
+#include <fmt/format.h>
+
+#include "log/log.h"
+#include "pdu/conversion.h"
+
+namespace dt {
+namespace {
+
+Rejection Reject(RejectReason reason, std::string detail) { return {reason, std::move(detail)}; }
+
+std::optional<Rejection> CheckHeader(const dtpdu::header_t& h, PduType expected, int64_t sender_seq,
+                                     const ValidationContext& ctx) {
+  if (h.protocol_version != kProtocolVersion) {
+    return Reject(
+        RejectReason::kWrongProtocolVersion,
+        fmt::format("protocol_version {} (expected {})", h.protocol_version, kProtocolVersion));
+  }
+  if (h.exercise_id != ctx.exercise_id) {
+    return Reject(
+        RejectReason::kForeignExercise,
+        fmt::format("exercise_id {} (this exercise is {})", h.exercise_id, ctx.exercise_id));
+  }
+  const auto type = PduTypeFromRaw(h.pdu_type);
+  if (!type) return Reject(RejectReason::kUnknownPduType, fmt::format("pdu_type {}", h.pdu_type));
+  if (*type != expected) {
+    return Reject(RejectReason::kPduTypeMismatch,
+                  fmt::format("pdu_type {} ({}) on the {} channel", h.pdu_type, PduTypeName(*type),
+                              PduTypeName(expected)));
+  }
+  if (sender_seq < 1 || sender_seq > kMaxSerial) {
+    return Reject(RejectReason::kBadField, fmt::format("sender_seq {}", sender_seq));
+  }
+  return std::nullopt;
+}
+
+std::optional<Rejection> CheckFeatureType(int16_t raw) {
+  if (raw < 0 || !IsValidFeatureType(static_cast<uint16_t>(raw))) {
+    return Reject(RejectReason::kUnknownFeatureType, fmt::format("feature_type {}", raw));
+  }
+  return std::nullopt;
+}
+
+// Construct and Update share every field and every rule.
+template <typename Pdu>
+std::optional<Rejection> ValidateFeature(const Pdu& pdu, const ValidationContext& ctx) {
+  if (auto r = CheckHeader(pdu.header, PduTraits<Pdu>::kType, pdu.sender_seq, ctx)) return r;
+  if (auto r = CheckFeatureType(pdu.feature_type)) return r;
+  if (pdu.material < 0 || !IsValidMaterial(static_cast<uint16_t>(pdu.material))) {
+    return Reject(RejectReason::kUnknownMaterial, fmt::format("material {}", pdu.material));
+  }
+  const std::pair<const char*, double> reals[] = {
+      {"position_m[0]", pdu.position_m[0]}, {"position_m[1]", pdu.position_m[1]},
+      {"position_m[2]", pdu.position_m[2]}, {"direction_rad", pdu.direction_rad},
+      {"height_m[0]", pdu.height_m[0]},     {"height_m[1]", pdu.height_m[1]},
+      {"length_m[0]", pdu.length_m[0]},     {"length_m[1]", pdu.length_m[1]},
+      {"length_m[2]", pdu.length_m[2]},     {"width_m", pdu.width_m}};
+  for (const auto& [name, v] : reals) {
+    if (!std::isfinite(v)) return Reject(RejectReason::kNotFinite, fmt::format("{} = {}", name, v));
+  }
+  for (const auto& e : pdu.vertex_edits) {
+    if (!std::isfinite(e.offset_m)) {
+      return Reject(RejectReason::kNotFinite, fmt::format("vertex edit offset_m = {}", e.offset_m));
+    }
+  }
+  auto feature = [&] {
+    if constexpr (PduTraits<Pdu>::kType == PduType::kConstruct) {
+      return FromConstruct(pdu);
+    } else {
+      return FromUpdate(pdu);
+    }
+  }();
+  if (!feature) return Reject(RejectReason::kBadField, feature.error().message);
+  const FeaturePdu& f = feature.value();
+  if (PduTraits<Pdu>::kType == PduType::kConstruct && f.change.changed_by != OriginOf(f.id)) {
+    return Reject(RejectReason::kBadField,
+                  fmt::format("Construct of {} changed_by {}: only the origin creates a feature",
+                              f.id.ToString(), f.change.changed_by.ToString()));
+  }
+  for (const auto& [name, v] : {std::pair{"x", f.params.x_m}, std::pair{"z", f.params.z_m}}) {
+    if (v < 0.0 || v > ctx.terrain_size_m) {
+      return Reject(RejectReason::kOffTerrain,
+                    fmt::format("{} = {} m is outside [0, {}] m", name, v, ctx.terrain_size_m));
+    }
+  }
+  if (auto s = ValidateFeatureParams(f.params); !s) {
+    return Reject(RejectReason::kOutOfRange, s.error().message);
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::string_view RejectReasonName(RejectReason reason) {
+  static constexpr std::array<std::string_view, kRejectReasonCount> kNames = {
+      "oversized",       "truncated",        "wrong_fingerprint", "trailing_bytes",
+      "wrong_protocol",  "foreign_exercise", "unknown_pdu_type",  "pdu_type_mismatch",
+      "unknown_feature", "unknown_material", "not_finite",        "out_of_range",
+      "off_terrain",     "bad_field",        "inverted_range",    "huge_range"};
+  const auto i = static_cast<size_t>(reason);
+  return i < kNames.size() ? kNames[i] : "unknown";
+}
+
+std::optional<Rejection> Validate(const dtpdu::construct_t& pdu, const ValidationContext& ctx) {
+  return ValidateFeature(pdu, ctx);
+}
+
+std::optional<Rejection> Validate(const dtpdu::update_t& pdu, const ValidationContext& ctx) {
+  return ValidateFeature(pdu, ctx);
+}
+
+std::optional<Rejection> Validate(const dtpdu::destruct_t& pdu, const ValidationContext& ctx) {
+  if (auto r = CheckHeader(pdu.header, PduType::kDestruct, pdu.sender_seq, ctx)) return r;
+  if (auto r = CheckFeatureType(pdu.feature_type)) return r;
+  if (auto d = FromDestruct(pdu); !d) return Reject(RejectReason::kBadField, d.error().message);
+  return std::nullopt;
+}
+
+std::optional<Rejection> Validate(const dtpdu::max_feature_t& pdu, const ValidationContext& ctx) {
+  if (auto r = CheckHeader(pdu.header, PduType::kMaxFeature, pdu.sender_seq, ctx)) return r;
+  if (pdu.max_feature_number < 0 || pdu.max_feature_number > kMaxSerial) {
+    return Reject(RejectReason::kBadField,
+                  fmt::format("max_feature_number {}", pdu.max_feature_number));
+  }
+  if (pdu.max_change_seq < 0 || pdu.max_change_seq > kMaxSerial) {
+    return Reject(RejectReason::kBadField, fmt::format("max_change_seq {}", pdu.max_change_seq));
+  }
+  if (pdu.lamport < 0)
+    return Reject(RejectReason::kBadField, fmt::format("lamport {}", pdu.lamport));
+  if (!IsValidNodeRole(pdu.role)) {
+    return Reject(RejectReason::kBadField, fmt::format("role {}", pdu.role));
+  }
+  return std::nullopt;
+}
+
+std::optional<Rejection> Validate(const dtpdu::playback_t& pdu, const ValidationContext& ctx) {
+  if (auto r = CheckHeader(pdu.header, PduType::kPlayback, pdu.sender_seq, ctx)) return r;
+  if (!IsValidPlaybackRange(pdu.range_kind)) {
+    return Reject(RejectReason::kBadField, fmt::format("range_kind {}", pdu.range_kind));
+  }
+  if (pdu.range_complete && !pdu.is_response) {
+    return Reject(RejectReason::kBadField, "range_complete set on a request");
+  }
+  for (const auto& [name, v] : {std::pair{"start", pdu.start}, std::pair{"end", pdu.end}}) {
+    if (v < 1 || v > kMaxSerial) {
+      return Reject(RejectReason::kBadField,
+                    fmt::format("playback {} {} is outside [1, {}]", name, v, kMaxSerial));
+    }
+  }
+  if (pdu.start > pdu.end) {
+    return Reject(RejectReason::kInvertedRange,
+                  fmt::format("playback start {} > end {}", pdu.start, pdu.end));
+  }
+  if (pdu.end - pdu.start + 1 > kMaxPlaybackSpan) {
+    return Reject(RejectReason::kHugeRange,
+                  fmt::format("playback range {}..{} spans {} > {}", pdu.start, pdu.end,
+                              pdu.end - pdu.start + 1, kMaxPlaybackSpan));
+  }
+  return std::nullopt;
+}
+
+template <AnyPdu Pdu>
+std::optional<Rejection> DecodePdu(std::span<const uint8_t> bytes, Pdu& out) {
+  if (bytes.size() > kMaxPduBytes) {
+    return Reject(RejectReason::kOversized,
+                  fmt::format("{} bytes > {}", bytes.size(), kMaxPduBytes));
+  }
+  if (bytes.size() < 8) {
+    return Reject(RejectReason::kTruncated, fmt::format("{} bytes, no fingerprint", bytes.size()));
+  }
+  uint64_t fingerprint = 0;
+  for (size_t i = 0; i < 8; ++i) fingerprint = (fingerprint << 8) | bytes[i];
+  if (fingerprint != static_cast<uint64_t>(Pdu::getHash())) {
+    return Reject(RejectReason::kWrongFingerprint,
+                  fmt::format("fingerprint {:#018x} (expected {:#018x})", fingerprint,
+                              static_cast<uint64_t>(Pdu::getHash())));
+  }
+  int n = -1;
+  try {
+    out = Pdu{};
+    n = out.decode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  } catch (const std::exception&) {
+    // LCM resizes arrays from the received length field first: a negative one throws.
+    n = -1;
+  }
+  if (n < 0) {
+    return Reject(RejectReason::kTruncated,
+                  fmt::format("{} bytes do not hold a {} PDU", bytes.size(),
+                              PduTypeName(PduTraits<Pdu>::kType)));
+  }
+  if (static_cast<size_t>(n) != bytes.size()) {
+    return Reject(RejectReason::kTrailingBytes,
+                  fmt::format("{} bytes after a {}-byte PDU", bytes.size() - n, n));
+  }
+  return std::nullopt;
+}
+
+template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::construct_t&);
+template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::update_t&);
+template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::destruct_t&);
+template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::max_feature_t&);
+template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::playback_t&);
+
+uint64_t RejectCounters::total() const {
+  uint64_t sum = 0;
+  for (uint64_t c : counts_) sum += c;
+  return sum;
+}
+
+bool RejectLog::Record(PduType channel, const Rejection& rejection, Clock::time_point now) {
+  counters_.Add(rejection.reason);
+  const auto i = static_cast<size_t>(rejection.reason);
+  if (last_logged_[i] && now - *last_logged_[i] < interval_) {
+    ++suppressed_[i];
+    return false;
+  }
+  DT_LOG_WARN("dropped a {} PDU: {} ({}); {} more {} since the last such line",
+              PduTypeName(channel), RejectReasonName(rejection.reason), rejection.detail,
+              suppressed_[i], RejectReasonName(rejection.reason));
+  last_logged_[i] = now;
+  suppressed_[i] = 0;
+  return true;
+}
+
+}  // namespace dt

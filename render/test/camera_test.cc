@@ -1,0 +1,69 @@
+#include "render/camera.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+namespace dt {
+namespace {
+
+TEST(Camera, MapPutsNorthUpAndEastRight) {
+  const Camera c = Camera::MapOf({0.0, 0.0, 100.0, 50.0}, 200);
+  EXPECT_EQ(c.width_px(), 200);
+  EXPECT_EQ(c.height_px(), 100);
+  EXPECT_DOUBLE_EQ(c.metres_per_pixel(), 0.5);
+  // South-west corner at the bottom-left, north-east at the top-right, whatever the elevation.
+  for (double y : {-100.0, 0.0, 1500.0}) {
+    const auto sw = c.WorldToPixel({0.0, y, 0.0});
+    const auto ne = c.WorldToPixel({100.0, y, 50.0});
+    ASSERT_TRUE(sw && ne);
+    EXPECT_NEAR(sw->x(), 0.0, 1e-9);
+    EXPECT_NEAR(sw->y(), 100.0, 1e-9);
+    EXPECT_NEAR(ne->x(), 200.0, 1e-9);
+    EXPECT_NEAR(ne->y(), 0.0, 1e-9);
+  }
+  const auto p = c.WorldToPixel({30.25, 0.0, 10.0});
+  EXPECT_NEAR(p->x(), 60.5, 1e-9);
+  EXPECT_NEAR(p->y(), 80.0, 1e-9);
+  const Rect a = c.map_area();
+  EXPECT_DOUBLE_EQ(a.max_x, 100.0);
+  EXPECT_DOUBLE_EQ(a.max_z, 50.0);
+}
+
+TEST(Camera, PerspectiveCentresTheTargetAndKeepsEastRightOfNorth) {
+  // Looking north from the south, raised: east must appear to the right of the target.
+  const Camera c =
+      Camera::Perspective({50.0, 30.0, -100.0}, {50.0, 0.0, 50.0}, std::numbers::pi / 3, 320, 240);
+  const auto t = c.WorldToPixel({50.0, 0.0, 50.0});
+  ASSERT_TRUE(t);
+  EXPECT_NEAR(t->x(), 160.0, 1e-6);
+  EXPECT_NEAR(t->y(), 120.0, 1e-6);
+  const auto east = c.WorldToPixel({60.0, 0.0, 50.0});
+  EXPECT_GT(east->x(), t->x());
+  const auto above = c.WorldToPixel({50.0, 10.0, 50.0});
+  EXPECT_LT(above->y(), t->y());
+  EXPECT_FALSE(c.WorldToPixel({50.0, 30.0, -200.0}));  // behind the eye
+}
+
+TEST(Camera, PerspectiveStraightDownKeepsNorthUp) {
+  const Camera c = Camera::Perspective({0.0, 100.0, 0.0}, {0.0, 0.0, 0.0}, 1.0, 100, 100);
+  const auto north = c.WorldToPixel({0.0, 0.0, 10.0});
+  const auto east = c.WorldToPixel({10.0, 0.0, 0.0});
+  EXPECT_LT(north->y(), 50.0);
+  EXPECT_GT(east->x(), 50.0);
+}
+
+TEST(Camera, RefusesBadParameters) {
+  EXPECT_THROW(Camera::Map(0, 0, 0.0, 10, 10), std::invalid_argument);
+  EXPECT_THROW(Camera::Map(0, 0, 1.0, 0, 10), std::invalid_argument);
+  EXPECT_THROW(Camera::Map(NAN, 0, 1.0, 10, 10), std::invalid_argument);
+  EXPECT_THROW(Camera::MapOf({0, 0, 0, 10}, 10), std::invalid_argument);
+  EXPECT_THROW(Camera::Perspective({1, 1, 1}, {1, 1, 1}, 1.0, 10, 10), std::invalid_argument);
+  EXPECT_THROW(Camera::Perspective({0, 1, 0}, {1, 1, 1}, 4.0, 10, 10), std::invalid_argument);
+  EXPECT_THROW(Camera::Perspective({0, 1, 0}, {1, 1, 1}, 1.0, 10, 10, 0.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dt

@@ -1,0 +1,103 @@
+#include "terrain/terrain_digest.h"
+
+#include <bit>
+#include <cstdlib>
+#include <memory>
+#include <string_view>
+
+#include <fmt/format.h>
+#include <xxhash.h>
+
+#include "terrain/bytes.h"
+
+namespace dt {
+namespace {
+
+// Distinguishes this encoding from any other hashed byte string; bump the version if the
+// encoding ever changes.
+constexpr std::string_view kDigestTag = "dynterrain state v1";
+constexpr size_t kFlushBytes = 64 * 1024;
+
+// Feeds little-endian encoded values to XXH3-128 in bounded chunks, so a large grid is never
+// copied whole.
+class DigestStream {
+ public:
+  DigestStream() : state_(XXH3_createState(), &XXH3_freeState) {
+    if (!state_ || XXH3_128bits_reset(state_.get()) != XXH_OK) std::abort();
+  }
+  ByteWriter& out() {
+    if (out_.bytes().size() >= kFlushBytes) Flush();
+    return out_;
+  }
+  TerrainDigest Finish() {
+    Flush();
+    const XXH128_hash_t h = XXH3_128bits_digest(state_.get());
+    return {h.high64, h.low64};
+  }
+
+ private:
+  void Flush() {
+    auto& bytes = out_.bytes();
+    if (XXH3_128bits_update(state_.get(), bytes.data(), bytes.size()) != XXH_OK) std::abort();
+    bytes.clear();
+  }
+  std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> state_;
+  ByteWriter out_;
+};
+
+void EncodeGround(const HeightGrid& ground, DigestStream& stream) {
+  for (char c : kDigestTag) stream.out().U8(static_cast<uint8_t>(c));
+  stream.out().U32(static_cast<uint32_t>(ground.posts_per_side()));
+  stream.out().F64(ground.spacing_m());
+  // Bit patterns, so the digest never depends on how a machine compares floats.
+  for (float y : ground.posts()) stream.out().U32(std::bit_cast<uint32_t>(y));
+  for (Material soil : ground.soils()) stream.out().U16(static_cast<uint16_t>(soil));
+}
+
+}  // namespace
+
+std::string TerrainDigest::ToHex() const { return fmt::format("{:016x}{:016x}", high, low); }
+
+std::optional<TerrainDigest> TerrainDigest::FromHex(std::string_view hex) {
+  if (hex.size() != 32) return std::nullopt;
+  uint64_t halves[2] = {0, 0};
+  for (size_t k = 0; k < 32; ++k) {
+    const char c = hex[k];
+    unsigned digit;
+    if (c >= '0' && c <= '9') {
+      digit = static_cast<unsigned>(c - '0');
+    } else if (c >= 'a' && c <= 'f') {
+      digit = static_cast<unsigned>(c - 'a' + 10);
+    } else if (c >= 'A' && c <= 'F') {
+      digit = static_cast<unsigned>(c - 'A' + 10);
+    } else {
+      return std::nullopt;
+    }
+    halves[k / 16] = (halves[k / 16] << 4) | digit;
+  }
+  return TerrainDigest{halves[0], halves[1]};
+}
+
+TerrainDigest ComputeDigest(const HeightGrid& ground) {
+  DigestStream stream;
+  EncodeGround(ground, stream);
+  stream.out().U32(0);  // no features
+  return stream.Finish();
+}
+
+TerrainDigest ComputeDigest(const Terrain& terrain) {
+  DigestStream stream;
+  EncodeGround(terrain.ground(), stream);
+  const auto features = terrain.FeaturesById();
+  stream.out().U32(static_cast<uint32_t>(features.size()));
+  for (const Feature* f : features) {
+    ByteWriter& out = stream.out();
+    out.U16(f->id().site);
+    out.U16(f->id().host);
+    out.U32(f->id().number);
+    EncodeFeatureParams(f->params(), out);
+  }
+  return stream.Finish();
+}
+
+}  // namespace dt

@@ -1,0 +1,33 @@
+// TerrainDigest: a canonical 128-bit digest of the whole terrain state, equal across machines.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "terrain/height_grid.h"
+#include "terrain/terrain.h"
+
+namespace dt {
+
+// XXH3-128 of the canonical state encoding (docs/terrain.md, "Files and digest"): the ground
+// (post count, spacing, every post's bit pattern, every triangle's soil) and every feature sorted
+// by ID with its canonical parameter encoding. Two terrains holding the same state have equal
+// digests whatever order their features were added in.
+struct TerrainDigest {
+  uint64_t high = 0;
+  uint64_t low = 0;
+
+  auto operator<=>(const TerrainDigest&) const = default;
+  // 32 lower-case hex digits, high half first (XXH128's canonical big-endian form).
+  std::string ToHex() const;
+  // Parses ToHex's form; nullopt unless exactly 32 hex digits.
+  static std::optional<TerrainDigest> FromHex(std::string_view hex);
+};
+
+TerrainDigest ComputeDigest(const Terrain& terrain);
+// The digest of a terrain holding this ground and no features.
+TerrainDigest ComputeDigest(const HeightGrid& ground);
+
+}  // namespace dt

@@ -1,0 +1,280 @@
+#include "terrain/terrain_file.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string>
+
+#include <fmt/format.h>
+#include <xxhash.h>
+
+#include "terrain/bytes.h"
+
+namespace dt {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A high first byte catches 7-bit transfers, CR LF catches line-ending conversion, 0x1A stops
+// `type` on DOS-like systems (the PNG trick).
+constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'E', 'R', '\r', '\n', 0x1A};
+constexpr size_t kVersionOffset = 8;
+constexpr size_t kGroundLengthOffset = 12;
+constexpr size_t kFeatureLengthOffset = 20;
+constexpr int kMaxPosts = 65536;
+
+// Bytes of a ground section for an n x n grid: n, spacing, posts, two soils per square.
+uint64_t GroundSectionBytes(uint64_t n) { return 4 + 8 + 4 * n * n + 2 * 2 * (n - 1) * (n - 1); }
+
+}  // namespace
+
+std::vector<uint8_t> EncodeTerrainFile(const Terrain& terrain) {
+  const HeightGrid& g = terrain.ground();
+  ByteWriter ground;
+  ground.bytes().reserve(GroundSectionBytes(static_cast<uint64_t>(g.posts_per_side())));
+  ground.U32(static_cast<uint32_t>(g.posts_per_side()));
+  ground.F64(g.spacing_m());
+  for (float y : g.posts()) ground.F32(y);
+  for (Material soil : g.soils()) ground.U16(static_cast<uint16_t>(soil));
+
+  ByteWriter features;
+  const auto sorted = terrain.FeaturesById();
+  features.U32(static_cast<uint32_t>(sorted.size()));
+  for (const Feature* f : sorted) {
+    features.U16(f->id().site);
+    features.U16(f->id().host);
+    features.U32(f->id().number);
+    ByteWriter record;
+    EncodeFeatureParams(f->params(), record);
+    features.U32(static_cast<uint32_t>(record.bytes().size()));
+    features.Bytes(record.bytes());
+  }
+
+  ByteWriter file;
+  file.bytes().reserve(kTerrainFileHeaderBytes + ground.bytes().size() + features.bytes().size() +
+                       kTerrainFileChecksumBytes);
+  file.Bytes(kMagic);
+  file.U32(kTerrainFileVersion);
+  file.U64(ground.bytes().size());
+  file.U64(features.bytes().size());
+  file.Bytes(ground.bytes());
+  file.Bytes(features.bytes());
+  file.U64(XXH3_64bits(file.bytes().data(), file.bytes().size()));
+  return std::move(file.bytes());
+}
+
+Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> bytes,
+                                                   std::string_view source_name) {
+  auto fail = [&](size_t offset, const std::string& what) -> Error {
+    return Error{fmt::format("{}: byte {}: {}", source_name, offset, what)};
+  };
+  constexpr size_t kMinBytes = kTerrainFileHeaderBytes + kTerrainFileChecksumBytes;
+  if (bytes.size() < kMinBytes) {
+    return fail(bytes.size(), fmt::format("file is {} bytes, shorter than the {}-byte header and "
+                                          "checksum (truncated?)",
+                                          bytes.size(), kMinBytes));
+  }
+  if (!std::equal(kMagic.begin(), kMagic.end(), bytes.begin())) {
+    return fail(0, "not a dynterrain terrain file (wrong magic)");
+  }
+  ByteReader header(bytes.subspan(kVersionOffset, kTerrainFileHeaderBytes - kVersionOffset));
+  const uint32_t version = *header.U32();
+  const uint64_t ground_bytes = *header.U64();
+  const uint64_t feature_bytes = *header.U64();
+  if (version != kTerrainFileVersion) {
+    return fail(kVersionOffset, fmt::format("format version {} is not supported (this build "
+                                            "reads version {})",
+                                            version, kTerrainFileVersion));
+  }
+  // Written so that no sum can overflow: each length is first checked against the file size.
+  const uint64_t body = bytes.size() - kMinBytes;
+  if (ground_bytes > body || feature_bytes > body - ground_bytes ||
+      ground_bytes + feature_bytes != body) {
+    return fail(kGroundLengthOffset,
+                fmt::format("header declares a {}-byte ground section and a {}-byte feature "
+                            "section, which does not match the file size of {} bytes (truncated "
+                            "or extended?)",
+                            ground_bytes, feature_bytes, bytes.size()));
+  }
+  const size_t checksum_at = bytes.size() - kTerrainFileChecksumBytes;
+  ByteReader checksum_reader(bytes.subspan(checksum_at));
+  const uint64_t stored = *checksum_reader.U64();
+  const uint64_t computed = XXH3_64bits(bytes.data(), checksum_at);
+  if (stored != computed) {
+    return fail(checksum_at, fmt::format("checksum mismatch: stored {:016x}, computed {:016x} "
+                                         "(the file is corrupt)",
+                                         stored, computed));
+  }
+
+  // Ground section. Offsets in messages are from the start of the file.
+  const size_t ground_at = kTerrainFileHeaderBytes;
+  ByteReader ground(bytes.subspan(ground_at, ground_bytes));
+  const auto posts_per_side = ground.U32();
+  if (!posts_per_side) {
+    return fail(kGroundLengthOffset,
+                fmt::format("ground section is {} bytes, too short to hold a grid", ground_bytes));
+  }
+  const uint32_t n = *posts_per_side;
+  if (n < 2 || n > kMaxPosts) {
+    return fail(ground_at, fmt::format("posts_per_side {} is outside [2, {}]", n, kMaxPosts));
+  }
+  if (ground_bytes != GroundSectionBytes(n)) {
+    return fail(kGroundLengthOffset,
+                fmt::format("ground section is {} bytes but a {} x {} grid needs {}", ground_bytes,
+                            n, n, GroundSectionBytes(n)));
+  }
+  const double spacing_m = *ground.F64();
+  if (!std::isfinite(spacing_m) || spacing_m <= 0.0) {
+    return fail(ground_at + 4, fmt::format("spacing_m {} must be finite and > 0", spacing_m));
+  }
+  std::vector<float> posts(static_cast<size_t>(n) * n);
+  for (size_t k = 0; k < posts.size(); ++k) {
+    const size_t at = ground_at + ground.offset();
+    posts[k] = *ground.F32();
+    if (!std::isfinite(posts[k])) {
+      return fail(at, fmt::format("post ({}, {}) is not finite ({})", k % n, k / n, posts[k]));
+    }
+  }
+  HeightGrid grid(static_cast<int>(n), spacing_m, std::move(posts));
+  const size_t squares_per_side = n - 1;
+  const size_t soil_count = 2 * squares_per_side * squares_per_side;
+  for (size_t k = 0; k < soil_count; ++k) {
+    const size_t at = ground_at + ground.offset();
+    const uint16_t raw = *ground.U16();
+    if (!IsValidMaterial(raw) || static_cast<Material>(raw) == Material::kFromGround) {
+      return fail(at, fmt::format("soil {} of square ({}, {}) is not a soil", raw,
+                                  (k / 2) % squares_per_side, (k / 2) / squares_per_side));
+    }
+    const SquareIndex square{static_cast<int>((k / 2) % squares_per_side),
+                             static_cast<int>((k / 2) / squares_per_side)};
+    grid.set_soil(square, static_cast<TriangleHalf>(k % 2), static_cast<Material>(raw));
+  }
+
+  // Feature section: records sorted by ID, each rebuilt through Terrain::Add.
+  auto terrain = std::make_unique<Terrain>(std::move(grid));
+  const size_t features_at = ground_at + ground_bytes;
+  ByteReader features(bytes.subspan(features_at, feature_bytes));
+  auto truncated = [&](std::string_view what) {
+    return fail(features_at + features.offset(),
+                fmt::format("feature section ends inside {}", what));
+  };
+  const auto count = features.U32();
+  if (!count) return truncated("the feature count");
+  FeatureId previous;
+  for (uint32_t index = 0; index < *count; ++index) {
+    const size_t record_at = features_at + features.offset();
+    const auto site = features.U16();
+    const auto host = features.U16();
+    const auto number = features.U32();
+    const auto length = features.U32();
+    if (!site || !host || !number || !length) {
+      return truncated(fmt::format("the header of feature record {} of {}", index + 1, *count));
+    }
+    const FeatureId id{*site, *host, *number};
+    if (index > 0 && !(previous < id)) {
+      return fail(record_at, fmt::format("feature {} follows {}: records must be sorted by ID "
+                                         "without repeats",
+                                         id.ToString(), previous.ToString()));
+    }
+    previous = id;
+    const auto record = features.Bytes(*length);
+    if (!record) {
+      return truncated(fmt::format("feature {} ({} bytes declared)", id.ToString(), *length));
+    }
+    ByteReader params_reader(*record);
+    auto params = DecodeFeatureParams(params_reader);
+    const size_t params_at = record_at + 12;
+    if (!params) {
+      return fail(params_at, fmt::format("feature {}: {} (offsets within the record)",
+                                         id.ToString(), params.error().message));
+    }
+    if (params_reader.remaining() != 0) {
+      return fail(params_at + params_reader.offset(),
+                  fmt::format("feature {}: {} bytes left over after its parameters", id.ToString(),
+                              params_reader.remaining()));
+    }
+    if (auto added = terrain->Add(id, params.value()); !added) {
+      return fail(record_at,
+                  fmt::format("feature {} was refused: {}", id.ToString(), added.error().message));
+    }
+  }
+  if (features.remaining() != 0) {
+    return fail(features_at + features.offset(),
+                fmt::format("{} bytes left over after the last feature", features.remaining()));
+  }
+  return terrain;
+}
+
+Status SaveTerrain(const Terrain& terrain, const fs::path& path) {
+  const std::vector<uint8_t> bytes = EncodeTerrainFile(terrain);
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  std::string temp = (dir / ("." + path.filename().string() + ".tmp.XXXXXX")).string();
+  const int fd = mkstemp(temp.data());
+  if (fd < 0) {
+    return Error{fmt::format("{}: cannot create a temporary file in {}: {}", path.string(),
+                             dir.string(), std::strerror(errno))};
+  }
+  auto give_up = [&](std::string_view step) -> Error {
+    const int saved = errno;
+    ::close(fd);
+    ::unlink(temp.c_str());
+    return Error{fmt::format("{}: {} failed: {}", path.string(), step, std::strerror(saved))};
+  };
+  size_t written = 0;
+  while (written < bytes.size()) {
+    const ssize_t w = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      return give_up("write");
+    }
+    written += static_cast<size_t>(w);
+  }
+  if (::fchmod(fd, 0644) != 0) return give_up("fchmod");
+  if (::fsync(fd) != 0) return give_up("fsync");
+  if (::close(fd) != 0) {
+    const int saved = errno;
+    ::unlink(temp.c_str());
+    return Error{fmt::format("{}: close failed: {}", path.string(), std::strerror(saved))};
+  }
+  if (::rename(temp.c_str(), path.c_str()) != 0) {
+    const int saved = errno;
+    ::unlink(temp.c_str());
+    return Error{
+        fmt::format("{}: rename from {} failed: {}", path.string(), temp, std::strerror(saved))};
+  }
+  // The rename is durable only once the directory entry is on disk.
+  const int dir_fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (dir_fd < 0) {
+    return Error{fmt::format("{}: saved, but opening {} to fsync it failed: {}", path.string(),
+                             dir.string(), std::strerror(errno))};
+  }
+  const int synced = ::fsync(dir_fd);
+  const int saved = errno;
+  ::close(dir_fd);
+  if (synced != 0) {
+    return Error{fmt::format("{}: saved, but fsync of {} failed: {}", path.string(), dir.string(),
+                             std::strerror(saved))};
+  }
+  return Status::Ok();
+}
+
+Result<std::unique_ptr<Terrain>> LoadTerrain(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    return Error{fmt::format("{}: cannot open: {}", path.string(), std::strerror(errno))};
+  }
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
+  if (in.bad()) return Error{fmt::format("{}: read failed", path.string())};
+  return DecodeTerrainFile(bytes, path.string());
+}
+
+}  // namespace dt

@@ -1,0 +1,36 @@
+// Terrain files: save and load the whole terrain (ground and features) in a checked binary format.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "terrain/result.h"
+#include "terrain/terrain.h"
+
+namespace dt {
+
+// docs/terrain-file-format.md describes every byte.
+inline constexpr uint32_t kTerrainFileVersion = 1;
+inline constexpr size_t kTerrainFileHeaderBytes = 28;
+inline constexpr size_t kTerrainFileChecksumBytes = 8;
+
+// The file's bytes: header, ground section, feature section (sorted by ID), XXH3-64 checksum.
+std::vector<uint8_t> EncodeTerrainFile(const Terrain& terrain);
+
+// Checks the magic, version, section sizes and checksum, then rebuilds the ground and adds every
+// feature to a fresh Terrain. Any failure returns an error naming the byte offset and what
+// failed; nothing is returned half-built. `source_name` prefixes messages.
+Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> bytes,
+                                                   std::string_view source_name);
+
+// Writes a temporary file beside `path`, fsyncs it, renames it over `path` and fsyncs the
+// directory, so a crash leaves either the old file or the new one, never a partial file.
+Status SaveTerrain(const Terrain& terrain, const std::filesystem::path& path);
+
+Result<std::unique_ptr<Terrain>> LoadTerrain(const std::filesystem::path& path);
+
+}  // namespace dt

@@ -1,0 +1,126 @@
+#include "terrain/terrain_digest.h"
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "terrain/test/sample_terrain.h"
+
+namespace dt {
+namespace {
+
+using test::BuildSample;
+using test::SampleFeatures;
+using test::SampleGround;
+
+TEST(TerrainDigestTest, InsertionOrderDoesNotMatter) {
+  auto features = SampleFeatures();
+  const TerrainDigest forward = ComputeDigest(*BuildSample(features));
+  std::reverse(features.begin(), features.end());
+  EXPECT_EQ(ComputeDigest(*BuildSample(features)), forward);
+  std::mt19937 shuffle_rng(17);
+  for (int round = 0; round < 5; ++round) {
+    std::shuffle(features.begin(), features.end(), shuffle_rng);
+    EXPECT_EQ(ComputeDigest(*BuildSample(features)), forward);
+  }
+  // A feature added and removed again leaves no trace.
+  auto t = BuildSample(features);
+  ASSERT_TRUE(t->Add({3, 3, 3}, FeatureParams::Crater(40.0, 70.0, 2.0)).ok());
+  EXPECT_NE(ComputeDigest(*t), forward);
+  ASSERT_TRUE(t->Remove({3, 3, 3}).ok());
+  EXPECT_EQ(ComputeDigest(*t), forward);
+}
+
+TEST(TerrainDigestTest, EveryKindOfChangeChangesTheDigest) {
+  const auto features = SampleFeatures();
+  const TerrainDigest base = ComputeDigest(*BuildSample(features));
+  std::set<TerrainDigest> seen = {base};
+  auto expect_new = [&](const Terrain& t, const char* what) {
+    const TerrainDigest d = ComputeDigest(t);
+    EXPECT_TRUE(seen.insert(d).second) << what << " gave a digest already seen: " << d.ToHex();
+  };
+  {
+    auto t = BuildSample(features);
+    ASSERT_TRUE(t->SetPostElevation(4, 7, t->ground().post(4, 7) + 0.001f).ok());
+    expect_new(*t, "one post");
+  }
+  {
+    // Posts are hashed as bit patterns: -0 differs from +0.
+    Terrain flat(HeightGrid(9, 10.0));
+    const TerrainDigest positive_zero = ComputeDigest(flat);
+    ASSERT_TRUE(flat.SetPostElevation(8, 8, -0.0f).ok());
+    EXPECT_NE(ComputeDigest(flat), positive_zero);
+  }
+  {
+    auto t = BuildSample(features);
+    ASSERT_TRUE(t->SetSoil({6, 2}, TriangleHalf::kUpper, Material::kMud).ok());
+    expect_new(*t, "one soil");
+  }
+  {
+    auto t = BuildSample(features);
+    ASSERT_TRUE(t->SetSoil({6, 2}, TriangleHalf::kLower, Material::kMud).ok());
+    expect_new(*t, "the other half's soil");
+  }
+  {
+    auto t = BuildSample(features);
+    FeatureParams moved = features[0].second;
+    moved.x_m += 0.5;
+    ASSERT_TRUE(t->Update(features[0].first, moved).ok());
+    expect_new(*t, "one feature moved");
+  }
+  {
+    auto t = BuildSample(features);
+    FeatureParams edited = features[1].second;
+    edited.vertex_edits[1].offset_m = -0.25;
+    ASSERT_TRUE(t->Update(features[1].first, edited).ok());
+    expect_new(*t, "one crater vertex edit");
+  }
+  {
+    auto t = BuildSample(features);
+    FeatureParams broken = features[4].second;
+    broken.status = BridgeStatus::kDestroyed;
+    ASSERT_TRUE(t->Update(features[4].first, broken).ok());
+    expect_new(*t, "bridge destroyed");
+  }
+  {
+    // Same parameters under another ID.
+    auto renamed = features;
+    renamed[2].first.number = 2;
+    expect_new(*BuildSample(renamed), "one feature renumbered");
+  }
+  {
+    auto fewer = features;
+    fewer.pop_back();
+    expect_new(*BuildSample(fewer), "one feature fewer");
+  }
+  expect_new(Terrain(SampleGround()), "no features");
+  expect_new(Terrain(HeightGrid(9, 10.0)), "flat ground");
+  expect_new(Terrain(HeightGrid(9, 10.5)), "other spacing");
+  expect_new(Terrain(HeightGrid(10, 10.0)), "other size");
+}
+
+TEST(TerrainDigestTest, GroundDigestEqualsTheDigestOfABareTerrain) {
+  const HeightGrid g = SampleGround();
+  EXPECT_EQ(ComputeDigest(g), ComputeDigest(Terrain(g)));
+  EXPECT_NE(ComputeDigest(g), ComputeDigest(*BuildSample(SampleFeatures())));
+}
+
+TEST(TerrainDigestTest, HexFormRoundTrips) {
+  const TerrainDigest d = ComputeDigest(*BuildSample(SampleFeatures()));
+  const std::string hex = d.ToHex();
+  ASSERT_EQ(hex.size(), 32u);
+  EXPECT_EQ(hex.find_first_not_of("0123456789abcdef"), std::string::npos) << hex;
+  EXPECT_EQ(TerrainDigest::FromHex(hex), d);
+  EXPECT_EQ(TerrainDigest::FromHex("0000000000000001FFFFFFFFFFFFFFFE"),
+            (TerrainDigest{1, 0xFFFFFFFFFFFFFFFEull}));
+  EXPECT_EQ((TerrainDigest{0xABCull, 0x1ull}).ToHex(), "0000000000000abc0000000000000001");
+  EXPECT_FALSE(TerrainDigest::FromHex(hex.substr(1)));
+  EXPECT_FALSE(TerrainDigest::FromHex(hex + "0"));
+  EXPECT_FALSE(TerrainDigest::FromHex("g" + hex.substr(1)));
+}
+
+}  // namespace
+}  // namespace dt

@@ -1,0 +1,270 @@
+#include "terrain/terrain_file.h"
+
+#include <bit>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <xxhash.h>
+
+#include "terrain/bytes.h"
+#include "terrain/terrain_digest.h"
+#include "terrain/test/sample_terrain.h"
+
+namespace dt {
+namespace {
+
+namespace fs = std::filesystem;
+using test::BuildSample;
+using test::SampleFeatures;
+
+// Offsets of docs/terrain-file-format.md for the 9 x 9 sample.
+constexpr size_t kGroundAt = 28;
+constexpr size_t kPostsAt = kGroundAt + 12;
+constexpr size_t kSoilsAt = kPostsAt + 4 * 81;
+constexpr size_t kFeaturesAt = kSoilsAt + 2 * 2 * 64;
+
+std::unique_ptr<Terrain> Sample() {
+  auto t = BuildSample(SampleFeatures());
+  // Soils other than the default, so the soil section carries information.
+  EXPECT_TRUE(t->SetSoil({0, 0}, TriangleHalf::kUpper, Material::kRock).ok());
+  EXPECT_TRUE(t->SetSoil({7, 7}, TriangleHalf::kLower, Material::kAsphalt).ok());
+  return t;
+}
+
+// Recomputes the trailing checksum after a deliberate edit, to reach the checks behind it.
+void Reseal(std::vector<uint8_t>& bytes) {
+  const size_t at = bytes.size() - 8;
+  const uint64_t sum = XXH3_64bits(bytes.data(), at);
+  for (size_t k = 0; k < 8; ++k) bytes[at + k] = static_cast<uint8_t>(sum >> (8 * k));
+}
+
+void PutU32(std::vector<uint8_t>& bytes, size_t at, uint32_t v) {
+  for (size_t k = 0; k < 4; ++k) bytes[at + k] = static_cast<uint8_t>(v >> (8 * k));
+}
+
+void ExpectRefused(std::span<const uint8_t> bytes, const std::string& fragment) {
+  const auto r = DecodeTerrainFile(bytes, "t.dtt");
+  ASSERT_FALSE(r.ok()) << "expected: " << fragment;
+  EXPECT_NE(r.error().message.find("t.dtt: byte "), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find(fragment), std::string::npos)
+      << "message: " << r.error().message << "\nexpected fragment: " << fragment;
+}
+
+class TerrainFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string pattern = (fs::temp_directory_path() / "dt_terrain_file_XXXXXX").string();
+    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
+    dir_ = pattern;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST(TerrainFileTest, DecodeRebuildsTheSameState) {
+  const auto original = Sample();
+  const auto bytes = EncodeTerrainFile(*original);
+  auto loaded = DecodeTerrainFile(bytes, "mem");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  const Terrain& t = *loaded.value();
+  EXPECT_EQ(ComputeDigest(t), ComputeDigest(*original));
+  EXPECT_EQ(t.ground().posts(), original->ground().posts());
+  EXPECT_EQ(t.ground().soils(), original->ground().soils());
+  EXPECT_EQ(t.ground().spacing_m(), 10.0);
+  ASSERT_EQ(t.feature_count(), SampleFeatures().size());
+  for (const auto& [id, params] : SampleFeatures()) {
+    ASSERT_NE(t.Find(id), nullptr) << id.ToString();
+    EXPECT_EQ(t.Find(id)->params(), original->Find(id)->params()) << id.ToString();
+  }
+  // Encoding is canonical: the loaded terrain encodes to the same bytes.
+  EXPECT_EQ(EncodeTerrainFile(t), bytes);
+}
+
+TEST_F(TerrainFiles, SaveThenLoadKeepsTheDigestAndLeavesNoTemporaryFile) {
+  const auto original = Sample();
+  const fs::path path = dir_ / "exercise.dtt";
+  ASSERT_TRUE(SaveTerrain(Terrain(HeightGrid(3, 1.0)), path).ok());
+  // Saving again replaces the file whole.
+  const Status saved = SaveTerrain(*original, path);
+  ASSERT_TRUE(saved.ok()) << saved.error().message;
+  auto loaded = LoadTerrain(path);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(ComputeDigest(*loaded.value()), ComputeDigest(*original));
+  std::vector<fs::path> entries(fs::directory_iterator(dir_), fs::directory_iterator{});
+  ASSERT_EQ(entries.size(), 1u);
+  EXPECT_EQ(entries[0].filename(), "exercise.dtt");
+  EXPECT_EQ(fs::file_size(path), EncodeTerrainFile(*original).size());
+}
+
+TEST_F(TerrainFiles, SaveAndLoadReportFileSystemErrors) {
+  const auto missing = LoadTerrain(dir_ / "absent.dtt");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.error().message.find("absent.dtt: cannot open"), std::string::npos);
+  const Status s = SaveTerrain(*Sample(), dir_ / "no_such_dir" / "t.dtt");
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("cannot create a temporary file"), std::string::npos)
+      << s.error().message;
+  EXPECT_FALSE(fs::exists(dir_ / "no_such_dir"));
+}
+
+TEST(TerrainFileTest, EveryTruncationIsRefused) {
+  const auto bytes = EncodeTerrainFile(*Sample());
+  for (size_t length = 0; length < bytes.size(); ++length) {
+    SCOPED_TRACE(length);
+    ASSERT_FALSE(DecodeTerrainFile(std::span(bytes).first(length), "t.dtt").ok());
+  }
+  auto longer = bytes;
+  longer.push_back(0);
+  ExpectRefused(longer, "does not match the file size");
+}
+
+TEST(TerrainFileTest, EveryFlippedByteIsRefused) {
+  const auto bytes = EncodeTerrainFile(*Sample());
+  for (size_t at = 0; at < bytes.size(); ++at) {
+    for (uint8_t mask : {uint8_t{0x01}, uint8_t{0x80}, uint8_t{0xFF}}) {
+      auto corrupt = bytes;
+      corrupt[at] ^= mask;
+      const auto r = DecodeTerrainFile(corrupt, "t.dtt");
+      ASSERT_FALSE(r.ok()) << "byte " << at << " mask " << int{mask};
+    }
+  }
+  // Past the header, corruption is caught by the checksum.
+  auto corrupt = bytes;
+  corrupt[kPostsAt + 5] ^= 0x10;
+  ExpectRefused(corrupt, "checksum mismatch");
+}
+
+TEST(TerrainFileTest, HeaderErrorsNameWhatFailed) {
+  const auto bytes = EncodeTerrainFile(*Sample());
+  ExpectRefused(std::span(bytes).first(35), "byte 35: file is 35 bytes, shorter than");
+  auto magic = bytes;
+  magic[1] = 'X';
+  ExpectRefused(magic, "byte 0: not a dynterrain terrain file");
+  auto version = bytes;
+  PutU32(version, 8, 2);
+  Reseal(version);
+  ExpectRefused(version, "byte 8: format version 2 is not supported");
+  auto lengths = bytes;
+  PutU32(lengths, 12, 4);  // ground section length, now too short for any grid
+  ExpectRefused(lengths, "byte 12: header declares a 4-byte ground section");
+}
+
+TEST(TerrainFileTest, ResealedStructuralErrorsAreStillRefused) {
+  const auto bytes = EncodeTerrainFile(*Sample());
+  {
+    auto b = bytes;
+    PutU32(b, kGroundAt, 10);  // 10 x 10 posts do not fit the 9 x 9 section
+    Reseal(b);
+    ExpectRefused(b, "byte 12: ground section is 592 bytes but a 10 x 10 grid needs 736");
+  }
+  {
+    auto b = bytes;
+    PutU32(b, kGroundAt, 1);
+    Reseal(b);
+    ExpectRefused(b, "byte 28: posts_per_side 1 is outside [2, 65536]");
+  }
+  {
+    auto b = bytes;
+    const double bad = -1.0;
+    const uint64_t bits = std::bit_cast<uint64_t>(bad);
+    for (size_t k = 0; k < 8; ++k) b[kGroundAt + 4 + k] = static_cast<uint8_t>(bits >> (8 * k));
+    Reseal(b);
+    ExpectRefused(b, "byte 32: spacing_m -1 must be finite and > 0");
+  }
+  {
+    auto b = bytes;
+    PutU32(b, kPostsAt + 4 * (2 * 9 + 3),
+           std::bit_cast<uint32_t>(std::numeric_limits<float>::quiet_NaN()));
+    Reseal(b);
+    ExpectRefused(b, fmt::format("byte {}: post (3, 2) is not finite", kPostsAt + 4 * 21));
+  }
+  {
+    auto b = bytes;
+    b[kSoilsAt + 2 * 5] = 0;  // square (2, 0), upper half: "from_ground" is no soil
+    Reseal(b);
+    ExpectRefused(b, fmt::format("byte {}: soil 0 of square (2, 0) is not a soil", kSoilsAt + 10));
+  }
+  {
+    auto b = bytes;
+    PutU32(b, kFeaturesAt, 99);  // more records claimed than present
+    Reseal(b);
+    ExpectRefused(b, "feature section ends inside the header of feature record 6 of 99");
+  }
+  {
+    auto b = bytes;
+    PutU32(b, kFeaturesAt, 4);  // one record fewer claimed than present
+    Reseal(b);
+    ExpectRefused(b, "bytes left over after the last feature");
+  }
+  {
+    // The first record is 1:1:1; renumbering it 1:1:5 breaks the order.
+    auto b = bytes;
+    PutU32(b, kFeaturesAt + 4 + 4, 5);
+    Reseal(b);
+    ExpectRefused(b, fmt::format("byte {}: feature 1:1:2 follows 1:1:5", kFeaturesAt + 4 + 12 +
+                                                                             /*crater record*/ 82));
+  }
+  {
+    // Number 0 means "no feature".
+    auto b = bytes;
+    PutU32(b, kFeaturesAt + 4 + 4, 0);
+    Reseal(b);
+    ExpectRefused(b, fmt::format("byte {}: feature 1:1:0 was refused", kFeaturesAt + 4));
+  }
+  {
+    // Move the first crater's x to 79 m: its rim leaves the 80 m terrain.
+    auto b = bytes;
+    const uint64_t bits = std::bit_cast<uint64_t>(79.0);
+    const size_t x_at = kFeaturesAt + 4 + 12 + 2;
+    for (size_t k = 0; k < 8; ++k) b[x_at + k] = static_cast<uint8_t>(bits >> (8 * k));
+    Reseal(b);
+    ExpectRefused(b, fmt::format("byte {}: feature 1:1:1 was refused", kFeaturesAt + 4));
+  }
+  {
+    // A crater radius of -3 fails parameter decoding.
+    auto b = bytes;
+    const uint64_t bits = std::bit_cast<uint64_t>(-3.0);
+    const size_t radius_at = kFeaturesAt + 4 + 12 + 2 + 8 * 5;
+    for (size_t k = 0; k < 8; ++k) b[radius_at + k] = static_cast<uint8_t>(bits >> (8 * k));
+    Reseal(b);
+    ExpectRefused(
+        b, fmt::format("byte {}: feature 1:1:1: feature record at byte 0", kFeaturesAt + 4 + 12));
+  }
+  {
+    // A record length one byte longer than its parameters.
+    auto b = bytes;
+    PutU32(b, kFeaturesAt + 4 + 8, 82 + 1);
+    Reseal(b);
+    ExpectRefused(b, "feature 1:1:1: 1 bytes left over after its parameters");
+  }
+}
+
+TEST(TerrainFileTest, ConflictingFeaturesInAResealedFileAreRefused) {
+  // Each record is valid alone, but a second bridge on the first one's deck is refused by
+  // Terrain::Add, so the whole file is.
+  Terrain one(test::SampleGround());
+  const FeatureParams bridge = SampleFeatures()[4].second;
+  ASSERT_TRUE(one.Add({1, 1, 9}, bridge).ok());
+  auto b = EncodeTerrainFile(one);
+  const size_t features_at = kFeaturesAt;
+  const size_t record_at = features_at + 4;
+  const size_t record_bytes = b.size() - 8 - record_at;
+  std::vector<uint8_t> second(b.begin() + record_at, b.begin() + record_at + record_bytes);
+  PutU32(second, 4, 10);  // id 1:1:10
+  b.insert(b.end() - 8, second.begin(), second.end());
+  PutU32(b, features_at, 2);
+  PutU32(b, 20, static_cast<uint32_t>(4 + 2 * record_bytes));  // feature section length
+  Reseal(b);
+  ExpectRefused(b, fmt::format("byte {}: feature 1:1:10 was refused: bridge 1:1:10 overlaps",
+                               record_at + record_bytes));
+}
+
+}  // namespace
+}  // namespace dt

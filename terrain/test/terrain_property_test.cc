@@ -1,0 +1,229 @@
+// Properties of Terrain over seeded random grounds and random craters and berms.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "terrain/crater.h"
+#include "terrain/terrain.h"
+
+namespace dt {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr uint64_t kSeeds[] = {1, 2, 3, 20260101, 987654321};
+
+// Rolling hills (three random sine waves) plus post noise and a cliff, with random soils.
+HeightGrid RandomGround(std::mt19937_64& rng) {
+  std::uniform_int_distribution<int> posts(17, 65);
+  std::uniform_real_distribution<double> spacing(1.0, 5.0), unit(0.0, 1.0);
+  const int n = posts(rng);
+  const double s = spacing(rng);
+  double amp[3], kx[3], kz[3], phase[3];
+  for (int w = 0; w < 3; ++w) {
+    amp[w] = 20 * unit(rng);
+    kx[w] = 0.2 * unit(rng);
+    kz[w] = 0.2 * unit(rng);
+    phase[w] = 2 * kPi * unit(rng);
+  }
+  const int cliff_i = n / 2;
+  std::vector<float> heights(static_cast<size_t>(n) * n);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      double h = 4 * (unit(rng) - 0.5) + (i > cliff_i ? 15.0 : 0.0);
+      for (int w = 0; w < 3; ++w) h += amp[w] * std::sin(kx[w] * i + kz[w] * j + phase[w]);
+      heights[static_cast<size_t>(j) * n + i] = static_cast<float>(h);
+    }
+  }
+  HeightGrid ground(n, s, std::move(heights));
+  for (int j = 0; j < n - 1; ++j) {
+    for (int i = 0; i < n - 1; ++i) {
+      for (auto half : {TriangleHalf::kLower, TriangleHalf::kUpper}) {
+        ground.set_soil({i, j}, half, static_cast<Material>(1 + rng() % (kMaterialCount - 1)));
+      }
+    }
+  }
+  return ground;
+}
+
+// Random craters (some with rim/floor edits; the outer ring stays at the ground so the surface
+// stays continuous) and berms. Some leave the terrain and will be refused.
+std::vector<FeatureParams> RandomFeatures(std::mt19937_64& rng, double size_m) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<FeatureParams> out;
+  const int count = 20 + static_cast<int>(rng() % 40);
+  for (int k = 0; k < count; ++k) {
+    const double x = size_m * unit(rng), z = size_m * unit(rng);
+    if (rng() % 2 == 0) {
+      const double r = 0.5 + unit(rng) * std::min(30.0, size_m / 4);
+      FeatureParams p =
+          FeatureParams::Crater(x, z, r, rng() % 3 == 0 ? Material::kRock : Material::kFromGround);
+      const int edits = static_cast<int>(rng() % 6);
+      for (int e = 0; e < edits; ++e) {
+        p = WithCraterVertexEdit(
+            p, {static_cast<uint8_t>(rng() % kCraterSpokes),
+                static_cast<uint8_t>(rng() % (kCraterRings - 1)), r * (unit(rng) - 0.3)});
+      }
+      out.push_back(p);
+    } else {
+      out.push_back(FeatureParams::Berm(x, z, 2 * kPi * (unit(rng) - 0.5),
+                                        1 + unit(rng) * size_m / 2, 1 + 19 * unit(rng),
+                                        0.2 + 7.8 * unit(rng)));
+    }
+  }
+  return out;
+}
+
+struct World {
+  Terrain terrain;
+  std::vector<std::pair<FeatureId, FeatureParams>> accepted;
+};
+
+World Build(uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  World w{Terrain(RandomGround(rng)), {}};
+  const auto features = RandomFeatures(rng, w.terrain.ground().size_m());
+  for (size_t k = 0; k < features.size(); ++k) {
+    const FeatureId id{3, 4, static_cast<uint32_t>(k + 1)};
+    const size_t before = w.terrain.feature_count();
+    if (w.terrain.Add(id, features[k]).ok()) {
+      w.accepted.emplace_back(id, features[k]);
+    } else {
+      EXPECT_EQ(w.terrain.feature_count(), before);  // never half-applied
+    }
+  }
+  return w;
+}
+
+// Random points in bounds, plus the corners and points on the far edges.
+std::vector<std::pair<double, double>> SamplePoints(uint64_t seed, double size_m, int count) {
+  std::mt19937_64 rng(seed * 7919 + 1);
+  std::uniform_real_distribution<double> pos(0.0, size_m);
+  std::vector<std::pair<double, double>> out = {{0, 0}, {size_m, 0}, {0, size_m}, {size_m, size_m}};
+  for (int k = 0; k < count; ++k) {
+    out.emplace_back(pos(rng), pos(rng));
+    out.emplace_back(size_m, pos(rng));
+    out.emplace_back(pos(rng), 0.0);
+  }
+  return out;
+}
+
+TEST(TerrainProperty, SomeFeaturesAreAcceptedAndTheRestRefusedCleanly) {
+  for (uint64_t seed : kSeeds) {
+    const World w = Build(seed);
+    EXPECT_GE(w.accepted.size(), 5u) << "seed " << seed;
+    EXPECT_EQ(w.terrain.feature_count(), w.accepted.size());
+  }
+}
+
+TEST(TerrainProperty, ElevationIsFiniteEverywhereInBounds) {
+  for (uint64_t seed : kSeeds) {
+    const World w = Build(seed);
+    for (auto [x, z] : SamplePoints(seed, w.terrain.ground().size_m(), 20000)) {
+      ASSERT_TRUE(std::isfinite(w.terrain.ElevationAt(x, z))) << seed << ": " << x << "," << z;
+    }
+  }
+}
+
+TEST(TerrainProperty, ElevationIsNeverBelowTheBareGroundAndCoversEveryEarthwork) {
+  for (uint64_t seed : kSeeds) {
+    const World w = Build(seed);
+    int raised = 0;
+    for (auto [x, z] : SamplePoints(seed, w.terrain.ground().size_m(), 20000)) {
+      const double ground = w.terrain.GroundElevationAt(x, z);
+      const double e = w.terrain.ElevationAt(x, z);
+      ASSERT_GE(e, ground) << seed << ": " << x << "," << z;
+      raised += e > ground;
+      bool covered = false;
+      for (const Feature* f : w.terrain.FeaturesNear(x, z)) {
+        if (auto off = f->OffsetAboveGround(x, z)) {
+          covered = true;
+          EXPECT_GE(e, ground + *off - 1e-9) << seed << ": " << f->id().ToString();
+        }
+      }
+      // Wherever a feature covers a point, the presence bit is set (vehicles rely on it).
+      if (covered) {
+        EXPECT_TRUE(w.terrain.FeatureBitAt(x, z)) << seed << ": " << x << "," << z;
+      }
+    }
+    EXPECT_GT(raised, 0) << seed;
+  }
+}
+
+// |E(a) - E(b)| across each kind of square edge (vertical, horizontal, diagonal), for points a
+// and b 2e-7 m apart. Slopes here stay below ~100 m/m, so a continuous surface moves < 2e-5 m.
+void ExpectContinuousAcrossSquareEdges(const Terrain& t, uint64_t seed, const char* what) {
+  const double s = t.ground().spacing_m();
+  const int m = t.ground().squares_per_side();
+  std::mt19937_64 rng(seed + 17);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double eps = 1e-7, tolerance = 1e-4;
+  for (int k = 0; k < 4000; ++k) {
+    const int i = 1 + static_cast<int>(rng() % (m - 1));
+    const int j = static_cast<int>(rng() % m);
+    const double along = (j + unit(rng)) * s;
+    // Vertical edge x = i * s, horizontal edge z = i * s.
+    EXPECT_NEAR(t.ElevationAt(i * s - eps, along), t.ElevationAt(i * s + eps, along), tolerance)
+        << what << " seed " << seed << " x edge " << i;
+    EXPECT_NEAR(t.ElevationAt(along, i * s - eps), t.ElevationAt(along, i * s + eps), tolerance)
+        << what << " seed " << seed << " z edge " << i;
+    // The diagonal of square (i - 1, j): from (x0, z1) to (x1, z0).
+    const double u = 0.01 + 0.98 * unit(rng);
+    const double x = (i - 1 + u) * s, z = (j + 1 - u) * s;
+    EXPECT_NEAR(t.ElevationAt(x - eps, z - eps), t.ElevationAt(x + eps, z + eps), tolerance)
+        << what << " seed " << seed << " diagonal " << i - 1 << "," << j;
+  }
+}
+
+TEST(TerrainProperty, ElevationIsContinuousAcrossSquareEdges) {
+  for (uint64_t seed : kSeeds) {
+    std::mt19937_64 rng(seed);
+    const Terrain bare(RandomGround(rng));
+    ExpectContinuousAcrossSquareEdges(bare, seed, "bare ground");
+    const World w = Build(seed);
+    ExpectContinuousAcrossSquareEdges(w.terrain, seed, "with features");
+  }
+}
+
+TEST(TerrainProperty, InsertionOrderDoesNotMatter) {
+  for (uint64_t seed : kSeeds) {
+    const World w = Build(seed);
+    std::mt19937_64 rng(seed ^ 0xabcdef);
+    auto shuffled = w.accepted;
+    std::shuffle(shuffled.begin(), shuffled.end(), rng);
+    std::mt19937_64 ground_rng(seed);
+    Terrain other(RandomGround(ground_rng));
+    for (const auto& [id, p] : shuffled) ASSERT_TRUE(other.Add(id, p).ok());
+    for (auto [x, z] : SamplePoints(seed, w.terrain.ground().size_m(), 10000)) {
+      ASSERT_EQ(w.terrain.ElevationAt(x, z), other.ElevationAt(x, z))
+          << seed << ": " << x << "," << z;
+      ASSERT_EQ(w.terrain.SoilAt(x, z), other.SoilAt(x, z)) << seed << ": " << x << "," << z;
+      ASSERT_EQ(w.terrain.FeatureBitAt(x, z), other.FeatureBitAt(x, z));
+    }
+  }
+}
+
+TEST(TerrainProperty, UpdatingToTheSameParamsAndRemovingAllRestoreTheSurface) {
+  for (uint64_t seed : kSeeds) {
+    World w = Build(seed);
+    const auto points = SamplePoints(seed, w.terrain.ground().size_m(), 3000);
+    std::vector<double> before;
+    for (auto [x, z] : points) before.push_back(w.terrain.ElevationAt(x, z));
+    for (const auto& [id, p] : w.accepted) {
+      ASSERT_TRUE(w.terrain.Update(id, w.terrain.Find(id)->params()).ok());
+    }
+    for (size_t k = 0; k < points.size(); ++k) {
+      ASSERT_EQ(w.terrain.ElevationAt(points[k].first, points[k].second), before[k]);
+    }
+    for (const auto& [id, p] : w.accepted) ASSERT_TRUE(w.terrain.Remove(id).ok());
+    for (auto [x, z] : points) {
+      ASSERT_EQ(w.terrain.ElevationAt(x, z), w.terrain.GroundElevationAt(x, z));
+      ASSERT_FALSE(w.terrain.FeatureBitAt(x, z));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace dt

@@ -1,0 +1,361 @@
+#include "terrain/terrain.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "terrain/berm.h"
+#include "terrain/berm_operations.h"
+#include "terrain/crater.h"
+
+namespace dt {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+FeatureId Id(uint32_t n) { return {1, 1, n}; }
+
+// 101 x 101 posts, 2 m apart (200 m square), rising 0.25 m per metre toward +x and 0.1 toward +z,
+// so "follows the ground" is visible.
+HeightGrid SlopedGround() {
+  const int n = 101;
+  std::vector<float> posts(n * n);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) posts[j * n + i] = static_cast<float>(0.5 * i + 0.2 * j);
+  }
+  return HeightGrid(n, 2.0, std::move(posts), Material::kGrass);
+}
+
+double Above(const Terrain& t, double x, double z) {
+  return t.ElevationAt(x, z) - t.GroundElevationAt(x, z);
+}
+
+void ExpectAdded(Terrain& t, FeatureId id, const FeatureParams& p) {
+  auto s = t.Add(id, p);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+}
+
+// Elevations over a grid of points, for before/after comparisons.
+std::vector<double> Sample(const Terrain& t, double x0, double z0, double x1, double z1,
+                           double step) {
+  std::vector<double> out;
+  for (double x = x0; x <= x1; x += step) {
+    for (double z = z0; z <= z1; z += step) out.push_back(t.ElevationAt(x, z));
+  }
+  return out;
+}
+
+TEST(TerrainBerm, CrestIsAtHeightAboveSlopedGroundAndEdgesAtGround) {
+  Terrain t(SlopedGround());
+  // One berm up the x slope, one across it, one diagonal.
+  const std::array<double, 3> dirs = {0.0, kPi / 2, 2.3};
+  for (size_t k = 0; k < dirs.size(); ++k) {
+    ExpectAdded(t, Id(static_cast<uint32_t>(k + 1)),
+                FeatureParams::Berm(100, 100, dirs[k], 60, 6, 2.5));
+    const double c = std::cos(dirs[k]), s = std::sin(dirs[k]);
+    for (double along = 0; along <= 60; along += 0.7) {
+      const double x = 100 + along * c, z = 100 + along * s;
+      EXPECT_NEAR(Above(t, x, z), 2.5, 1e-9) << along;
+      // The outer edges are at the ground, the middle of each side slope halfway up.
+      {
+        EXPECT_NEAR(Above(t, x - 3 * s, z + 3 * c), 0.0, 1e-9) << along;
+        EXPECT_NEAR(Above(t, x + 3 * s, z - 3 * c), 0.0, 1e-9) << along;
+        EXPECT_NEAR(Above(t, x + 2 * s, z - 2 * c), 1.25, 1e-9) << along;
+      }
+    }
+    ASSERT_TRUE(t.Remove(Id(static_cast<uint32_t>(k + 1))).ok());
+  }
+}
+
+TEST(TerrainBerm, OverlappingBermsGiveTheHigherSurface) {
+  Terrain t(SlopedGround());
+  ExpectAdded(t, Id(1), FeatureParams::Berm(60, 100, 0, 80, 10, 2));
+  ExpectAdded(t, Id(2), FeatureParams::Berm(100, 60, kPi / 2, 80, 8, 3));
+  const Feature* a = t.Find(Id(1));
+  const Feature* b = t.Find(Id(2));
+  // At the crossing the taller berm wins.
+  EXPECT_NEAR(Above(t, 100, 100), 3.0, 1e-9);
+  int both = 0, a_wins = 0;
+  for (double x = 80; x <= 120; x += 0.25) {
+    for (double z = 80; z <= 120; z += 0.25) {
+      const double oa = a->OffsetAboveGround(x, z).value_or(0.0);
+      const double ob = b->OffsetAboveGround(x, z).value_or(0.0);
+      EXPECT_NEAR(Above(t, x, z), std::max(oa, ob), 1e-9) << x << "," << z;
+      if (oa > 0 && ob > 0) {
+        ++both;
+        if (oa > ob) ++a_wins;
+      }
+    }
+  }
+  // Both berms overlap somewhere, and the lower one is sometimes the higher surface there.
+  EXPECT_GT(both, 100);
+  EXPECT_GT(a_wins, 10);
+}
+
+// A mixed set of overlapping features.
+std::vector<FeatureParams> MixedFeatures() {
+  std::vector<FeatureParams> out = {
+      FeatureParams::Crater(90, 90, 12),
+      WithCraterVertexEdit(FeatureParams::Crater(100, 95, 9), {3, 2, 4.0}),
+      FeatureParams::Crater(105, 85, 6, Material::kRock),
+      FeatureParams::Berm(70, 92, 0.1, 50, 7, 2.2),
+      FeatureParams::Berm(95, 70, 1.4, 40, 5, 1.7, Material::kConcrete),
+  };
+  return out;
+}
+
+TEST(TerrainOrder, ElevationAndSoilDoNotDependOnInsertionOrder) {
+  const auto features = MixedFeatures();
+  Terrain forward(SlopedGround()), backward(SlopedGround());
+  for (size_t k = 0; k < features.size(); ++k) {
+    ExpectAdded(forward, Id(static_cast<uint32_t>(k + 1)), features[k]);
+  }
+  for (size_t k = features.size(); k-- > 0;) {
+    ExpectAdded(backward, Id(static_cast<uint32_t>(k + 1)), features[k]);
+  }
+  int raised = 0;
+  for (double x = 60; x <= 130; x += 0.173) {
+    for (double z = 60; z <= 130; z += 0.173) {
+      const double e = forward.ElevationAt(x, z);
+      ASSERT_EQ(e, backward.ElevationAt(x, z)) << x << "," << z;  // exact
+      ASSERT_EQ(forward.SoilAt(x, z), backward.SoilAt(x, z)) << x << "," << z;
+      if (e > forward.GroundElevationAt(x, z)) ++raised;
+    }
+  }
+  EXPECT_GT(raised, 1000);
+}
+
+TEST(TerrainBerm, BreachLeavesTwoBermsAndAGapAtGroundLevel) {
+  Terrain t(SlopedGround());
+  const FeatureParams p = FeatureParams::Berm(40, 50, 0.6, 100, 6, 2);
+  ExpectAdded(t, Id(1), p);
+  const auto pieces = BreachBerm(static_cast<const Berm&>(*t.Find(Id(1))), 50, 10);
+  ASSERT_TRUE(pieces.ok()) << pieces.error().message;
+  ASSERT_EQ(pieces.value().size(), 2u);
+  ASSERT_TRUE(t.Remove(Id(1)).ok());
+  ExpectAdded(t, Id(2), pieces.value()[0]);
+  ExpectAdded(t, Id(3), pieces.value()[1]);
+  EXPECT_EQ(t.feature_count(), 2u);
+  const double c = std::cos(0.6), s = std::sin(0.6);
+  for (double along = 0; along <= 100; along += 0.25) {
+    const double x = 40 + along * c, z = 50 + along * s;
+    if (along > 45 && along < 55) {
+      EXPECT_EQ(t.ElevationAt(x, z), t.GroundElevationAt(x, z)) << along;
+    } else if (along <= 43 || along >= 57) {
+      EXPECT_NEAR(Above(t, x, z), 2.0, 1e-9) << along;
+    }
+  }
+}
+
+TEST(TerrainBerm, EmplacementCrestHasNoDipAtTheJoints) {
+  Terrain t(SlopedGround());
+  const double facing = 0.4;
+  auto berms = EmplacementBerms({100, 100, facing, 30, 5, 1.8, Material::kDirt});
+  ASSERT_TRUE(berms.ok());
+  for (size_t k = 0; k < 3; ++k) ExpectAdded(t, Id(static_cast<uint32_t>(k + 1)), berms.value()[k]);
+  const double fx = std::cos(facing), fz = std::sin(facing), lx = -fz, lz = fx;
+  auto at = [&](double fwd, double left) {
+    return std::pair(100 + fwd * fx + left * lx, 100 + fwd * fz + left * lz);
+  };
+  // Back-right -> front-right -> front-left -> back-left.
+  const double corners[4][2] = {{-15, -15}, {15, -15}, {15, 15}, {-15, 15}};
+  for (int leg = 0; leg < 3; ++leg) {
+    for (int step = 0; step <= 200; ++step) {
+      const double u = step / 200.0;
+      const auto [x, z] = at(corners[leg][0] + u * (corners[leg + 1][0] - corners[leg][0]),
+                             corners[leg][1] + u * (corners[leg + 1][1] - corners[leg][1]));
+      EXPECT_NEAR(Above(t, x, z), 1.8, 1e-9) << "leg " << leg << " step " << step;
+    }
+  }
+  const auto [cx, cz] = at(0, 0);
+  EXPECT_EQ(t.ElevationAt(cx, cz), t.GroundElevationAt(cx, cz));
+}
+
+TEST(TerrainFeatures, AddUpdateRemoveRemoveAtRemoveAll) {
+  Terrain t(SlopedGround());
+  ExpectAdded(t, Id(1), FeatureParams::Crater(50, 50, 10));
+  ExpectAdded(t, Id(2), FeatureParams::Crater(56, 50, 4));
+  ExpectAdded(t, Id(3), FeatureParams::Berm(120, 120, 0, 30, 6, 2));
+  EXPECT_EQ(t.feature_count(), 3u);
+  ASSERT_NE(t.Find(Id(2)), nullptr);
+  EXPECT_EQ(t.Find(Id(2))->params(), FeatureParams::Crater(56, 50, 4));
+  EXPECT_NEAR(Above(t, 57, 50), 1.5, 1e-9);  // crater 1's rim (r = 7 of 10)
+  EXPECT_NEAR(Above(t, 135, 120), 2.0, 1e-9);
+
+  // Update: the berm grows taller and longer; the old shape is gone.
+  ASSERT_TRUE(t.Update(Id(3), FeatureParams::Berm(120, 120, 0, 50, 6, 3)).ok());
+  EXPECT_EQ(t.feature_count(), 3u);
+  EXPECT_NEAR(Above(t, 135, 120), 3.0, 1e-9);
+  EXPECT_NEAR(Above(t, 165, 120), 3.0, 1e-9);
+  EXPECT_EQ(t.Find(Id(3))->params(), FeatureParams::Berm(120, 120, 0, 50, 6, 3));
+
+  // RemoveAt removes only features covering the point, not others in the same square: crater 2
+  // touches the square of (52.5, 53.5) but its rim is 4.95 m away.
+  EXPECT_EQ(t.FeaturesNear(52.5, 53.5).size(), 2u);
+  EXPECT_EQ(t.RemoveAt(52.5, 53.5), (std::vector<FeatureId>{Id(1)}));
+  EXPECT_EQ(t.feature_count(), 2u);
+  EXPECT_EQ(t.Find(Id(1)), nullptr);
+  EXPECT_EQ(Above(t, 57, 50), 0.0);  // crater 2's floor
+  ExpectAdded(t, Id(1), FeatureParams::Crater(50, 50, 10));
+  EXPECT_EQ(t.RemoveAt(57.5, 50), (std::vector<FeatureId>{Id(1), Id(2)}));
+  EXPECT_EQ(t.feature_count(), 1u);
+  EXPECT_EQ(Above(t, 57, 50), 0.0);
+  EXPECT_TRUE(t.RemoveAt(10, 10).empty());
+
+  ASSERT_TRUE(t.Remove(Id(3)).ok());
+  EXPECT_FALSE(t.Remove(Id(3)).ok());
+  EXPECT_EQ(t.feature_count(), 0u);
+  EXPECT_EQ(Above(t, 135, 120), 0.0);
+
+  ExpectAdded(t, Id(4), FeatureParams::Crater(20, 20, 5));
+  ExpectAdded(t, Id(5), FeatureParams::Berm(100, 20, 1, 20, 4, 1));
+  t.RemoveAll();
+  EXPECT_EQ(t.feature_count(), 0u);
+  EXPECT_TRUE(t.FeaturesNear(20, 20).empty());
+  EXPECT_FALSE(t.FeatureBitAt(20, 23));
+  EXPECT_EQ(Above(t, 20, 23), 0.0);
+  // IDs may be reused after removal.
+  ExpectAdded(t, Id(4), FeatureParams::Crater(20, 20, 5));
+}
+
+TEST(TerrainFeatures, RefusedAddOrUpdateChangesNothing) {
+  Terrain t(SlopedGround());
+  ExpectAdded(t, Id(1), FeatureParams::Crater(50, 50, 10));
+  ExpectAdded(t, Id(2), FeatureParams::Berm(40, 60, 0, 30, 6, 2));
+  const auto before = Sample(t, 30, 30, 80, 80, 0.37);
+  auto refused = [&](const Status& s, const std::string& needle) {
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().message.find(needle), std::string::npos) << s.error().message;
+    EXPECT_EQ(t.feature_count(), 2u);
+    EXPECT_EQ(Sample(t, 30, 30, 80, 80, 0.37), before);
+    EXPECT_EQ(t.Find(Id(1))->params(), FeatureParams::Crater(50, 50, 10));
+    EXPECT_EQ(t.Find(Id(2))->params(), FeatureParams::Berm(40, 60, 0, 30, 6, 2));
+  };
+  refused(t.Add(Id(1), FeatureParams::Crater(60, 60, 3)), "already exists");
+  refused(t.Add(Id(3), FeatureParams::Crater(60, 60, -3)), "-3");
+  refused(t.Add(Id(3), FeatureParams::Crater(195, 60, 8)), "leaves the terrain");
+  refused(t.Add({1, 1, 0}, FeatureParams::Crater(60, 60, 3)), "number 0");
+  FeatureParams odd = FeatureParams::Crater(60, 60, 3);
+  odd.length_m[2] = 1;
+  refused(t.Add(Id(3), odd), "length_m[2]");
+  refused(t.Update(Id(1), FeatureParams::Berm(50, 50, 0, 10, 3, 1)), "cannot make it a berm");
+  refused(t.Update(Id(1), FeatureParams::Crater(50, 50, 300)), "300");
+  refused(t.Update(Id(1), FeatureParams::Crater(5, 50, 10)), "leaves the terrain");
+  refused(t.Update(Id(2), FeatureParams::Berm(40, 60, kPi, 45, 6, 2)), "leaves the terrain");
+  refused(t.Update(Id(9), FeatureParams::Crater(50, 50, 10)), "does not exist");
+  FeatureParams bad_edit = FeatureParams::Crater(50, 50, 10);
+  bad_edit.vertex_edits = {{2, 1, 1.0}, {1, 1, 1.0}};
+  refused(t.Update(Id(1), bad_edit), "sorted");
+}
+
+TEST(TerrainFeatures, OffTerrainPlacementIsRefusedWithTheExtent) {
+  Terrain t(SlopedGround());
+  auto s = t.Add(Id(1), FeatureParams::Crater(3, 100, 5));
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("x [-2, 8]"), std::string::npos) << s.error().message;
+  EXPECT_NE(s.error().message.find("[0, 200]"), std::string::npos) << s.error().message;
+  s = t.Add(Id(1), FeatureParams::Berm(150, 100, 0, 60, 6, 2));  // runs past x = 200
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("leaves the terrain"), std::string::npos) << s.error().message;
+  s = t.Add(Id(1), FeatureParams::Crater(250, 100, 5));
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("250"), std::string::npos) << s.error().message;
+  EXPECT_EQ(t.feature_count(), 0u);
+  // Exactly touching the edge is on the terrain.
+  ExpectAdded(t, Id(2), FeatureParams::Crater(5, 100, 5));
+}
+
+TEST(TerrainFeatures, FeatureCrossingSquaresIsListedInEachAndSetsBitsOnlyWhereItIs) {
+  Terrain t(SlopedGround());  // 2 m squares, 0.5 m bitgrid cells
+  const double cx = 51.3, cz = 47.9, r = 5.2;
+  ExpectAdded(t, Id(1), FeatureParams::Crater(cx, cz, r));
+  const Feature* f = t.Find(Id(1));
+  const int m = t.ground().squares_per_side();
+  int listed = 0, bits_set = 0;
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < m; ++i) {
+      const auto list = t.FeaturesInSquare({i, j});
+      const double x0 = i * 2.0, z0 = j * 2.0;
+      const bool touches_box = x0 <= cx + r && x0 + 2 >= cx - r && z0 <= cz + r && z0 + 2 >= cz - r;
+      EXPECT_EQ(list.size(), touches_box ? 1u : 0u) << i << "," << j;
+      if (!touches_box) {
+        EXPECT_EQ(t.SquareBits({i, j}), 0) << i << "," << j;
+        continue;
+      }
+      ++listed;
+      EXPECT_EQ(list[0], f);
+      for (int cz_i = 0; cz_i < kBitgridCellsPerSide; ++cz_i) {
+        for (int cx_i = 0; cx_i < kBitgridCellsPerSide; ++cx_i) {
+          // Nearest point of the cell to the centre decides whether the disc reaches it.
+          const double ax = x0 + cx_i * 0.5, az = z0 + cz_i * 0.5;
+          const double nx = std::clamp(cx, ax, ax + 0.5), nz = std::clamp(cz, az, az + 0.5);
+          const double d = std::hypot(nx - cx, nz - cz);
+          const bool bit = (t.SquareBits({i, j}) >> (cz_i * 4 + cx_i)) & 1u;
+          if (d < r - 1e-6) {
+            EXPECT_TRUE(bit) << i << "," << j << " cell " << cx_i << "," << cz_i;
+          } else if (d > r + 1e-6) {
+            EXPECT_FALSE(bit) << i << "," << j << " cell " << cx_i << "," << cz_i;
+          }
+          bits_set += bit;
+          // FeatureBitAt agrees at the cell's centre.
+          EXPECT_EQ(t.FeatureBitAt(ax + 0.25, az + 0.25), bit);
+        }
+      }
+    }
+  }
+  // The box spans 6 x 6 squares; the disc's bits are about pi r^2 / 0.25 plus the rim cells.
+  EXPECT_EQ(listed, 36);
+  EXPECT_GT(bits_set, 340);
+  EXPECT_LT(bits_set, 36 * 16);
+}
+
+TEST(TerrainFeatures, SetPostElevationMovesACraterWithTheGround) {
+  Terrain t(HeightGrid(51, 2.0, 10.0f));
+  ExpectAdded(t, Id(1), FeatureParams::Crater(50, 50, 10));
+  // Post (28, 25) stands at (56, 50), 6 m from the centre: on the rim (1.5 m).
+  EXPECT_DOUBLE_EQ(t.ElevationAt(56, 50), 11.5);
+  ASSERT_TRUE(t.SetPostElevation(28, 25, 14.0f).ok());
+  EXPECT_DOUBLE_EQ(t.GroundElevationAt(56, 50), 14.0);
+  EXPECT_DOUBLE_EQ(t.ElevationAt(56, 50), 15.5);
+  // Halfway to the next post the ground rose by 2 m and the crater stays 1.5 m above it.
+  EXPECT_NEAR(t.ElevationAt(57, 50), 12.0 + 1.5, 1e-9);
+  EXPECT_FALSE(t.SetPostElevation(51, 0, 1.0f).ok());
+  EXPECT_FALSE(t.SetPostElevation(0, 0, NAN).ok());
+}
+
+TEST(TerrainFeatures, SoilAtAnswersTheMaterialOfTheFeatureThatCovers) {
+  HeightGrid ground(51, 2.0, 0.0f, Material::kGrass);
+  ground.set_soil(ground.SquareAt(60, 60), ground.HalfAt(60, 60), Material::kSand);
+  Terrain t(std::move(ground));
+  ExpectAdded(t, Id(1), FeatureParams::Crater(30, 30, 8, Material::kRock));
+  ExpectAdded(t, Id(2), FeatureParams::Berm(60, 60, 0, 20, 6, 2));  // takes the sand
+  ExpectAdded(t, Id(3), FeatureParams::Berm(36, 20, kPi / 2, 20, 4, 3, Material::kConcrete));
+  EXPECT_EQ(t.Find(Id(2))->material(), Material::kSand);
+  EXPECT_EQ(t.SoilAt(30, 30), Material::kRock);      // crater floor
+  EXPECT_EQ(t.SoilAt(25, 30), Material::kRock);      // crater rim
+  EXPECT_EQ(t.SoilAt(70, 60), Material::kSand);      // berm from the ground at its start
+  EXPECT_EQ(t.SoilAt(36, 30), Material::kConcrete);  // the taller berm over the crater's rim
+  EXPECT_EQ(t.SoilAt(90, 90), Material::kGrass);
+}
+
+TEST(TerrainFeatures, ParamsRebuildTheIdenticalFeature) {
+  const HeightGrid ground = SlopedGround();
+  for (const auto& p : MixedFeatures()) {
+    auto made = MakeFeature(Id(7), p, ground);
+    ASSERT_TRUE(made.ok()) << made.error().message;
+    auto again = MakeFeature(Id(7), made.value()->params(), ground);
+    ASSERT_TRUE(again.ok());
+    EXPECT_EQ(again.value()->params(), p);
+    EXPECT_EQ(again.value()->material(), made.value()->material());
+    for (double x = 60; x < 130; x += 0.9) {
+      for (double z = 60; z < 130; z += 0.9) {
+        EXPECT_EQ(made.value()->OffsetAboveGround(x, z), again.value()->OffsetAboveGround(x, z));
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace dt

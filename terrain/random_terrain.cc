@@ -1,5 +1,6 @@
 #include "terrain/random_terrain.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -51,46 +52,51 @@ HeightGrid MakeRandomTerrain(const RandomTerrainParams& params) {
   for (int o = 0; o < kRandomTerrainOctaves; ++o) {
     cell[o] = std::max<int64_t>(1, static_cast<int64_t>(n - 1) >> (o + 1));
   }
-  std::vector<int64_t> total(count, 0);
+  // Lattice values per octave, computed once per lattice point (at most 129 x 129 per octave).
+  std::vector<int64_t> lattice_side(kRandomTerrainOctaves);
+  std::vector<std::vector<int64_t>> lattice(kRandomTerrainOctaves);
   for (int o = 0; o < kRandomTerrainOctaves; ++o) {
-    const int64_t c = cell[o];
-    const int64_t octave_weight = int64_t{1} << (kRandomTerrainOctaves - 1 - o);
-    // Lattice values for this octave, computed once per lattice point.
-    const int64_t lattice_side = (n - 1) / c + 2;
-    std::vector<int64_t> lattice(static_cast<size_t>(lattice_side * lattice_side));
-    for (int64_t b = 0; b < lattice_side; ++b) {
-      for (int64_t a = 0; a < lattice_side; ++a) {
-        lattice[static_cast<size_t>(b * lattice_side + a)] =
+    const int64_t side = (n - 1) / cell[o] + 2;
+    lattice_side[o] = side;
+    lattice[o].resize(static_cast<size_t>(side * side));
+    for (int64_t b = 0; b < side; ++b) {
+      for (int64_t a = 0; a < side; ++a) {
+        lattice[o][static_cast<size_t>(b * side + a)] =
             LatticeValue(params.seed, o, static_cast<uint64_t>(a), static_cast<uint64_t>(b));
-      }
-    }
-    auto at = [&](int64_t a, int64_t b) {
-      return lattice[static_cast<size_t>(b * lattice_side + a)];
-    };
-    for (int64_t j = 0; j < n; ++j) {
-      const int64_t b = j / c;
-      const int64_t wz = SmoothWeight(j % c, c);
-      for (int64_t i = 0; i < n; ++i) {
-        const int64_t a = i / c;
-        const int64_t wx = SmoothWeight(i % c, c);
-        // |L| <= 2^20 and the weights of each pair sum to 2^16, so |v| <= 2^52.
-        const int64_t south = at(a, b) * (kWeightOne - wx) + at(a + 1, b) * wx;
-        const int64_t north = at(a, b + 1) * (kWeightOne - wx) + at(a + 1, b + 1) * wx;
-        const int64_t v = south * (kWeightOne - wz) + north * wz;
-        total[static_cast<size_t>(j * n + i)] += v * octave_weight;
       }
     }
   }
   // |total| < 2^52 * 63 < 2^58; total >> 6 is below 2^52, so its conversion to double is exact,
-  // and the division below maps it to [-1, 1). The remaining steps are single IEEE operations
+  // and the division below maps it to [-1, 1]. The remaining steps are single IEEE operations
   // (no multiply feeding an add, so no fused multiply-add can change the result).
   constexpr int64_t kWeightSum = (int64_t{1} << kRandomTerrainOctaves) - 1;
   const double denominator = static_cast<double>(kWeightSum * (int64_t{1} << 46));
   const double half_relief_m = 0.5 * params.relief_m;
   std::vector<float> posts(count);
-  for (size_t k = 0; k < count; ++k) {
-    const double unit = static_cast<double>(total[k] >> 6) / denominator;
-    posts[k] = static_cast<float>((unit + 1.0) * half_relief_m);
+  std::vector<int64_t> total(static_cast<size_t>(n));  // one row at a time
+  for (int64_t j = 0; j < n; ++j) {
+    std::fill(total.begin(), total.end(), 0);
+    for (int o = 0; o < kRandomTerrainOctaves; ++o) {
+      const int64_t c = cell[o];
+      const int64_t octave_weight = int64_t{1} << (kRandomTerrainOctaves - 1 - o);
+      const int64_t side = lattice_side[o];
+      const int64_t* south_row = &lattice[o][static_cast<size_t>((j / c) * side)];
+      const int64_t* north_row = south_row + side;
+      const int64_t wz = SmoothWeight(j % c, c);
+      for (int64_t i = 0; i < n; ++i) {
+        const int64_t a = i / c;
+        const int64_t wx = SmoothWeight(i % c, c);
+        // |L| <= 2^20 and the weights of each pair sum to 2^16, so |v| <= 2^52.
+        const int64_t south = south_row[a] * (kWeightOne - wx) + south_row[a + 1] * wx;
+        const int64_t north = north_row[a] * (kWeightOne - wx) + north_row[a + 1] * wx;
+        const int64_t v = south * (kWeightOne - wz) + north * wz;
+        total[static_cast<size_t>(i)] += v * octave_weight;
+      }
+    }
+    for (int64_t i = 0; i < n; ++i) {
+      const double unit = static_cast<double>(total[static_cast<size_t>(i)] >> 6) / denominator;
+      posts[static_cast<size_t>(j * n + i)] = static_cast<float>((unit + 1.0) * half_relief_m);
+    }
   }
   return HeightGrid(n, params.spacing_m, std::move(posts), params.soil);
 }

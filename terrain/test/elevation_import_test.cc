@@ -85,7 +85,7 @@ std::string WithHeader(const std::string& header, const std::string& data) { ret
 
 const std::string kHeader3 = "ncols 3\nnrows 3\nxllcorner 0\nyllcorner 0\ncellsize 1\n";
 
-TEST(AscTest, MalformedFilesNameTheLine) {
+TEST_F(ImportFiles, MalformedAscFilesNameTheLine) {
   struct Case {
     std::string text;
     std::string fragment;
@@ -132,6 +132,9 @@ TEST(AscTest, MalformedFilesNameTheLine) {
     SCOPED_TRACE(c.text);
     ExpectFails(ParseAsc(c.text, "t.asc"), "t.asc: ");
     ExpectFails(ParseAsc(c.text, "t.asc"), c.fragment);
+    const fs::path path = Write("bad.asc", c.text);
+    ExpectFails(ImportAsc(path), path.string() + ": ");
+    ExpectFails(ImportAsc(path), c.fragment);
   }
 }
 
@@ -181,7 +184,7 @@ TEST(PgmTest, EightBitUsesOneBytePerSampleAndDefaultScale) {
   EXPECT_EQ(r.value().post(1, 0), static_cast<float>(255 * defaults.metres_per_level));
 }
 
-TEST(PgmTest, MalformedFilesNameTheByteOffset) {
+TEST_F(ImportFiles, MalformedPgmFilesNameTheByteOffset) {
   struct Case {
     std::string file;
     std::string fragment;
@@ -213,6 +216,8 @@ TEST(PgmTest, MalformedFilesNameTheByteOffset) {
   for (const auto& c : cases) {
     SCOPED_TRACE(c.file);
     ExpectFails(ParsePgm(Bytes(c.file), "t.pgm"), "t.pgm: " + c.fragment);
+    const fs::path path = Write("bad.pgm", c.file);
+    ExpectFails(ImportPgm(path), path.string() + ": " + c.fragment);
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "pdu/dds_transport.h"
 #include "pdu/lcm_transport.h"
 
 namespace dt {
@@ -12,6 +13,9 @@ std::unique_ptr<Transport> MakeTransport(std::string_view url, uint8_t exercise_
   const std::string u(url);
   if (u == "memq://" || u.rfind("udpm://", 0) == 0) {
     return std::make_unique<LcmTransport>(u, exercise_id);
+  }
+  if (u.rfind("dds://", 0) == 0) {
+    return std::make_unique<DdsTransport>(ParseDdsUrl(u), exercise_id);
   }
   throw std::invalid_argument(
       fmt::format("unknown transport URL '{}': expected memq://, udpm://<group>:<port>[?...] or "

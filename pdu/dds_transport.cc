@@ -1,0 +1,228 @@
+#include "pdu/dds_transport.h"
+
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
+
+#include <charconv>
+#include <stdexcept>
+
+#include <dds/dds.h>
+#include <fmt/format.h>
+
+#include "dt_pdu_dds.h"
+
+namespace dt {
+namespace {
+
+size_t IndexOf(PduType type) {
+  for (size_t i = 0; i < kAllPduTypes.size(); ++i) {
+    if (kAllPduTypes[i] == type) return i;
+  }
+  std::abort();  // every PduType is in kAllPduTypes
+}
+
+std::runtime_error DdsError(const std::string& what, dds_return_t rc) {
+  return std::runtime_error(fmt::format("DDS: {}: {}", what, dds_strretcode(rc)));
+}
+
+void OnDataAvailable(dds_entity_t /*reader*/, void* arg) {
+  const int fd = *static_cast<const int*>(arg);
+  const uint64_t one = 1;
+  [[maybe_unused]] ssize_t w = write(fd, &one, sizeof one);
+}
+
+}  // namespace
+
+DdsConfig ParseDdsUrl(std::string_view url) {
+  constexpr std::string_view kScheme = "dds://";
+  if (url.substr(0, kScheme.size()) != kScheme) {
+    throw std::invalid_argument(fmt::format("'{}' is not a dds:// URL", url));
+  }
+  std::string_view rest = url.substr(kScheme.size());
+  std::string_view query;
+  if (auto q = rest.find('?'); q != std::string_view::npos) {
+    query = rest.substr(q + 1);
+    rest = rest.substr(0, q);
+  }
+  DdsConfig config;
+  if (!rest.empty()) {
+    auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), config.domain_id);
+    if (ec != std::errc() || end != rest.data() + rest.size() || config.domain_id > 230) {
+      throw std::invalid_argument(
+          fmt::format("'{}': the domain must be a number in [0, 230], got '{}'", url, rest));
+    }
+  }
+  if (!query.empty()) {
+    constexpr std::string_view kConfig = "config=";
+    if (query.substr(0, kConfig.size()) != kConfig || query.size() == kConfig.size()) {
+      throw std::invalid_argument(
+          fmt::format("'{}': the only option is config=<file>, got '{}'", url, query));
+    }
+    config.config_file = std::string(query.substr(kConfig.size()));
+  }
+  return config;
+}
+
+DdsTransport::DdsTransport(DdsConfig config, uint8_t exercise_id)
+    : config_(std::move(config)), exercise_id_(exercise_id) {
+  event_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  if (event_fd_ < 0) throw std::runtime_error("DDS: eventfd failed");
+  if (!config_.config_file.empty()) {
+    if (access(config_.config_file.c_str(), R_OK) != 0) {
+      close(event_fd_);
+      throw std::runtime_error(
+          fmt::format("DDS: cannot read the configuration '{}'", config_.config_file));
+    }
+    const std::string uri = "file://" + config_.config_file;
+    const dds_entity_t d = dds_create_domain(config_.domain_id, uri.c_str());
+    // Another transport of this process may have created the domain already: share it.
+    if (d > 0) domain_ = d;
+  }
+  participant_ = dds_create_participant(config_.domain_id, nullptr, nullptr);
+  if (participant_ < 0) {
+    const dds_return_t rc = participant_;
+    if (domain_ > 0) dds_delete(domain_);
+    close(event_fd_);
+    throw DdsError(fmt::format("creating a participant in domain {}", config_.domain_id), rc);
+  }
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(2));
+  dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+  try {
+    for (size_t i = 0; i < kAllPduTypes.size(); ++i) {
+      const std::string name = ChannelName(exercise_id_, kAllPduTypes[i]);
+      auto& t = types_[i];
+      t.topic = dds_create_topic(participant_, &dtpdu_dds_Pdu_desc, name.c_str(), qos, nullptr);
+      if (t.topic < 0) throw DdsError("creating topic " + name, t.topic);
+      t.writer = dds_create_writer(participant_, t.topic, qos, nullptr);
+      if (t.writer < 0) throw DdsError("creating a writer on " + name, t.writer);
+    }
+  } catch (...) {
+    dds_delete_qos(qos);
+    dds_delete(participant_);
+    if (domain_ > 0) dds_delete(domain_);
+    close(event_fd_);
+    throw;
+  }
+  dds_delete_qos(qos);
+}
+
+DdsTransport::~DdsTransport() {
+  // Deleting the participant deletes its readers and waits for running listeners, so the
+  // eventfd is closed only afterwards.
+  dds_delete(participant_);
+  if (domain_ > 0) dds_delete(domain_);
+  close(event_fd_);
+}
+
+std::string DdsTransport::Url() const {
+  return config_.config_file.empty()
+             ? fmt::format("dds://{}", config_.domain_id)
+             : fmt::format("dds://{}?config={}", config_.domain_id, config_.config_file);
+}
+
+Status DdsTransport::Publish(PduType type, std::span<const uint8_t> bytes) {
+  if (bytes.size() > kMaxPduBytes) {
+    return Error{fmt::format("{} PDU of {} bytes exceeds the {}-byte single-datagram limit",
+                             PduTypeName(type), bytes.size(), kMaxPduBytes)};
+  }
+  dtpdu_dds_Pdu sample{};
+  sample.pdu_type = static_cast<uint8_t>(type);
+  sample.payload._length = static_cast<uint32_t>(bytes.size());
+  sample.payload._maximum = static_cast<uint32_t>(bytes.size());
+  sample.payload._buffer = const_cast<uint8_t*>(bytes.data());  // only read by dds_write
+  sample.payload._release = false;
+  const dds_return_t rc = dds_write(types_[IndexOf(type)].writer, &sample);
+  if (rc != DDS_RETCODE_OK) {
+    return Error{fmt::format("DDS write on {} failed: {}", ChannelName(exercise_id_, type),
+                             dds_strretcode(rc))};
+  }
+  return Status::Ok();
+}
+
+void DdsTransport::Subscribe(PduType type, Handler handler) {
+  auto& t = types_[IndexOf(type)];
+  if (t.reader == 0) {
+    dds_qos_t* qos = dds_create_qos();
+    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(2));
+    dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+    dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+    dds_listener_t* listener = dds_create_listener(nullptr);
+    dds_lset_data_available_arg(listener, OnDataAvailable, &event_fd_, true);
+    t.reader = dds_create_reader(participant_, t.topic, qos, listener);
+    dds_delete_listener(listener);
+    dds_delete_qos(qos);
+    if (t.reader < 0) {
+      const dds_return_t rc = t.reader;
+      t.reader = 0;
+      throw DdsError("creating a reader on " + ChannelName(exercise_id_, type), rc);
+    }
+  }
+  t.handlers.push_back(std::move(handler));
+}
+
+int DdsTransport::TakeAll(PduType type, PerType& t) {
+  constexpr size_t kBatch = 64;
+  int dispatched = 0;
+  for (;;) {
+    void* samples[kBatch] = {};
+    dds_sample_info_t infos[kBatch];
+    const dds_return_t n = dds_take(t.reader, samples, infos, kBatch, kBatch);
+    if (n <= 0) break;
+    for (dds_return_t i = 0; i < n; ++i) {
+      if (!infos[i].valid_data) continue;
+      const auto* s = static_cast<const dtpdu_dds_Pdu*>(samples[i]);
+      // The topic already names the type; a mismatching tag is left to the validator, which
+      // checks the header inside the payload.
+      (void)type;
+      const std::span<const uint8_t> bytes(s->payload._buffer, s->payload._length);
+      ++dispatched;
+      for (size_t h = 0; h < t.handlers.size(); ++h) {
+        [&]() noexcept { t.handlers[h](bytes); }();
+      }
+    }
+    dds_return_loan(t.reader, samples, n);
+    if (static_cast<size_t>(n) < kBatch) break;
+  }
+  return dispatched;
+}
+
+bool DdsTransport::WaitForReaders(PduType type, int readers, int timeout_ms) {
+  const dds_entity_t writer = types_[IndexOf(type)].writer;
+  dds_set_status_mask(writer, DDS_PUBLICATION_MATCHED_STATUS);
+  const dds_entity_t waitset = dds_create_waitset(participant_);
+  if (waitset < 0) return false;
+  dds_waitset_attach(waitset, writer, writer);
+  const dds_time_t deadline = dds_time() + DDS_MSECS(timeout_ms);
+  bool matched = false;
+  for (;;) {
+    dds_publication_matched_status_t st{};
+    if (dds_get_publication_matched_status(writer, &st) == DDS_RETCODE_OK &&
+        st.current_count >= static_cast<uint32_t>(readers)) {
+      matched = true;
+      break;
+    }
+    if (dds_waitset_wait_until(waitset, nullptr, 0, deadline) <= 0 && dds_time() >= deadline) {
+      break;
+    }
+  }
+  dds_delete(waitset);
+  return matched;
+}
+
+Result<int> DdsTransport::HandleTimeout(int timeout_ms) {
+  pollfd p{event_fd_, POLLIN, 0};
+  const int rc = poll(&p, 1, timeout_ms);
+  if (rc < 0 && errno != EINTR) return Error{fmt::format("DDS: poll failed (errno {})", errno)};
+  uint64_t count;
+  [[maybe_unused]] ssize_t r = read(event_fd_, &count, sizeof count);
+  int dispatched = 0;
+  for (size_t i = 0; i < kAllPduTypes.size(); ++i) {
+    if (types_[i].reader != 0) dispatched += TakeAll(kAllPduTypes[i], types_[i]);
+  }
+  return dispatched;
+}
+
+}  // namespace dt

@@ -1,0 +1,48 @@
+#include "pdu/fuzz/decode_validate.h"
+
+#include <cstdlib>
+#include <span>
+
+#include "pdu/conversion.h"
+#include "pdu/validation.h"
+
+namespace dt::fuzz {
+namespace {
+
+constexpr ValidationContext kContext{7, 1000.0};
+
+template <typename Pdu>
+bool One(std::span<const uint8_t> bytes) {
+  Pdu pdu;
+  if (DecodeAndValidate(bytes, kContext, pdu)) return false;
+  if (EncodePdu(pdu) != std::vector<uint8_t>(bytes.begin(), bytes.end())) std::abort();
+  if constexpr (PduTraits<Pdu>::kType == PduType::kConstruct) {
+    auto f = FromConstruct(pdu);
+    if (!f || !ValidateFeatureParams(f.value().params)) std::abort();
+  } else if constexpr (PduTraits<Pdu>::kType == PduType::kUpdate) {
+    auto f = FromUpdate(pdu);
+    if (!f || !ValidateFeatureParams(f.value().params)) std::abort();
+  }
+  return true;
+}
+
+}  // namespace
+
+bool DecodeValidateOne(const uint8_t* data, size_t size) {
+  if (size == 0) return false;
+  const std::span<const uint8_t> bytes(data + 1, size - 1);
+  switch (data[0] % 5) {
+    case 0:
+      return One<dtpdu::construct_t>(bytes);
+    case 1:
+      return One<dtpdu::update_t>(bytes);
+    case 2:
+      return One<dtpdu::destruct_t>(bytes);
+    case 3:
+      return One<dtpdu::max_feature_t>(bytes);
+    default:
+      return One<dtpdu::playback_t>(bytes);
+  }
+}
+
+}  // namespace dt::fuzz

@@ -1,0 +1,96 @@
+// pdu_fuzz_corpus: writes the seed corpus of the decode+validate fuzzer: valid PDUs of every
+// type and classic malformations of them, each prefixed with the type-selector byte.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "pdu/test/sample_pdus.h"
+
+namespace {
+
+int written = 0;
+
+void Write(const std::string& dir, const std::string& name, uint8_t selector,
+           std::vector<uint8_t> bytes) {
+  bytes.insert(bytes.begin(), selector);
+  std::ofstream(dir + "/" + name, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+  ++written;
+}
+
+template <typename Pdu>
+void Family(const std::string& dir, const std::string& stem, uint8_t selector, const Pdu& pdu) {
+  const auto good = dt::EncodePdu(pdu);
+  Write(dir, stem + "_valid", selector, good);
+  Write(dir, stem + "_truncated", selector, {good.begin(), good.end() - 1});
+  Write(dir, stem + "_fingerprint_only", selector, {good.begin(), good.begin() + 8});
+  auto trailing = good;
+  trailing.push_back(0xAA);
+  Write(dir, stem + "_trailing", selector, trailing);
+  auto flipped = good;
+  flipped[2] ^= 0x01;
+  Write(dir, stem + "_bad_fingerprint", selector, flipped);
+  Pdu version = pdu;
+  version.header.protocol_version = 9;
+  Write(dir, stem + "_bad_version", selector, dt::EncodePdu(version));
+  Pdu exercise = pdu;
+  exercise.header.exercise_id = 8;
+  Write(dir, stem + "_foreign_exercise", selector, dt::EncodePdu(exercise));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s <corpus-dir>\n", argv[0]);
+    return 2;
+  }
+  using namespace dt;
+  const std::string dir = argv[1];
+  Family(dir, "construct", 0, sample::Construct());
+  Family(dir, "update", 1, sample::Update());
+  Family(dir, "destruct", 2, sample::Destruct());
+  Family(dir, "maxfeature", 3, sample::MaxFeature());
+  Family(dir, "playback", 4, sample::Playback());
+
+  auto c = sample::Construct();
+  c.position_m[0] = std::numeric_limits<double>::quiet_NaN();
+  Write(dir, "construct_nan", 0, EncodePdu(c));
+  c = sample::Construct();
+  c.length_m[0] = 1e300;
+  Write(dir, "construct_huge_radius", 0, EncodePdu(c));
+  c = sample::Construct();
+  c.position_m[2] = -5;
+  Write(dir, "construct_off_terrain", 0, EncodePdu(c));
+  c = sample::Construct();
+  c.num_vertex_edits = kMaxVertexEdits;
+  c.vertex_edits.resize(kMaxVertexEdits);
+  for (int i = 0; i < kMaxVertexEdits; ++i) {
+    c.vertex_edits[static_cast<size_t>(i)] = {static_cast<uint8_t>(i / 4),
+                                              static_cast<uint8_t>(i % 4), 0.5};
+  }
+  Write(dir, "construct_all_edits", 0, EncodePdu(c));
+  auto neg = EncodePdu(sample::Construct());
+  neg[neg.size() - 22] = 0xFF;  // negative num_vertex_edits
+  Write(dir, "construct_negative_count", 0, neg);
+  auto u = sample::Update();
+  u.material = 77;
+  Write(dir, "update_bad_material", 1, EncodePdu(u));
+  u = sample::Update();
+  u.feature_type = 0;
+  Write(dir, "update_bad_type", 1, EncodePdu(u));
+  auto p = sample::Playback();
+  p.start = 50;
+  p.end = 10;
+  Write(dir, "playback_inverted", 4, EncodePdu(p));
+  p = sample::Playback();
+  p.end = kMaxSerial;
+  Write(dir, "playback_huge", 4, EncodePdu(p));
+  Write(dir, "empty", 0, {});
+  std::printf("wrote %d inputs to %s\n", written, dir.c_str());
+  return 0;
+}

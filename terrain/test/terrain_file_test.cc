@@ -114,6 +114,19 @@ TEST_F(TerrainFiles, SaveAndLoadReportFileSystemErrors) {
   EXPECT_FALSE(fs::exists(dir_ / "no_such_dir"));
 }
 
+TEST_F(TerrainFiles, AFailedRenameLeavesNoTemporaryFile) {
+  // The target is a non-empty directory, so the final rename fails after the data was written.
+  fs::create_directory(dir_ / "taken");
+  std::ofstream(dir_ / "taken" / "keep") << "x";
+  const Status s = SaveTerrain(*Sample(), dir_ / "taken");
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("rename"), std::string::npos) << s.error().message;
+  std::vector<fs::path> entries(fs::directory_iterator(dir_), fs::directory_iterator{});
+  ASSERT_EQ(entries.size(), 1u);
+  EXPECT_EQ(entries[0].filename(), "taken");
+  EXPECT_TRUE(fs::exists(dir_ / "taken" / "keep"));
+}
+
 TEST(TerrainFileTest, EveryTruncationIsRefused) {
   const auto bytes = EncodeTerrainFile(*Sample());
   for (size_t length = 0; length < bytes.size(); ++length) {

@@ -36,8 +36,8 @@ Berm::Berm(FeatureId id, const FeatureParams& p, Material resolved)
       cos_(std::cos(p.direction_rad)),
       sin_(std::sin(p.direction_rad)),
       half_width_m_(0.5 * p.width_m),
-      half_top_m_(0.5 * kBermTopWidthFraction * p.width_m),
       slope_run_m_(0.5 * (1.0 - kBermTopWidthFraction) * p.width_m),
+      inverse_run_(1.0 / slope_run_m_),
       given_material_(p.material),
       resolved_material_(resolved) {}
 
@@ -94,17 +94,12 @@ std::optional<double> Berm::OffsetAboveGround(double x_m, double z_m) const {
   double along, left;
   Local(x_m, z_m, along, left);
   if (!InFootprint(along, left)) return std::nullopt;
-  // Bilinear over the mesh: the cross-section times the end-piece factor.
-  const double across = std::abs(left);
-  const double side =
-      across <= half_top_m_ ? 1.0 : (half_width_m_ - across) / (half_width_m_ - half_top_m_);
-  double end = 1.0;
-  if (along < 0.0) {
-    end = (along + slope_run_m_) / slope_run_m_;
-  } else if (along > length_m_) {
-    end = (length_m_ + slope_run_m_ - along) / slope_run_m_;
-  }
-  return height_m_ * std::max(0.0, side) * std::max(0.0, end);
+  // Bilinear over the mesh: the cross-section times the end-piece factor, each a fraction of the
+  // height clamped to [0, 1]. Branch-free, as query points fall anywhere on the berm.
+  const double side = (half_width_m_ - std::abs(left)) * inverse_run_;
+  const double end =
+      std::min(along + slope_run_m_, length_m_ + slope_run_m_ - along) * inverse_run_;
+  return height_m_ * std::clamp(side, 0.0, 1.0) * std::clamp(end, 0.0, 1.0);
 }
 
 BermVertex Berm::Vertex(int length_line, int width_line) const {

@@ -66,8 +66,8 @@ class Berm final : public Feature {
   double cos_;  // unit vector of the direction
   double sin_;
   double half_width_m_;
-  double half_top_m_;
   double slope_run_m_;
+  double inverse_run_;  // 1 / slope_run_m_, per metre
   Material given_material_;
   Material resolved_material_;
 

@@ -59,14 +59,18 @@ int SectorOf(double dx, double dz) {
   return Cross(base + 1, dx, dz) >= 0.0 ? base + 1 : base;
 }
 
-// The standard profile along a radius, q = r / radius in [0, 1]: floor at the ground inside ring
-// 0, rising linearly to the rim (rings 1 and 2), falling linearly to the ground at ring 3.
-double StandardProfile(double q, double rim_m) {
+// The standard profile: floor at the ground inside ring 0, rising linearly to the rim (rings 1
+// and 2), falling linearly to the ground at ring 3. Tested on the squared distance first so the
+// floor and the rim top need no square root, and written in metres so no division is needed.
+double StandardProfile(double d2, double radius_m) {
   constexpr auto& f = kCraterRingFractions;
-  if (q <= f[0]) return 0.0;
-  if (q < f[1]) return rim_m * (q - f[0]) / (f[1] - f[0]);
-  if (q <= f[2]) return rim_m;
-  return rim_m * std::max(0.0, (f[3] - q) / (f[3] - f[2]));
+  constexpr double kSlope = kCraterRimHeightFraction / (f[1] - f[0]);  // rise per metre
+  static_assert(f[1] - f[0] == f[3] - f[2], "inner and outer rim slopes are equally steep");
+  const double r0 = f[0] * radius_m, r1 = f[1] * radius_m, r2 = f[2] * radius_m;
+  if (d2 <= r0 * r0) return 0.0;
+  if (d2 < r1 * r1) return kSlope * (std::sqrt(d2) - r0);
+  if (d2 <= r2 * r2) return kCraterRimHeightFraction * radius_m;
+  return std::max(0.0, kSlope * (radius_m - std::sqrt(d2)));
 }
 
 Status CheckUnused(const FeatureParams& p) {
@@ -132,9 +136,9 @@ std::optional<double> Crater::OffsetAboveGround(double x_m, double z_m) const {
   const double dx = x_m - x_m_, dz = z_m - z_m_;
   const double d2 = dx * dx + dz * dz;
   if (!(d2 <= CoveredRadiusSquared())) return std::nullopt;  // also refuses NaN
-  const double q = std::min(1.0, std::sqrt(d2) / radius_m_);
-  if (!edits_) return StandardProfile(q, rim_height_m());
+  if (!edits_) return StandardProfile(d2, radius_m_);
   if (d2 == 0.0) return 0.0;  // the centre: the floor is at the ground
+  const double q = std::min(1.0, std::sqrt(d2) / radius_m_);
   const int k = SectorOf(dx, dz);
   // Fraction of the way from spoke k to spoke k + 1, from the perpendicular distances to both
   // (monotone, 0 on spoke k, 1 on spoke k + 1; within 0.0025 of the angular fraction).
@@ -145,10 +149,10 @@ std::optional<double> Crater::OffsetAboveGround(double x_m, double z_m) const {
 }
 
 double Crater::EditedOffset(int k, double t, double q) const {
-  const int k1 = (k + 1) % kCraterSpokes;
-  auto at_ring = [&](int ring) {
-    return (1.0 - t) * VertexOffset(k, ring) + t * VertexOffset(k1, ring);
-  };
+  const double* here = &edits_->offsets_m[static_cast<size_t>(k * kCraterRings)];
+  const int k1 = k + 1 == kCraterSpokes ? 0 : k + 1;
+  const double* next = &edits_->offsets_m[static_cast<size_t>(k1 * kCraterRings)];
+  auto at_ring = [&](int ring) { return (1.0 - t) * here[ring] + t * next[ring]; };
   constexpr auto& f = kCraterRingFractions;
   if (q <= f[0]) return at_ring(0) * (q / f[0]);  // the floor: the centre is at the ground
   int ring = 0;

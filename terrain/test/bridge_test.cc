@@ -200,6 +200,31 @@ TEST(BridgeInTerrain, OverlappingBridgeIsRefusedAndNothingChanges) {
   EXPECT_EQ(t.Find(kId)->params(), EastBridge());
 }
 
+TEST(BridgeInTerrain, FeatureBitsCoverTheDeckAndHotSpotsOfARotatedBridge) {
+  Terrain t(Flat());
+  ASSERT_TRUE(t.Add(kId, FeatureParams::Bridge(140, 130, 2.2, 9, 20, 35, 25, 5, 4)).ok());
+  const Bridge& b = AsBridge(*t.Find(kId));
+  // Every point the bridge or its hot spots hold has its cell's bit set; points far away do not.
+  int inside = 0, outside = 0;
+  for (double x = 60; x <= 220; x += 0.37) {
+    for (double z = 60; z <= 200; z += 0.41) {
+      const bool held = b.OverDeck(x, z) || b.HotSpotAt(x, z) != BridgeHotSpot::kNone;
+      if (held) {
+        ++inside;
+        ASSERT_TRUE(t.FeatureBitAt(x, z)) << x << "," << z;
+      }
+      const BridgeCoords c = b.ToBridge(x, z);
+      if (std::abs(c.right_m) > 4.5 + 1.5 || c.along_m < -20 - 8 - 1.5 ||
+          c.along_m > 60 + 8 + 1.5) {
+        ++outside;
+        ASSERT_FALSE(t.FeatureBitAt(x, z)) << x << "," << z;
+      }
+    }
+  }
+  EXPECT_GT(inside, 1000);
+  EXPECT_GT(outside, 1000);
+}
+
 TEST(BridgeInTerrain, RepairRestoresTheDeck) {
   Terrain t(Flat());
   FeatureParams p = EastBridge();

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <random>
 #include <set>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <xxhash.h>
 
+#include "terrain/bytes.h"
 #include "terrain/test/sample_terrain.h"
 
 namespace dt {
@@ -106,6 +109,28 @@ TEST(TerrainDigestTest, GroundDigestEqualsTheDigestOfABareTerrain) {
   const HeightGrid g = SampleGround();
   EXPECT_EQ(ComputeDigest(g), ComputeDigest(Terrain(g)));
   EXPECT_NE(ComputeDigest(g), ComputeDigest(*BuildSample(SampleFeatures())));
+}
+
+TEST(TerrainDigestTest, MatchesTheDocumentedEncoding) {
+  // docs/terrain.md "State digest", byte by byte, for a 3 x 3 ground with one crater.
+  Terrain t(HeightGrid(3, 4.0, {0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f, 8.5f}));
+  ASSERT_TRUE(t.SetSoil({1, 0}, TriangleHalf::kUpper, Material::kRock).ok());
+  const FeatureParams crater = FeatureParams::Crater(4.0, 4.0, 1.0, Material::kDirt);
+  ASSERT_TRUE(t.Add({7, 8, 9}, crater).ok());
+  ByteWriter w;
+  for (char c : std::string("dynterrain state v1")) w.U8(static_cast<uint8_t>(c));
+  w.U32(3);
+  w.F64(4.0);
+  for (float y : {0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f, 8.5f}) w.F32(y);
+  // Squares (0,0), (1,0), (0,1), (1,1); lower then upper; grass is 1, rock is 4.
+  for (int soil : {1, 1, 1, 4, 1, 1, 1, 1}) w.U16(static_cast<uint16_t>(soil));
+  w.U32(1);
+  w.U16(7);
+  w.U16(8);
+  w.U32(9);
+  EncodeFeatureParams(t.Find({7, 8, 9})->params(), w);
+  const XXH128_hash_t h = XXH3_128bits(w.bytes().data(), w.bytes().size());
+  EXPECT_EQ(ComputeDigest(t), (TerrainDigest{h.high64, h.low64}));
 }
 
 TEST(TerrainDigestTest, HexFormRoundTrips) {

@@ -83,8 +83,13 @@ Status Vehicle::Step(double dt_s) {
     return Error{fmt::format("time step {} s must be finite and >= 0", dt_s)};
   }
   if (!alive_) return Status::Ok();
+  const double turn_rad = heading_rate_rad_s_ * dt_s;
+  const double distance_m = speed_mps_ * dt_s;
+  if (!std::isfinite(turn_rad) || !std::isfinite(distance_m)) {
+    return Error{fmt::format("time step {} s is too long: the move is not finite", dt_s)};
+  }
   bool stopped = false;
-  double new_heading = WrapAngleRad(heading_rad_ + heading_rate_rad_s_ * dt_s);
+  double new_heading = WrapAngleRad(heading_rad_ + turn_rad);
   if (!FootprintOnTerrain(x_m_, z_m_, new_heading)) {
     new_heading = heading_rad_;
     stopped = true;
@@ -92,8 +97,8 @@ Status Vehicle::Step(double dt_s) {
   // Moving along the mean heading follows the arc closely for the small steps used.
   const double mean_heading =
       stopped ? heading_rad_ : heading_rad_ + WrapAngleRad(new_heading - heading_rad_) / 2.0;
-  const double dx = speed_mps_ * dt_s * std::cos(mean_heading);
-  const double dz = speed_mps_ * dt_s * std::sin(mean_heading);
+  const double dx = distance_m * std::cos(mean_heading);
+  const double dz = distance_m * std::sin(mean_heading);
   // Each corner must stay in [0, size] on both axes: the largest fraction t of the move allowed.
   // The margin keeps rounding in the recomputed corners from putting one just off the terrain.
   constexpr double kMarginM = 1e-6;

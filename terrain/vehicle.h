@@ -57,7 +57,7 @@ class Vehicle {
   // Advances dt_s seconds: turns, then moves along the mean heading. A turn that would swing the
   // footprint off the terrain is not made; a move that would leave it stops at the edge. Either
   // way the vehicle stops (speed and heading rate 0). A dead vehicle does not move. Refused for a
-  // non-finite or negative dt_s.
+  // non-finite or negative dt_s, or one so long that the move overflows.
   Status Step(double dt_s);
 
   // Used by the traversal.

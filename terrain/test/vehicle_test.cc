@@ -113,6 +113,14 @@ TEST(Vehicle, StepMovesAlongTheHeadingAndReverseMovesBack) {
   EXPECT_NEAR(v.z_m(), 50, 1e-12);
   EXPECT_FALSE(v.Step(-0.1).ok());
   EXPECT_FALSE(v.Step(kNan).ok());
+  auto huge = v.Step(1e308);
+  ASSERT_FALSE(huge.ok());
+  EXPECT_NE(huge.error().message.find("too long"), std::string::npos);
+  EXPECT_NEAR(v.x_m(), 50, 1e-12);  // refused steps move nothing
+  // Long but finite: stops at the edge.
+  ASSERT_TRUE(v.Step(1e100).ok());
+  EXPECT_TRUE(std::isfinite(v.x_m()));
+  EXPECT_EQ(v.speed_mps(), 0.0);
 }
 
 TEST(Vehicle, TurningInPlaceAndAlongAnArc) {

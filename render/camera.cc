@@ -54,6 +54,7 @@ Camera Camera::Map(double center_x_m, double center_z_m, double metres_per_pixel
   c.width_px_ = width_px;
   c.height_px_ = height_px;
   c.metres_per_pixel_ = metres_per_pixel;
+  c.pixel_footprint_m_ = metres_per_pixel;
   c.center_x_m_ = center_x_m;
   c.center_z_m_ = center_z_m;
   // Eye coordinates: X = east, Y = north, looking down -Z from y = kMapDepthRangeM.
@@ -118,6 +119,7 @@ Camera Camera::Perspective(const Eigen::Vector3d& eye, const Eigen::Vector3d& ta
   c.kind_ = CameraKind::kPerspective;
   c.width_px_ = width_px;
   c.height_px_ = height_px;
+  c.pixel_footprint_m_ = 2.0 * (target - eye).norm() * std::tan(0.5 * fov_y_rad) / height_px;
   // The world frame (x east, y up, z north) is left-handed; OpenGL's is right-handed. Mirror z
   // first so the image is not mirrored: east stays right of north.
   Eigen::Matrix4d mirror = Eigen::Matrix4d::Identity();

@@ -39,6 +39,10 @@ class Camera {
   int height_px() const { return height_px_; }
   // Map cameras: ground metres per pixel. 0 for perspective cameras.
   double metres_per_pixel() const { return metres_per_pixel_; }
+  // The length one pixel spans: everywhere for a map, at the target's distance for a
+  // perspective view (nearer things get more pixels, farther ones fewer). The renderer samples
+  // earthworks no finer than this.
+  double pixel_footprint_m() const { return pixel_footprint_m_; }
   // Map cameras: the ground rectangle the image covers.
   Rect map_area() const;
 
@@ -58,6 +62,7 @@ class Camera {
   int width_px_ = 0;
   int height_px_ = 0;
   double metres_per_pixel_ = 0.0;
+  double pixel_footprint_m_ = 0.0;
   double center_x_m_ = 0.0;
   double center_z_m_ = 0.0;
   Eigen::Matrix4d projection_ = Eigen::Matrix4d::Identity();

@@ -7,8 +7,8 @@
 namespace dt {
 
 struct TerrainMeshOptions {
-  // Never sample earthworks finer than this (a map camera passes its metres per pixel: finer
-  // detail could not show). 0 leaves the limit to max_subdivisions.
+  // Never sample earthworks finer than this (the renderer passes the camera's pixel footprint:
+  // finer detail could not show). 0 leaves the limit to max_subdivisions.
   double min_sample_m = 0.0;
   // Most sub-squares per grid-square side where earthworks lie.
   int max_subdivisions = 16;

@@ -14,6 +14,7 @@ TEST(Camera, MapPutsNorthUpAndEastRight) {
   EXPECT_EQ(c.width_px(), 200);
   EXPECT_EQ(c.height_px(), 100);
   EXPECT_DOUBLE_EQ(c.metres_per_pixel(), 0.5);
+  EXPECT_DOUBLE_EQ(c.pixel_footprint_m(), 0.5);
   // South-west corner at the bottom-left, north-east at the top-right, whatever the elevation.
   for (double y : {-100.0, 0.0, 1500.0}) {
     const auto sw = c.WorldToPixel({0.0, y, 0.0});
@@ -45,6 +46,13 @@ TEST(Camera, PerspectiveCentresTheTargetAndKeepsEastRightOfNorth) {
   const auto above = c.WorldToPixel({50.0, 10.0, 50.0});
   EXPECT_LT(above->y(), t->y());
   EXPECT_FALSE(c.WorldToPixel({50.0, 30.0, -200.0}));  // behind the eye
+  // A horizontal metre at the target's distance, facing the eye, spans pixel_footprint_m.
+  const Eigen::Vector3d to_target = Eigen::Vector3d(0.0, -30.0, 150.0).normalized();
+  const Eigen::Vector3d across(1.0, 0.0, 0.0);  // perpendicular to the line of sight
+  ASSERT_NEAR(to_target.dot(across), 0.0, 1e-12);
+  const auto right =
+      c.WorldToPixel(Eigen::Vector3d(50.0, 0.0, 50.0) + c.pixel_footprint_m() * across);
+  EXPECT_NEAR(right->x() - t->x(), 1.0, 1e-6);
 }
 
 TEST(Camera, PerspectiveStraightDownKeepsNorthUp) {

@@ -9,6 +9,21 @@
 
 namespace dt {
 
+VehicleSprite SpriteOf(const Vehicle& vehicle, Rgba colour) {
+  VehicleSprite s;
+  s.x_m = vehicle.x_m();
+  s.y_m = vehicle.elevation_m();
+  s.z_m = vehicle.z_m();
+  s.heading_rad = vehicle.heading_rad();
+  s.pitch_rad = vehicle.pitch_rad();
+  s.roll_rad = vehicle.roll_rad();
+  s.length_m = vehicle.type().length_m;
+  s.width_m = vehicle.type().width_m;
+  s.height_m = kSpriteHeightPerWidth * vehicle.type().width_m;
+  s.colour = vehicle.alive() ? colour : kDeadVehicleColour;
+  return s;
+}
+
 void AppendVehicle(const VehicleSprite& v, Mesh& mesh) {
   const double values[] = {v.x_m, v.y_m, v.z_m, v.heading_rad, v.pitch_rad, v.roll_rad};
   for (double value : values) {

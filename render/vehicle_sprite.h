@@ -3,6 +3,7 @@
 
 #include "render/image.h"
 #include "render/mesh.h"
+#include "terrain/vehicle.h"
 
 namespace dt {
 
@@ -25,6 +26,15 @@ struct VehicleSprite {
 // The front third of the roof is drawn this much lighter (towards white) so the heading shows
 // from above.
 inline constexpr double kVehicleFrontHighlight = 0.5;
+
+// Vehicle types give no height: sprites are this fraction of the width tall (tank 2.2 m, truck
+// 1.4 m, jeep 1.3 m).
+inline constexpr double kSpriteHeightPerWidth = 0.6;
+// Dead vehicles are drawn in this colour whatever colour they were given.
+inline constexpr Rgba kDeadVehicleColour = {60, 60, 60, 255};
+
+// The sprite of a simulated vehicle: its position, elevation, heading, pitch, roll and size.
+VehicleSprite SpriteOf(const Vehicle& vehicle, Rgba colour = VehicleSprite{}.colour);
 
 // Appends the box (roof, four sides; the underside is never seen), each face flat-shaded by its
 // own normal, so pitch and roll show as different brightness as well as shape. Throws

@@ -299,6 +299,34 @@ TEST(Traversal, StopOnTheSpanAndTurnAcrossItStaysOn) {
   EXPECT_NEAR(v.roll_rad(), std::atan2(west - east, TankType().width_m), 1e-9);
 }
 
+TEST(Traversal, TurnAroundOnTheSpanAndDriveOffTheWayItCame) {
+  Terrain t = FlatTerrain();
+  ASSERT_TRUE(t.Add(kBridgeId, EastBridge()).ok());
+  Vehicle v = TankOnSpan(t, 120);
+  // The 10 m deck is wider than the tank's 8.7 m diagonal: a U-turn in place keeps all tires on.
+  ASSERT_TRUE(v.Command(0, TankType().max_turn_rate_rad_s).ok());
+  ASSERT_TRUE(DriveUntil(
+      t, v, [](const Vehicle& w) { return w.heading_rad() < 0; },  // wrapped past pi
+      [&](const Vehicle& w, const TraversalReport& r) {
+        EXPECT_EQ(r.event, BridgeEvent::kNone);
+        EXPECT_TRUE(w.on_bridge());
+      }));
+  ASSERT_TRUE(v.Command(0, 0).ok());
+  // Facing about west now (heading just past pi); drive forward down ramp 1.
+  ASSERT_TRUE(v.Command(5, 0).ok());
+  double off_at = -1;
+  ASSERT_TRUE(DriveUntil(
+      t, v, [](const Vehicle& w) { return w.x_m() < 40; },
+      [&](const Vehicle& w, const TraversalReport& r) {
+        EXPECT_NE(r.event, BridgeEvent::kFellOff) << w.x_m();
+        if (r.event == BridgeEvent::kDroveOff) off_at = w.x_m();
+      }));
+  EXPECT_LT(off_at, 70);
+  EXPECT_GT(off_at, 62);
+  EXPECT_TRUE(v.alive());
+  EXPECT_DOUBLE_EQ(v.elevation_m(), kGroundM);
+}
+
 TEST(Traversal, VehicleUnderTheBridgeNeverJumpsToTheDeck) {
   Terrain t = FlatTerrain();
   ASSERT_TRUE(t.Add(kBridgeId, EastBridge()).ok());

@@ -311,6 +311,47 @@ TEST(TerrainFeatures, FeatureCrossingSquaresIsListedInEachAndSetsBitsOnlyWhereIt
   EXPECT_LT(bits_set, 36 * 16);
 }
 
+TEST(TerrainFeatures, DiagonalBermSetsBitsAlongItsFootprintOnly) {
+  Terrain t(SlopedGround());  // 2 m squares, 0.5 m cells
+  const double x0 = 60.3, z0 = 40.7, dir = 0.8, length = 30, width = 3;
+  ExpectAdded(t, Id(1), FeatureParams::Berm(x0, z0, dir, length, width, 1));
+  const double c = std::cos(dir), s = std::sin(dir), run = width / 3;
+  const Feature* f = t.Find(Id(1));
+  const SquareIndex lo = t.ground().SquareAt(f->Bounds().min_x, f->Bounds().min_z);
+  const SquareIndex hi = t.ground().SquareAt(f->Bounds().max_x, f->Bounds().max_z);
+  int cells = 0, bits_set = 0;
+  for (int j = lo.j; j <= hi.j; ++j) {
+    for (int i = lo.i; i <= hi.i; ++i) {
+      ASSERT_EQ(t.FeaturesInSquare({i, j}).size(), 1u) << i << "," << j;
+      for (int cell = 0; cell < 16; ++cell) {
+        const double ax = i * 2.0 + (cell % 4) * 0.5, az = j * 2.0 + (cell / 4) * 0.5;
+        const bool bit = (t.SquareBits({i, j}) >> cell) & 1u;
+        ++cells;
+        bits_set += bit;
+        // Any covered sample point in the cell needs the bit.
+        bool covered = false;
+        for (int k = 0; k <= 10; ++k) {
+          for (int m = 0; m <= 10; ++m) covered |= f->Covers(ax + k * 0.05, az + m * 0.05);
+        }
+        if (covered) {
+          EXPECT_TRUE(bit) << i << "," << j << " cell " << cell;
+        }
+        // A set bit needs the footprint within half a cell diagonal of the cell's centre.
+        const double dx = ax + 0.25 - x0, dz = az + 0.25 - z0;
+        const double along = dx * c + dz * s, left = dz * c - dx * s;
+        const bool near = std::abs(left) <= width / 2 + 0.36 && along >= -run - 0.36 &&
+                          along <= length + run + 0.36;
+        if (bit) {
+          EXPECT_TRUE(near) << i << "," << j << " cell " << cell;
+        }
+      }
+    }
+  }
+  // The box of a diagonal strip is mostly empty.
+  EXPECT_GT(bits_set, 0);
+  EXPECT_LT(bits_set, cells / 3);
+}
+
 TEST(TerrainFeatures, SetPostElevationMovesACraterWithTheGround) {
   Terrain t(HeightGrid(51, 2.0, 10.0f));
   ExpectAdded(t, Id(1), FeatureParams::Crater(50, 50, 10));

@@ -56,7 +56,7 @@ Rgba ToRgba(const Colour& colour, double factor) {
   Rgba out{0, 0, 0, 255};
   for (int k = 0; k < 3; ++k) {
     const double v = std::clamp(colour[k] * factor, 0.0, 1.0);
-    out[k] = static_cast<uint8_t>(std::lround(v * 255.0));
+    out[k] = static_cast<uint8_t>(v * 255.0 + 0.5);  // v >= 0: rounds half up, like lround
   }
   return out;
 }

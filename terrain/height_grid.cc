@@ -43,8 +43,8 @@ HeightGrid::HeightGrid(int posts_per_side, double spacing_m, std::vector<float> 
           fmt::format("post ({}, {}) is not finite ({})", k % n_, k / n_, posts_[k]));
     }
   }
-  if (!IsValidMaterial(static_cast<uint16_t>(soil))) {
-    throw std::invalid_argument(fmt::format("unknown soil {}", static_cast<uint16_t>(soil)));
+  if (!IsValidMaterial(static_cast<uint16_t>(soil)) || soil == Material::kFromGround) {
+    throw std::invalid_argument(fmt::format("{} is not a soil", static_cast<uint16_t>(soil)));
   }
   soil_.assign(static_cast<size_t>(n_ - 1) * static_cast<size_t>(n_ - 1) * 2, soil);
 }

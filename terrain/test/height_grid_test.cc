@@ -72,6 +72,7 @@ TEST(HeightGrid, BadShapesAreRefused) {
   EXPECT_THROW(HeightGrid(2, 1.0, std::vector<float>{0, 0, 0}), std::invalid_argument);
   EXPECT_THROW(HeightGrid(2, 1.0, std::vector<float>{0, 0, 0, std::nanf("")}),
                std::invalid_argument);
+  EXPECT_THROW(HeightGrid(2, 1.0, 0.0f, Material::kFromGround), std::invalid_argument);
 }
 
 TEST(HeightGrid, SetPostChangesOnlyNearbyElevations) {

@@ -245,8 +245,11 @@ Material Terrain::SoilAt(double x_m, double z_m) const {
   double highest = -1.0;
   const Feature* top = nullptr;
   for (const Feature* f : FeaturesNear(x_m, z_m)) {
-    if (!f->Covers(x_m, z_m)) continue;
-    const double offset = f->OffsetAboveGround(x_m, z_m).value_or(0.0);
+    // Only earthworks lie on the ground; a bridge deck is above it (a vehicle on a deck takes
+    // the bridge's material from the bridge itself).
+    const auto earthwork_offset = f->OffsetAboveGround(x_m, z_m);
+    if (!earthwork_offset || !f->Covers(x_m, z_m)) continue;
+    const double offset = *earthwork_offset;
     // Ties go to the smaller ID, so the answer is independent of insertion order.
     if (offset > highest || (offset == highest && top && f->id() < top->id())) {
       highest = offset;

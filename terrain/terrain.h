@@ -63,8 +63,9 @@ class Terrain {
   bool FeatureBitAt(double x_m, double z_m) const;
   uint16_t SquareBits(SquareIndex square) const { return bits_[SquareSlot(square)]; }
 
-  // The material at a point: the highest earthwork's material where one covers it, otherwise the
-  // soil of the ground triangle. Throws off the terrain.
+  // The material at a point on the ground surface: the highest earthwork's material where one
+  // covers it, otherwise the soil of the ground triangle. Bridge decks are not the ground: under
+  // a bridge this is the soil below. Throws off the terrain.
   Material SoilAt(double x_m, double z_m) const;
 
  private:

@@ -225,6 +225,14 @@ TEST(BridgeInTerrain, FeatureBitsCoverTheDeckAndHotSpotsOfARotatedBridge) {
   EXPECT_GT(outside, 1000);
 }
 
+TEST(BridgeInTerrain, SoilUnderADeckIsTheGroundBelow) {
+  Terrain t(Flat());
+  ASSERT_TRUE(t.Add(kId, EastBridge()).ok());
+  // The deck is concrete, but a vehicle driving under the span is on dirt.
+  EXPECT_EQ(t.SoilAt(120, 150), Material::kDirt);
+  EXPECT_EQ(t.ElevationAt(120, 150), 10.0);
+}
+
 TEST(BridgeInTerrain, RepairRestoresTheDeck) {
   Terrain t(Flat());
   FeatureParams p = EastBridge();

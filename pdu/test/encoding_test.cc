@@ -73,6 +73,8 @@ uint64_t ConstructFingerprint() {
       {"changed_by", "", {}},
       {"change_seq", "int64_t", {}},
       {"lamport", "int64_t", {}},
+      {"is_playback", "boolean", {}},
+      {"playback_for", "", {}},
       {"position_m", "double", {{0, "3"}}},
       {"direction_rad", "double", {}},
       {"height_m", "double", {{0, "2"}}},
@@ -85,7 +87,7 @@ uint64_t ConstructFingerprint() {
   };
   return Fingerprint(BaseHash(members),
                      {HeaderFingerprint(), AddressFingerprint(), AddressFingerprint(),
-                      AddressFingerprint(), EditFingerprint()});
+                      AddressFingerprint(), AddressFingerprint(), EditFingerprint()});
 }
 
 // Big-endian appenders: LCM's wire order.
@@ -117,6 +119,8 @@ TEST(Encoding, ConstructBytesMatchTheHandBuiltVector) {
   pdu.changed_by = ToPdu({0xFFFF, 2});
   pdu.change_seq = 4;
   pdu.lamport = 5;
+  pdu.is_playback = 1;
+  pdu.playback_for = ToPdu({3, 0x1234});
   pdu.position_m[0] = 100.25;
   pdu.position_m[1] = 0.0;
   pdu.position_m[2] = 200.5;
@@ -143,6 +147,8 @@ TEST(Encoding, ConstructBytesMatchTheHandBuiltVector) {
   e.v.insert(e.v.end(), {0xFF, 0xFF, 0x00, 0x02});                    // changed_by
   e.U(4, 8);                                                          // change_seq
   e.U(5, 8);                                                          // lamport
+  e.v.insert(e.v.end(), {0x01});                                      // is_playback
+  e.v.insert(e.v.end(), {0x00, 0x03, 0x12, 0x34});                    // playback_for 3:4660
   // 100.25 = 1.56640625 * 2^6: exponent 1023 + 6 = 0x405, mantissa 0x9100000000000.
   e.v.insert(e.v.end(), {0x40, 0x59, 0x10, 0, 0, 0, 0, 0});
   e.U(0, 8);                                                 // y
@@ -163,13 +169,13 @@ TEST(Encoding, ConstructBytesMatchTheHandBuiltVector) {
   Bytes check;
   check.D(100.25);
   check.D(0.25);
-  EXPECT_EQ(std::vector<uint8_t>(e.v.begin() + 61, e.v.begin() + 69),
+  EXPECT_EQ(std::vector<uint8_t>(e.v.begin() + 66, e.v.begin() + 74),
             std::vector<uint8_t>(check.v.begin(), check.v.begin() + 8));
   EXPECT_EQ(std::vector<uint8_t>(e.v.end() - 8, e.v.end()),
             std::vector<uint8_t>(check.v.begin() + 8, check.v.end()));
 
   EXPECT_EQ(EncodePdu(pdu), e.v);
-  EXPECT_EQ(e.v.size(), 149u + 10u);
+  EXPECT_EQ(e.v.size(), 154u + 10u);
 }
 
 TEST(Encoding, SenderSitsAtTheSameOffsetInEveryType) {

@@ -60,6 +60,7 @@ inline dtpdu::destruct_t Destruct() {
 inline dtpdu::max_feature_t MaxFeature() {
   dtpdu::max_feature_t pdu{};
   StampHeader(pdu);
+  pdu.subject = ToPdu({5, 6});
   pdu.max_feature_number = 42;
   pdu.max_change_seq = 50;
   pdu.lamport = 77;
@@ -73,7 +74,7 @@ inline dtpdu::playback_t Playback() {
   StampHeader(pdu);
   pdu.requesting = ToPdu({1, 2});
   pdu.transmitting = ToPdu({3, 4});
-  pdu.origin = ToPdu({3, 4});
+  pdu.subject = ToPdu({3, 4});
   pdu.range_kind = static_cast<uint8_t>(PlaybackRange::kFeatureNumbers);
   pdu.start = 10;
   pdu.end = 20;

@@ -1,0 +1,163 @@
+// PDU benchmarks: encode and decode+validate time per PDU, and PDUs/s through PduBus over memq,
+// udpm and DDS against raw LCM publish/receive of same-size messages in the same run.
+// Runs inside a private network namespace it makes itself, like the network tests.
+#include <chrono>
+#include <cstdio>
+
+#include <benchmark/benchmark.h>
+#include <lcm/lcm.h>
+
+#include "log/log.h"
+#include "pdu/dds_transport.h"
+#include "pdu/lcm_transport.h"
+#include "pdu/pdu_bus.h"
+#include "pdu/test/private_netns.h"
+#include "pdu/test/sample_pdus.h"
+
+namespace dt {
+namespace {
+
+constexpr int kBatch = 500;
+constexpr const char* kUdpm = "udpm://239.255.76.67:7667?ttl=0";
+
+template <typename Pdu>
+void BM_Encode(benchmark::State& state, Pdu pdu) {
+  for (auto _ : state) benchmark::DoNotOptimize(EncodePdu(pdu));
+  state.SetItemsProcessed(state.iterations());
+}
+
+template <typename Pdu>
+void BM_DecodeValidate(benchmark::State& state, Pdu pdu) {
+  const auto bytes = EncodePdu(pdu);
+  const auto ctx = sample::Context();
+  for (auto _ : state) {
+    Pdu out;
+    auto r = DecodeAndValidate(std::span<const uint8_t>(bytes), ctx, out);
+    benchmark::DoNotOptimize(r);
+    benchmark::DoNotOptimize(out);
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["bytes"] = static_cast<double>(bytes.size());
+}
+
+BENCHMARK_CAPTURE(BM_Encode, construct, sample::Construct());
+BENCHMARK_CAPTURE(BM_Encode, update, sample::Update());
+BENCHMARK_CAPTURE(BM_Encode, destruct, sample::Destruct());
+BENCHMARK_CAPTURE(BM_Encode, max_feature, sample::MaxFeature());
+BENCHMARK_CAPTURE(BM_Encode, playback, sample::Playback());
+BENCHMARK_CAPTURE(BM_DecodeValidate, construct, sample::Construct());
+BENCHMARK_CAPTURE(BM_DecodeValidate, update, sample::Update());
+BENCHMARK_CAPTURE(BM_DecodeValidate, destruct, sample::Destruct());
+BENCHMARK_CAPTURE(BM_DecodeValidate, max_feature, sample::MaxFeature());
+BENCHMARK_CAPTURE(BM_DecodeValidate, playback, sample::Playback());
+
+// Handles until `target` messages arrived or 2 s passed (a lost datagram must not hang the run).
+template <typename HandleFn>
+bool ReceiveUntil(const int64_t& received, int64_t target, HandleFn handle) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  while (received < target) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    handle();
+  }
+  return true;
+}
+
+// The PDU layer: PduBus stamps, validates and encodes; the receiver decodes and validates.
+void BM_PduBusThroughput(benchmark::State& state, std::string url) {
+  auto tx = MakeTransport(url, sample::kSampleExercise);
+  std::unique_ptr<Transport> rx_owned;
+  Transport* rx = tx.get();
+  if (url != "memq://") {
+    rx_owned = MakeTransport(url, sample::kSampleExercise);
+    rx = rx_owned.get();
+  }
+  PduBusConfig tc;
+  tc.exercise_id = sample::kSampleExercise;
+  tc.local = {1, 1};
+  tc.terrain_size_m = sample::kSampleTerrainM;
+  PduBusConfig rc = tc;
+  rc.local = {2, 2};
+  rc.deliver_own = true;
+  PduBus sender(*tx, tc);
+  PduBus receiver(*rx, rc);
+  int64_t received = 0;
+  receiver.Subscribe<dtpdu::update_t>([&](const dtpdu::update_t&) { ++received; });
+  if (auto* dds = dynamic_cast<DdsTransport*>(tx.get())) {
+    dds->WaitForReaders(PduType::kUpdate, 1, 10000);
+  }
+  const dtpdu::update_t pdu = sample::Update();
+  int64_t lost = 0;
+  for (auto _ : state) {
+    const int64_t target = received + kBatch;
+    for (int i = 0; i < kBatch; ++i) {
+      if (!sender.Publish(pdu).ok()) state.SkipWithError("publish failed");
+    }
+    if (!ReceiveUntil(received, target, [&] { (void)receiver.HandleTimeout(10); })) {
+      lost += target - received;
+      received = target;
+    }
+  }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+  state.counters["lost"] = static_cast<double>(lost);
+  state.counters["rejected"] = static_cast<double>(receiver.rejects().total());
+}
+
+// Raw LCM: the same number of same-size pre-encoded messages, lcm_publish and a counting handler.
+void BM_RawLcmThroughput(benchmark::State& state, std::string url) {
+  std::string lcm_url = url;
+  if (url != "memq://") lcm_url += "&recv_buf_size=2097152";
+  lcm_t* tx = lcm_create(lcm_url.c_str());
+  lcm_t* rx = url == "memq://" ? tx : lcm_create(lcm_url.c_str());
+  const auto bytes = EncodePdu(sample::Update());
+  int64_t received = 0;
+  lcm_subscription_t* sub = lcm_subscribe(
+      rx, "DT7_UPDATE",
+      [](const lcm_recv_buf_t*, const char*, void* user) { ++*static_cast<int64_t*>(user); },
+      &received);
+  lcm_subscription_set_queue_capacity(sub, 0);
+  int64_t lost = 0;
+  for (auto _ : state) {
+    const int64_t target = received + kBatch;
+    for (int i = 0; i < kBatch; ++i) {
+      lcm_publish(tx, "DT7_UPDATE", bytes.data(), static_cast<unsigned>(bytes.size()));
+    }
+    if (!ReceiveUntil(received, target, [&] {
+          int r = lcm_handle_timeout(rx, 10);
+          while (r > 0) r = lcm_handle_timeout(rx, 0);
+        })) {
+      lost += target - received;
+      received = target;
+    }
+  }
+  lcm_unsubscribe(rx, sub);
+  if (rx != tx) lcm_destroy(rx);
+  lcm_destroy(tx);
+  state.SetItemsProcessed(state.iterations() * kBatch);
+  state.counters["lost"] = static_cast<double>(lost);
+  state.counters["bytes"] = static_cast<double>(bytes.size());
+}
+
+BENCHMARK_CAPTURE(BM_RawLcmThroughput, memq, std::string("memq://"))->UseRealTime();
+BENCHMARK_CAPTURE(BM_PduBusThroughput, memq, std::string("memq://"))->UseRealTime();
+BENCHMARK_CAPTURE(BM_RawLcmThroughput, udpm, std::string(kUdpm))->UseRealTime();
+BENCHMARK_CAPTURE(BM_PduBusThroughput, udpm, std::string(kUdpm))->UseRealTime();
+BENCHMARK_CAPTURE(BM_PduBusThroughput, dds,
+                  std::string("dds://0?config=") + DT_SOURCE_DIR +
+                      "/configs/cyclonedds-loopback.xml")
+    ->UseRealTime();
+
+}  // namespace
+}  // namespace dt
+
+int main(int argc, char** argv) {
+  dt::testing::EnterPrivateNetns(argc, argv);
+  if (auto reason = dt::testing::NetnsSkipReason()) {
+    std::fprintf(stderr, "no private network namespace (%s): udpm/DDS numbers use the host\n",
+                 reason->c_str());
+  }
+  dt::log::Init("pdu-bench", "warn");
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,40 @@
+#include "node/change_log.h"
+
+namespace dt {
+
+bool ChangeLog::Insert(const Change& change) {
+  const int64_t seq = change.stamp.change_seq;
+  if (!changes_.emplace(seq, change).second) return false;
+  NoteKnown(seq);
+  if (seq == contiguous_ + 1) {
+    auto it = changes_.find(seq);
+    while (it != changes_.end() && it->first == contiguous_ + 1) {
+      ++contiguous_;
+      ++it;
+    }
+  }
+  return true;
+}
+
+const Change* ChangeLog::Find(int64_t seq) const {
+  auto it = changes_.find(seq);
+  return it == changes_.end() ? nullptr : &it->second;
+}
+
+std::vector<const Change*> ChangeLog::Range(int64_t start, int64_t end) const {
+  std::vector<const Change*> out;
+  for (auto it = changes_.lower_bound(start); it != changes_.end() && it->first <= end; ++it) {
+    out.push_back(&it->second);
+  }
+  return out;
+}
+
+std::pair<int64_t, int64_t> ChangeLog::FirstGap() const {
+  if (!has_gap()) return {0, -1};
+  const int64_t start = contiguous_ + 1;
+  auto next = changes_.upper_bound(contiguous_);
+  const int64_t end = next == changes_.end() ? max_known_ : next->first - 1;
+  return {start, end};
+}
+
+}  // namespace dt

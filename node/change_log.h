@@ -1,0 +1,40 @@
+// ChangeLog: the changes one author made, as a replica holds them, and the gap-free point.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <vector>
+
+#include "node/change.h"
+
+namespace dt {
+
+// Keyed by the author's change sequence. The gap-free point is the highest s such that 1..s are
+// all held; max_known is the highest sequence anyone said exists (received or reported).
+class ChangeLog {
+ public:
+  // False (and nothing changes) if the sequence is already held.
+  bool Insert(const Change& change);
+  const Change* Find(int64_t seq) const;
+  // Held changes with start <= seq <= end, in sequence order.
+  std::vector<const Change*> Range(int64_t start, int64_t end) const;
+
+  void NoteKnown(int64_t seq) {
+    if (seq > max_known_) max_known_ = seq;
+  }
+  int64_t contiguous() const { return contiguous_; }
+  int64_t max_known() const { return max_known_; }
+  int64_t max_held() const { return changes_.empty() ? 0 : changes_.rbegin()->first; }
+  bool has_gap() const { return max_known_ > contiguous_; }
+  // The first missing sequence after the gap-free point and the end of that missing run (capped
+  // at max_known); {0, -1} when there is no gap.
+  std::pair<int64_t, int64_t> FirstGap() const;
+  size_t size() const { return changes_.size(); }
+
+ private:
+  std::map<int64_t, Change> changes_;
+  int64_t contiguous_ = 0;
+  int64_t max_known_ = 0;
+};
+
+}  // namespace dt

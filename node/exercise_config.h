@@ -1,0 +1,77 @@
+// ExerciseConfig: one exercise (terrain, transport, protocol timing, server and nodes) read from
+// TOML.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "pdu/fault_model.h"
+#include "terrain/feature_id.h"
+#include "terrain/random_terrain.h"
+
+namespace dt {
+
+// A vehicle a node drives from the start (terrain/vehicle_type.h names the types).
+struct VehicleConfig {
+  std::string type = "tank";
+  double x_m = 0.0;
+  double z_m = 0.0;
+  double heading_rad = 0.0;
+};
+
+// One process of the exercise: the server, the standby or a node.
+struct ProcessConfig {
+  std::string name;  // "server", "node-1": names logs, the control socket and output prefixes
+  NodeAddress address;
+  std::filesystem::path scenario;  // nodes only; empty: none (absolute, resolved by the loader)
+  std::vector<VehicleConfig> vehicles;
+};
+
+// Protocol timing (docs/protocol.md); the values map onto ReplicaConfig.
+struct ProtocolTiming {
+  int max_feature_period_ms = 500;
+  int silence_ms = 2000;
+  int playback_retry_ms = 500;
+  int playback_window = 256;
+};
+
+struct ExerciseConfig {
+  std::filesystem::path source;  // the file read
+  std::string name;
+  uint8_t exercise_id = 1;
+  std::string transport_url;      // pdu/transport.h MakeTransport
+  std::filesystem::path run_dir;  // sockets, databases, renders (absolute)
+  int tick_hz = 30;
+  RandomTerrainParams terrain;
+  ProtocolTiming protocol;
+  FaultConfig faults;  // injected on receipt by every process (pdu/faulty_transport.h)
+  uint64_t fault_seed = 1;
+  ProcessConfig server;
+  std::optional<ProcessConfig> standby;
+  std::vector<ProcessConfig> nodes;
+
+  double terrain_size_m() const { return (terrain.posts_per_side - 1) * terrain.spacing_m; }
+  // The server, the standby (if any) and every node, in that order.
+  std::vector<const ProcessConfig*> Processes() const;
+  // nullptr if no process has this name.
+  const ProcessConfig* FindProcess(std::string_view name) const;
+  // The control socket of a process: <run_dir>/<name>.sock.
+  std::filesystem::path SocketPath(std::string_view name) const;
+};
+
+// Parses TOML text. Relative paths (scenarios) resolve against base_dir; a relative run_dir
+// resolves against the current directory. Throws std::invalid_argument naming `source_name`, the
+// key and the offending value for a syntax error, a missing or mistyped key, a value out of
+// range, an unknown key, or duplicate process names or addresses.
+ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,
+                                   const std::filesystem::path& base_dir);
+
+// Reads and parses a file (relative paths resolve against its folder). Throws
+// std::invalid_argument as ParseExerciseConfig, or if the file cannot be read.
+ExerciseConfig LoadExerciseConfig(const std::filesystem::path& path);
+
+}  // namespace dt

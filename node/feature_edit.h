@@ -1,0 +1,39 @@
+// FeatureEdit: named parameter values ("radius_m=8") that build a new feature or change one.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "terrain/feature_params.h"
+#include "terrain/result.h"
+
+namespace dt {
+
+// The keys, in the units their names give (docs/node.md "Feature keys"):
+//   every type: x_m, z_m
+//   crater:     radius_m
+//   berm:       direction_deg, length_m, width_m, height_m
+//   bridge:     direction_deg, width_m, ramp1_m, span_m, ramp2_m, height1_m, height2_m,
+//               status ("intact" = 0 or "destroyed" = 1, as a number)
+struct FeatureEdit {
+  std::vector<std::pair<std::string, double>> values;  // in the order given
+};
+
+// The keys a type accepts, and the ones a new feature of that type must give.
+std::vector<std::string_view> FeatureKeys(FeatureType type);
+std::vector<std::string_view> RequiredFeatureKeys(FeatureType type);
+
+// Applies every value to a copy of `params` and validates the result (ValidateFeatureParams).
+// An unknown key for the type, a non-finite value or an invalid result is an Error naming the
+// key and value; `params` is never half-changed.
+Result<FeatureParams> ApplyFeatureEdit(const FeatureParams& params, const FeatureEdit& edit);
+
+// A new feature of `type` from the edit; every required key must be present.
+Result<FeatureParams> MakeFeature(FeatureType type, const FeatureEdit& edit);
+
+// "crater" / "berm" / "bridge".
+Result<FeatureType> ParseFeatureType(std::string_view name);
+
+}  // namespace dt

@@ -1,0 +1,168 @@
+#include "node/scenario.h"
+
+#include <algorithm>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "node/toml_reader.h"
+#include "terrain/berm_operations.h"
+
+namespace dt {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+constexpr double kMaxScenarioS = 7 * 24 * 3600.0;
+
+// The keys of a feature step that are not feature parameters.
+bool IsStepKey(std::string_view key) {
+  return key == "at_s" || key == "action" || key == "name" || key == "target";
+}
+
+// Every numeric key of the step that is not a step key, as an edit (the reader marks them read).
+FeatureEdit ReadEdit(const TomlReader& r, const toml::table& t) {
+  FeatureEdit edit;
+  for (const auto& [k, v] : t) {
+    if (IsStepKey(k.str())) continue;
+    edit.values.emplace_back(std::string(k.str()), r.Double(k.str(), -1e12, 1e12));
+  }
+  return edit;
+}
+
+}  // namespace
+
+Scenario ParseScenario(std::string_view toml_text, std::string_view source_name,
+                       int vehicle_count) {
+  const toml::table root = TomlReader::ParseText(toml_text, source_name);
+  const TomlReader top(root, std::string(source_name), "");
+  Scenario sc;
+  sc.source = std::string(source_name);
+
+  // Local names -> parameters (nullopt-like: destroyed names are erased and remembered).
+  std::map<std::string, FeatureParams> live;
+  std::map<std::string, std::string> gone;  // name -> the step that ended it
+  double cursor_s = 0.0;
+  std::vector<ScenarioStep> steps;
+
+  const std::vector<TomlReader> entries = top.TableArray("step");
+  const toml::array* raw = root["step"].as_array();
+  top.Finish();
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const TomlReader& r = entries[i];
+    const toml::table& t = *(*raw)[i].as_table();
+    ScenarioStep s;
+    s.where = fmt::format("{} step {}", source_name, i + 1);
+    if (r.Has("at_s")) {
+      s.at_s = r.Double("at_s", 0.0, kMaxScenarioS);
+      if (s.at_s < cursor_s) {
+        r.Fail("at_s",
+               fmt::format("goes back in time (the timeline is already at {} s)", cursor_s));
+      }
+    } else {
+      s.at_s = cursor_s;
+    }
+    cursor_s = s.at_s;
+
+    const std::string action = r.String("action");
+    auto need_target = [&]() -> const FeatureParams& {
+      s.target = r.String("target");
+      if (auto g = gone.find(s.target); g != gone.end()) {
+        r.Fail("target", fmt::format("\"{}\" no longer exists ({})", s.target, g->second));
+      }
+      auto it = live.find(s.target);
+      if (it == live.end()) r.Fail("target", "names no feature created by an earlier step");
+      return it->second;
+    };
+    auto new_name = [&](std::string_view n) {
+      if (live.count(std::string(n)) != 0 || gone.count(std::string(n)) != 0) {
+        r.Fail("name", fmt::format("\"{}\" is already used", n));
+      }
+    };
+
+    if (action == "crater" || action == "berm" || action == "bridge") {
+      s.action = ScenarioAction::kCreate;
+      s.name = r.String("name");
+      if (s.name.empty()) r.Fail("name", "must not be empty");
+      new_name(s.name);
+      Result<FeatureParams> p = MakeFeature(ParseFeatureType(action).value(), ReadEdit(r, t));
+      if (!p) r.Fail("action", p.error().message);
+      s.params = p.value();
+      live[s.name] = s.params;
+    } else if (action == "update") {
+      s.action = ScenarioAction::kUpdate;
+      const FeatureParams& old = need_target();
+      s.edit = ReadEdit(r, t);
+      if (s.edit.values.empty()) r.Fail("action", "an update changes at least one key");
+      Result<FeatureParams> p = ApplyFeatureEdit(old, s.edit);
+      if (!p) r.Fail("action", p.error().message);
+      live[s.target] = p.value();
+    } else if (action == "destroy") {
+      s.action = ScenarioAction::kDestroy;
+      need_target();
+      live.erase(s.target);
+      gone[s.target] = "destroyed at " + s.where;
+    } else if (action == "breach") {
+      s.action = ScenarioAction::kBreach;
+      const FeatureParams berm = need_target();
+      if (berm.type != FeatureType::kBerm) r.Fail("target", "a breach needs a berm");
+      s.gap_start_m = r.Double("gap_start_m", 0.0, 1e6);
+      s.gap_width_m = r.Double("gap_width_m", 1e-3, 1e6);
+      Result<std::vector<FeatureParams>> pieces =
+          BreachBerm(berm, s.gap_start_m + s.gap_width_m / 2.0, s.gap_width_m);
+      if (!pieces) r.Fail("gap_start_m", pieces.error().message);
+      live.erase(s.target);
+      gone[s.target] = "breached at " + s.where;
+      for (size_t k = 0; k < pieces.value().size(); ++k) {
+        const std::string piece = fmt::format("{}.{}", s.target, k + 1);
+        new_name(piece);
+        live[piece] = pieces.value()[k];
+      }
+    } else if (action == "drive") {
+      s.action = ScenarioAction::kDrive;
+      s.vehicle = static_cast<int>(r.Int("vehicle", 0, 0, 1 << 20));
+      if (s.vehicle >= vehicle_count) {
+        r.Fail("vehicle", fmt::format("the node has {} vehicle(s)", vehicle_count));
+      }
+      s.speed_mps = r.Double("speed_mps", -1000.0, 1000.0);
+      s.heading_rate_rad_s = r.Double("heading_rate_deg_s", 0.0, -3600.0, 3600.0) * kDegToRad;
+      s.duration_s = r.Double("duration_s", 0.0, 0.0, kMaxScenarioS);
+      if (s.duration_s > 0.0) {
+        ScenarioStep stop = s;
+        stop.at_s = s.at_s + s.duration_s;
+        stop.speed_mps = 0.0;
+        stop.heading_rate_rad_s = 0.0;
+        stop.duration_s = 0.0;
+        stop.where = s.where + " (stop)";
+        steps.push_back(s);
+        s = stop;
+      }
+    } else if (action == "wait") {
+      s.action = ScenarioAction::kWait;
+      s.duration_s = r.Double("duration_s", 0.0, kMaxScenarioS);
+      cursor_s += s.duration_s;
+      s.at_s = cursor_s;
+    } else {
+      r.Fail("action", "expected crater, berm, bridge, update, destroy, breach, drive or wait");
+    }
+    r.Finish();
+    steps.push_back(std::move(s));
+  }
+  std::stable_sort(steps.begin(), steps.end(),
+                   [](const ScenarioStep& a, const ScenarioStep& b) { return a.at_s < b.at_s; });
+  sc.steps = std::move(steps);
+  return sc;
+}
+
+Scenario LoadScenario(const std::filesystem::path& path, int vehicle_count) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(fmt::format("{}: cannot read the scenario", path.string()));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return ParseScenario(text.str(), path.string(), vehicle_count);
+}
+
+}  // namespace dt

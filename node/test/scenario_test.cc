@@ -1,0 +1,179 @@
+#include "node/scenario.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+#include "node/scenario_runner.h"
+#include "node/test/map_actions.h"
+
+namespace dt {
+namespace {
+
+std::string ErrorOf(const std::string& text, int vehicles = 1) {
+  try {
+    ParseScenario(text, "s.toml", vehicles);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kScenario = R"(
+[[step]]
+action = "drive"
+vehicle = 0
+speed_mps = 5
+heading_rate_deg_s = 0
+duration_s = 3
+
+[[step]]
+at_s = 1.0
+action = "crater"
+name = "c"
+x_m = 50
+z_m = 60
+radius_m = 4
+
+[[step]]
+action = "berm"
+name = "b"
+x_m = 100
+z_m = 100
+direction_deg = 0
+length_m = 40
+width_m = 4
+height_m = 2
+
+[[step]]
+at_s = 2.0
+action = "update"
+target = "c"
+radius_m = 7
+
+[[step]]
+action = "wait"
+duration_s = 0.5
+
+[[step]]
+action = "breach"
+target = "b"
+gap_start_m = 10
+gap_width_m = 5
+
+[[step]]
+at_s = 4.0
+action = "destroy"
+target = "b.2"
+)";
+
+TEST(ScenarioTest, ParsesTimesInOrder) {
+  const Scenario s = ParseScenario(kScenario, "s.toml", 1);
+  // drive, crater, berm, update, wait, breach, drive-stop (3 s), destroy
+  ASSERT_EQ(s.steps.size(), 8u);
+  EXPECT_EQ(s.steps[0].action, ScenarioAction::kDrive);
+  EXPECT_DOUBLE_EQ(s.steps[1].at_s, 1.0);
+  EXPECT_DOUBLE_EQ(s.steps[2].at_s, 1.0);  // no at_s: with the step before
+  EXPECT_EQ(s.steps[3].action, ScenarioAction::kUpdate);
+  EXPECT_DOUBLE_EQ(s.steps[4].at_s, 2.5);  // after the wait
+  EXPECT_EQ(s.steps[5].action, ScenarioAction::kBreach);
+  EXPECT_DOUBLE_EQ(s.steps[5].at_s, 2.5);
+  EXPECT_EQ(s.steps[6].action, ScenarioAction::kDrive);
+  EXPECT_DOUBLE_EQ(s.steps[6].at_s, 3.0);
+  EXPECT_DOUBLE_EQ(s.steps[6].speed_mps, 0.0);
+  EXPECT_DOUBLE_EQ(s.end_s(), 4.0);
+  EXPECT_DOUBLE_EQ(s.steps[1].params.length_m[0], 4.0);
+}
+
+TEST(ScenarioTest, RunnerPlaysStepsAsTimePasses) {
+  ScenarioRunner runner(ParseScenario(kScenario, "s.toml", 1));
+  MapActions node;
+  EXPECT_EQ(runner.Advance(0.5, node), 1);  // the drive only
+  ASSERT_EQ(node.drives.size(), 1u);
+  EXPECT_DOUBLE_EQ(node.drives[0].speed_mps, 5.0);
+  EXPECT_TRUE(node.features.empty());
+
+  EXPECT_EQ(runner.Advance(1.0, node), 2);
+  EXPECT_EQ(node.features.size(), 2u);
+  const FeatureId crater = runner.names().at("c");
+  EXPECT_DOUBLE_EQ(node.features.at(crater).length_m[0], 4.0);
+
+  runner.Advance(2.9, node);
+  EXPECT_DOUBLE_EQ(node.features.at(crater).length_m[0], 7.0);
+  EXPECT_EQ(runner.names().count("b"), 0u);
+  ASSERT_EQ(runner.names().count("b.2"), 1u);
+  EXPECT_EQ(node.features.size(), 3u);  // crater + two pieces
+
+  runner.Advance(10.0, node);
+  EXPECT_TRUE(runner.done());
+  EXPECT_EQ(runner.failed(), 0);
+  EXPECT_EQ(node.features.size(), 2u);
+  ASSERT_EQ(node.drives.size(), 2u);
+  EXPECT_DOUBLE_EQ(node.drives[1].speed_mps, 0.0);
+}
+
+TEST(ScenarioTest, RunTimeFailureIsCountedAndSkipped) {
+  ScenarioRunner runner(ParseScenario(kScenario, "s.toml", 1));
+  MapActions node;
+  runner.Advance(1.0, node);
+  node.features.erase(runner.names().at("c"));  // as if another node destroyed it
+  runner.Advance(10.0, node);
+  EXPECT_TRUE(runner.done());
+  EXPECT_EQ(runner.failed(), 1);
+  ASSERT_EQ(runner.errors().size(), 1u);
+  EXPECT_NE(runner.errors()[0].find("s.toml step 4"), std::string::npos) << runner.errors()[0];
+}
+
+TEST(ScenarioTest, RefusesBadScenariosBeforeRunning) {
+  const std::string base = "[[step]]\naction = \"crater\"\nname = \"c\"\nx_m = 5\nz_m = 5\n";
+  EXPECT_NE(ErrorOf(base).find("needs radius_m"), std::string::npos) << ErrorOf(base);
+  EXPECT_NE(ErrorOf(base + "radius_m = -1\n").find("radius"), std::string::npos);
+  EXPECT_NE(ErrorOf(base + "radius_m = 2\nheight_m = 1\n").find("height_m is not a key"),
+            std::string::npos)
+      << ErrorOf(base + "radius_m = 2\nheight_m = 1\n");
+  const std::string ok = base + "radius_m = 2\n";
+  EXPECT_EQ(ErrorOf(ok), "");
+  EXPECT_NE(ErrorOf(ok + ok).find("\"c\" is already used"), std::string::npos);
+  EXPECT_NE(ErrorOf(ok + "[[step]]\naction = \"destroy\"\ntarget = \"d\"\n").find("step[1].target"),
+            std::string::npos);
+  const std::string destroyed = ok + "[[step]]\naction = \"destroy\"\ntarget = \"c\"\n";
+  EXPECT_EQ(ErrorOf(destroyed), "");
+  EXPECT_NE(ErrorOf(destroyed + "[[step]]\naction = \"update\"\ntarget = \"c\"\nradius_m = 3\n")
+                .find("no longer exists"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(ok + "[[step]]\naction = \"breach\"\ntarget = \"c\"\ngap_start_m = 1\n"
+                         "gap_width_m = 1\n")
+                .find("needs a berm"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("[[step]]\naction = \"drive\"\nvehicle = 1\nspeed_mps = 1\n", 1)
+                .find("has 1 vehicle"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("[[step]]\nat_s = 5\naction = \"wait\"\nduration_s = 1\n"
+                    "[[step]]\nat_s = 2\naction = \"wait\"\nduration_s = 1\n")
+                .find("goes back in time"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("[[step]]\naction = \"dance\"\n").find("value \"dance\""), std::string::npos)
+      << ErrorOf("[[step]]\naction = \"dance\"\n");
+  EXPECT_NE(ErrorOf("[[step]]\naction = \"wait\"\nduration_s = 1\nextra = 2\n")
+                .find("step[0].extra: unknown key"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("[[steps]]\naction = \"wait\"\n").find("steps: unknown key"),
+            std::string::npos);
+}
+
+TEST(ScenarioTest, ShippedScenariosParse) {
+  const std::filesystem::path dir = std::filesystem::path(DT_SOURCE_DIR) / "configs/scenarios";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".toml") continue;
+    EXPECT_NO_THROW(LoadScenario(entry.path(), 1)) << entry.path();
+    ++count;
+  }
+  EXPECT_GE(count, 3);
+}
+
+}  // namespace
+}  // namespace dt

@@ -1,0 +1,62 @@
+// TomlReader: typed, range-checked reads from a TOML table whose errors name file, key and value.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <toml++/toml.h>
+
+namespace dt {
+
+// Reads keys of one table. Every failure throws std::invalid_argument reading
+// "<source>: <key path>: <problem> (value <value>)". Finish() refuses keys nobody read, so a typo
+// in a config is an error instead of a silently ignored setting.
+class TomlReader {
+ public:
+  TomlReader(const toml::table& table, std::string source, std::string path_prefix);
+
+  // Parses text; a syntax error throws naming the source, line and column.
+  static toml::table ParseText(std::string_view text, std::string_view source);
+
+  bool Has(std::string_view key) const;
+
+  int64_t Int(std::string_view key, int64_t lo, int64_t hi) const;
+  int64_t Int(std::string_view key, int64_t fallback, int64_t lo, int64_t hi) const;
+  // Integers are accepted where a real number is expected.
+  double Double(std::string_view key, double lo, double hi) const;
+  double Double(std::string_view key, double fallback, double lo, double hi) const;
+  std::string String(std::string_view key) const;
+  std::string String(std::string_view key, std::string fallback) const;
+  bool Bool(std::string_view key, bool fallback) const;
+
+  TomlReader Table(std::string_view key) const;
+  std::optional<TomlReader> OptionalTable(std::string_view key) const;
+  // An array of tables ([[key]]); empty if absent.
+  std::vector<TomlReader> TableArray(std::string_view key) const;
+
+  // Throws if the table holds a key that was never read.
+  void Finish() const;
+
+  // Throws std::invalid_argument with this table's context for `key`.
+  [[noreturn]] void Fail(std::string_view key, std::string_view problem) const;
+  std::string KeyPath(std::string_view key) const;
+  const std::string& source() const { return source_; }
+
+ private:
+  const toml::node* Get(std::string_view key) const;
+  const toml::node& Require(std::string_view key) const;
+
+  const toml::table* table_;
+  std::string source_;
+  std::string prefix_;
+  mutable std::set<std::string, std::less<>> read_;
+};
+
+// A node's value as TOML-like text, for messages.
+std::string TomlValueText(const toml::node& node);
+
+}  // namespace dt

@@ -48,18 +48,6 @@ void EmitTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eige
   }
 }
 
-void EmitPlainSquare(const Terrain& terrain, SquareIndex sq, const ElevationRange& range,
-                     Mesh& mesh) {
-  const HeightGrid& g = terrain.ground();
-  const double s = g.spacing_m();
-  const double x0 = sq.i * s, x1 = (sq.i + 1) * s, z0 = sq.j * s, z1 = (sq.j + 1) * s;
-  const Eigen::Vector3d p00(x0, g.post(sq.i, sq.j), z0), p10(x1, g.post(sq.i + 1, sq.j), z0),
-      p01(x0, g.post(sq.i, sq.j + 1), z1), p11(x1, g.post(sq.i + 1, sq.j + 1), z1);
-  // The diagonal runs from (x0, z1) to (x1, z0) (docs/conventions.md).
-  EmitTriangle(p00, p10, p01, MaterialColour(g.soil(sq, TriangleHalf::kLower)), range, mesh);
-  EmitTriangle(p11, p01, p10, MaterialColour(g.soil(sq, TriangleHalf::kUpper)), range, mesh);
-}
-
 Colour SurfaceColour(const Terrain& terrain, SquareIndex sq, double x_m, double z_m) {
   if (const Feature* top = TopEarthworkAt(terrain, sq, x_m, z_m)) {
     return EarthworkColour(top->material());
@@ -68,21 +56,29 @@ Colour SurfaceColour(const Terrain& terrain, SquareIndex sq, double x_m, double 
   return MaterialColour(g.soil(sq, g.HalfAt(x_m, z_m)));
 }
 
+// Sample point of global sub-index (gi, gj) at k sub-squares per grid square. Grid corners
+// (multiples of k) get exactly the post positions; the far edge is clamped onto the terrain.
+// Every square that uses a point computes it the same way, so shared vertices are bit-identical.
+Eigen::Vector3d SamplePoint(const Terrain& terrain, int k, long gi, long gj) {
+  const HeightGrid& g = terrain.ground();
+  const double s = g.spacing_m(), sub = s / k, size = g.size_m();
+  auto coord = [&](long idx) {
+    const double c =
+        idx % k == 0 ? static_cast<double>(idx / k) * s : static_cast<double>(idx) * sub;
+    return std::min(c, size);
+  };
+  const double x = coord(gi), z = coord(gj);
+  return Eigen::Vector3d(x, terrain.ElevationAt(x, z), z);
+}
+
 void EmitRefinedSquare(const Terrain& terrain, SquareIndex sq, int k, const ElevationRange& range,
                        Mesh& mesh) {
-  const HeightGrid& g = terrain.ground();
-  const double sub = g.spacing_m() / k;
-  const double size = g.size_m();
-  // Positions from global sub-indices, so a shared edge gives bit-identical vertices in both
-  // squares; the far edge is clamped onto the terrain.
-  auto vertex = [&](int a, int b) {
-    const double x = std::min(static_cast<double>(sq.i * k + a) * sub, size);
-    const double z = std::min(static_cast<double>(sq.j * k + b) * sub, size);
-    return Eigen::Vector3d(x, terrain.ElevationAt(x, z), z);
-  };
   std::vector<Eigen::Vector3d> v(static_cast<size_t>(k + 1) * (k + 1));
   for (int b = 0; b <= k; ++b) {
-    for (int a = 0; a <= k; ++a) v[static_cast<size_t>(b) * (k + 1) + a] = vertex(a, b);
+    for (int a = 0; a <= k; ++a) {
+      v[static_cast<size_t>(b) * (k + 1) + a] =
+          SamplePoint(terrain, k, static_cast<long>(sq.i) * k + a, static_cast<long>(sq.j) * k + b);
+    }
   }
   auto at = [&](int a, int b) -> const Eigen::Vector3d& {
     return v[static_cast<size_t>(b) * (k + 1) + a];
@@ -100,6 +96,74 @@ void EmitRefinedSquare(const Terrain& terrain, SquareIndex sq, int k, const Elev
                    mesh);
     }
   }
+}
+
+// One grid triangle whose edges may carry the extra vertices of refined neighbours. `loop` runs
+// round its boundary; a fan from the centroid keeps every piece in the triangle's plane, so the
+// picture is that of the coarse triangle but without T-junctions (which leave pinholes).
+void EmitGridTriangle(const std::vector<Eigen::Vector3d>& loop, const Eigen::Vector3d& a,
+                      const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Colour& base,
+                      const ElevationRange& range, Mesh& mesh) {
+  if (loop.size() == 3) {
+    EmitTriangle(a, b, c, base, range, mesh);
+    return;
+  }
+  const double shade = ShadeFactor(UpwardNormal(a, b, c));
+  const Eigen::Vector3d centre = (a + b + c) / 3.0;
+  auto colour = [&](const Eigen::Vector3d& p) {
+    return ToRgba(base, shade * ElevationFactor(p.y(), range.lowest_m, range.highest_m));
+  };
+  for (size_t n = 0; n < loop.size(); ++n) {
+    const Eigen::Vector3d& p = loop[n];
+    const Eigen::Vector3d& q = loop[(n + 1) % loop.size()];
+    mesh.AddVertex(centre, colour(centre));
+    mesh.AddVertex(p, colour(p));
+    mesh.AddVertex(q, colour(q));
+  }
+}
+
+// A square without earthworks: its grid triangles, coloured by their soil. Edges shared with a
+// refined square (k > 1) take that square's edge vertices.
+void EmitPlainSquare(const Terrain& terrain, SquareIndex sq, int k, const ElevationRange& range,
+                     Mesh& mesh) {
+  const HeightGrid& g = terrain.ground();
+  const int m = g.squares_per_side();
+  auto refined = [&](int i, int j) {
+    return k > 1 && i >= 0 && j >= 0 && i < m && j < m && SquareHasEarthwork(terrain, {i, j});
+  };
+  const bool south = refined(sq.i, sq.j - 1), north = refined(sq.i, sq.j + 1);
+  const bool west = refined(sq.i - 1, sq.j), east = refined(sq.i + 1, sq.j);
+  const Colour lower = MaterialColour(g.soil(sq, TriangleHalf::kLower));
+  const Colour upper = MaterialColour(g.soil(sq, TriangleHalf::kUpper));
+  const double s = g.spacing_m();
+  if (!south && !north && !west && !east) {
+    const double x0 = sq.i * s, x1 = (sq.i + 1) * s, z0 = sq.j * s, z1 = (sq.j + 1) * s;
+    const Eigen::Vector3d p00(x0, g.post(sq.i, sq.j), z0), p10(x1, g.post(sq.i + 1, sq.j), z0),
+        p01(x0, g.post(sq.i, sq.j + 1), z1), p11(x1, g.post(sq.i + 1, sq.j + 1), z1);
+    // The diagonal runs from (x0, z1) to (x1, z0) (docs/conventions.md).
+    EmitTriangle(p00, p10, p01, lower, range, mesh);
+    EmitTriangle(p11, p01, p10, upper, range, mesh);
+    return;
+  }
+  const long gi = static_cast<long>(sq.i) * k, gj = static_cast<long>(sq.j) * k;
+  auto pt = [&](long a, long b) { return SamplePoint(terrain, k, gi + a, gj + b); };
+  const Eigen::Vector3d p00 = pt(0, 0), p10 = pt(k, 0), p01 = pt(0, k), p11 = pt(k, k);
+  std::vector<Eigen::Vector3d> loop;
+  // Lower triangle: south edge west to east, the diagonal, west edge north to south.
+  loop.push_back(p00);
+  for (int a = 1; south && a < k; ++a) loop.push_back(pt(a, 0));
+  loop.push_back(p10);
+  loop.push_back(p01);
+  for (int b = k - 1; west && b > 0; --b) loop.push_back(pt(0, b));
+  EmitGridTriangle(loop, p00, p10, p01, lower, range, mesh);
+  // Upper triangle: north edge east to west, the diagonal, east edge south to north.
+  loop.clear();
+  loop.push_back(p11);
+  for (int a = k - 1; north && a > 0; --a) loop.push_back(pt(a, k));
+  loop.push_back(p01);
+  loop.push_back(p10);
+  for (int b = 1; east && b < k; ++b) loop.push_back(pt(k, b));
+  EmitGridTriangle(loop, p11, p01, p10, upper, range, mesh);
 }
 
 }  // namespace
@@ -152,7 +216,7 @@ void AppendTerrainRows(const Terrain& terrain, int row_begin, int row_end, int s
       if (SquareHasEarthwork(terrain, sq)) {
         EmitRefinedSquare(terrain, sq, subdivisions, range, mesh);
       } else {
-        EmitPlainSquare(terrain, sq, range, mesh);
+        EmitPlainSquare(terrain, sq, subdivisions, range, mesh);
       }
     }
   }

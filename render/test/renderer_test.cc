@@ -127,6 +127,40 @@ TEST_F(RendererTest, InsertionOrderDoesNotChangeThePixels) {
   }
 }
 
+TEST_F(RendererTest, RefinedAndPlainSquaresMeetWithoutPinholes) {
+  // Many small earthworks on rough ground: every refined square borders plain ones. Looking over
+  // the terrain from low down, the lower half of the picture is all ground; a T-junction would
+  // let the background through as isolated pixels.
+  RandomTerrainParams p;
+  p.posts_per_side = 129;
+  p.spacing_m = 4.0;
+  p.relief_m = 30.0;
+  p.seed = 3;
+  Terrain t(MakeRandomTerrain(p));
+  uint32_t n = 0;
+  for (int a = 0; a < 8; ++a) {
+    for (int b = 0; b < 8; ++b) {
+      const double x = 40.0 + 55.0 * a + 3.3 * b, z = 40.0 + 55.0 * b + 2.1 * a;
+      const Status s =
+          (a + b) % 3 == 0
+              ? t.Add({1, 2, ++n}, FeatureParams::Berm(x, z, 0.4 * a + 0.1 * b, 30.0, 5.0, 2.0))
+              : t.Add({1, 1, ++n}, FeatureParams::Crater(x, z, 3.0 + 2.5 * b));
+      ASSERT_TRUE(s.ok()) << s.error().message;
+    }
+  }
+  RenderOptions o;
+  o.scale_bar = false;
+  for (double eye_x : {256.0, 356.0, 456.0}) {
+    const Camera c = Camera::Perspective({eye_x, 60.0, 100.0}, {256.0, 0.0, 300.0}, 1.0, 400, 300);
+    const Image im = renderer_.Render(t, {}, c, o);
+    int holes = 0;
+    for (int r = im.height() / 2; r < im.height(); ++r) {
+      for (int col = 0; col < im.width(); ++col) holes += im.at(col, r) == o.background;
+    }
+    EXPECT_EQ(holes, 0) << "eye x " << eye_x;
+  }
+}
+
 TEST_F(RendererTest, CraterRimDiffersFromBareGroundWhereTheRimIs) {
   const double cx = 128.0, cz = 128.0, r = 30.0;
   const Terrain bare(FlatGround());

@@ -9,12 +9,12 @@
 namespace dt {
 namespace {
 
-// Unit vectors of the 16 spokes, spoke k along direction k * pi / 8 (plus spoke 16 == spoke 0 so
-// sector k always has k + 1). Written out so no trigonometry runs at start-up or per query.
+// Unit vectors of the 16 spokes, spoke k along direction k * pi / 8. Written out so no
+// trigonometry runs at start-up or per query.
 constexpr double kC1 = 0.92387953251128674;  // cos(pi / 8)
 constexpr double kS1 = 0.38268343236508978;  // sin(pi / 8)
 constexpr double kH = 0.70710678118654757;   // cos(pi / 4)
-constexpr std::array<std::array<double, 2>, kCraterSpokes + 1> kSpokes = {{
+constexpr std::array<std::array<double, 2>, kCraterSpokes> kSpokes = {{
     {1.0, 0.0},
     {kC1, kS1},
     {kH, kH},
@@ -31,32 +31,32 @@ constexpr std::array<std::array<double, 2>, kCraterSpokes + 1> kSpokes = {{
     {kS1, -kC1},
     {kH, -kH},
     {kC1, -kS1},
-    {1.0, 0.0},
 }};
 
 // Points this far outside the rim still count as covered, so mesh vertices computed in floating
 // point (and points on the outline) are covered however they round.
 constexpr double kEdgeToleranceM = 1e-9;
 
-// Counter-clockwise turn from spoke k to (dx, dz), times the distance: >= 0 when the point is at
-// or counter-clockwise of the spoke (within half a turn).
-double Cross(int k, double dx, double dz) { return kSpokes[k][0] * dz - kSpokes[k][1] * dx; }
-
-// The sector [spoke k, spoke k + 1) holding the non-zero offset (dx, dz), found by comparisons
-// (no atan2): the quadrant from the signs, then two cross products.
-int SectorOf(double dx, double dz) {
-  int base;
-  if (dz >= 0.0) {
-    base = dx > 0.0 ? 0 : 4;
-  } else {
-    base = dx < 0.0 ? 8 : 12;
-  }
-  if (dz == 0.0 && dx < 0.0) base = 8;  // direction pi starts sector 8
-  const int mid = base + 2;
-  if (Cross(mid, dx, dz) >= 0.0) {
-    return Cross(mid + 1, dx, dz) >= 0.0 ? mid + 1 : mid;
-  }
-  return Cross(base + 1, dx, dz) >= 0.0 ? base + 1 : base;
+// Finds the sector [spoke k, spoke k + 1) holding the non-zero offset (dx, dz) by halving the
+// turn four times (half, quarter, eighth, sixteenth), each a comparison and a select, never
+// atan2. Returns k and turns (dx, dz) back by k * pi / 8, into the first sector.
+int SectorOf(double& dx, double& dz) {
+  // [pi, 2 pi): turn by pi.
+  const bool lower = dz < 0.0 || (dz == 0.0 && dx < 0.0);
+  dx = lower ? -dx : dx;
+  dz = lower ? -dz : dz;
+  // [pi/2, pi): turn by -pi/2.
+  const bool second = dx <= 0.0;
+  const double x2 = second ? dz : dx, z2 = second ? -dx : dz;
+  // [pi/4, pi/2): turn by -pi/4.
+  const bool upper_eighth = z2 >= x2;
+  const double x3 = upper_eighth ? kH * (x2 + z2) : x2;
+  const double z3 = upper_eighth ? kH * (z2 - x2) : z2;
+  // [pi/8, pi/4): turn by -pi/8.
+  const bool upper_sixteenth = kC1 * z3 - kS1 * x3 >= 0.0;
+  dx = upper_sixteenth ? kC1 * x3 + kS1 * z3 : x3;
+  dz = upper_sixteenth ? kC1 * z3 - kS1 * x3 : z3;
+  return 8 * lower + 4 * second + 2 * upper_eighth + upper_sixteenth;
 }
 
 // The standard profile: floor at the ground inside ring 0, rising linearly to the rim (rings 1
@@ -138,12 +138,13 @@ std::optional<double> Crater::OffsetAboveGround(double x_m, double z_m) const {
   if (!(d2 <= CoveredRadiusSquared())) return std::nullopt;  // also refuses NaN
   if (!edits_) return StandardProfile(d2, radius_m_);
   if (d2 == 0.0) return 0.0;  // the centre: the floor is at the ground
-  const double q = std::min(1.0, std::sqrt(d2) / radius_m_);
-  const int k = SectorOf(dx, dz);
+  const double q = std::min(1.0, std::sqrt(d2) * edits_->inverse_radius_per_m);
+  double sx = dx, sz = dz;
+  const int k = SectorOf(sx, sz);
   // Fraction of the way from spoke k to spoke k + 1, from the perpendicular distances to both
   // (monotone, 0 on spoke k, 1 on spoke k + 1; within 0.0025 of the angular fraction).
-  const double a = std::max(0.0, Cross(k, dx, dz));
-  const double b = std::max(0.0, -Cross(k + 1, dx, dz));
+  const double a = std::max(0.0, sz);
+  const double b = std::max(0.0, kS1 * sx - kC1 * sz);
   const double t = a + b > 0.0 ? a / (a + b) : 0.0;
   return EditedOffset(k, t, q);
 }
@@ -154,10 +155,14 @@ double Crater::EditedOffset(int k, double t, double q) const {
   const double* next = &edits_->offsets_m[static_cast<size_t>(k1 * kCraterRings)];
   auto at_ring = [&](int ring) { return (1.0 - t) * here[ring] + t * next[ring]; };
   constexpr auto& f = kCraterRingFractions;
-  if (q <= f[0]) return at_ring(0) * (q / f[0]);  // the floor: the centre is at the ground
-  int ring = 0;
-  while (ring < kCraterRings - 2 && q > f[ring + 1]) ++ring;
-  const double s = std::min(1.0, (q - f[ring]) / (f[ring + 1] - f[ring]));
+  constexpr double kInverseRing0 = 1.0 / f[0];
+  if (q <= f[0]) return at_ring(0) * (q * kInverseRing0);  // the floor: the centre is at ground
+  static_assert(f[2] - f[1] - (f[1] - f[0]) < 1e-12 && f[1] - f[0] - (f[2] - f[1]) < 1e-12 &&
+                    f[3] - f[2] - (f[1] - f[0]) < 1e-12 && f[1] - f[0] - (f[3] - f[2]) < 1e-12,
+                "the rings are equally spaced");
+  constexpr double kRingsPerUnit = 1.0 / (f[1] - f[0]);
+  const int ring = (q > f[1]) + (q > f[2]);
+  const double s = std::min(1.0, (q - f[ring]) * kRingsPerUnit);
   return (1.0 - s) * at_ring(ring) + s * at_ring(ring + 1);
 }
 
@@ -200,6 +205,7 @@ Result<std::unique_ptr<Feature>> MakeCrater(FeatureId id, const FeatureParams& p
   if (!params.vertex_edits.empty()) {
     edits = std::make_unique<Crater::Edits>();
     edits->list = params.vertex_edits;
+    edits->inverse_radius_per_m = 1.0 / params.length_m[0];
     for (int spoke = 0; spoke < kCraterSpokes; ++spoke) {
       for (int ring = 0; ring < kCraterRings; ++ring) {
         edits->offsets_m[static_cast<size_t>(spoke * kCraterRings + ring)] =

@@ -49,6 +49,7 @@ class Crater final : public Feature {
   struct Edits {
     std::vector<CraterVertexEdit> list;                          // as given, for params()
     std::array<double, kCraterSpokes * kCraterRings> offsets_m;  // every vertex, spoke-major
+    double inverse_radius_per_m;  // kept here: standard craters do without it
   };
 
   Crater(FeatureId id, double x_m, double z_m, double radius_m, Material given, Material resolved,

@@ -1,6 +1,5 @@
 #include "node/control_server.h"
 
-#include <fcntl.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -26,11 +25,6 @@ sockaddr_un Address(const std::filesystem::path& path) {
   }
   std::memcpy(addr.sun_path, s.data(), s.size());
   return addr;
-}
-
-void SetNonBlocking(int fd) {
-  const int flags = fcntl(fd, F_GETFL, 0);
-  fcntl(fd, F_SETFL, flags | O_NONBLOCK);
 }
 
 }  // namespace

@@ -75,6 +75,15 @@ Status RecordStore::CheckPlaceable(FeatureId id, const FeatureParams& params) co
   auto made = MakeFeature(id, params, terrain_.ground());
   if (!made) return made.error();
   const Feature& candidate = *made.value();
+  const Rect bounds = candidate.Bounds();
+  const HeightGrid& g = terrain_.ground();
+  if (!g.Contains(bounds.min_x, bounds.min_z) || !g.Contains(bounds.max_x, bounds.max_z)) {
+    return Error{
+        fmt::format("{} {} covers x [{}, {}] z [{}, {}] m, which leaves the terrain "
+                    "[0, {}]^2",
+                    FeatureTypeName(params.type), id.ToString(), bounds.min_x, bounds.max_x,
+                    bounds.min_z, bounds.max_z, g.size_m())};
+  }
   for (FeatureId b : live_bridges_) {
     if (b == id) continue;
     const Record& r = records_.at(b);

@@ -447,13 +447,21 @@ void Replica::SendReports() {
 
 void Replica::Commit() {
   if (config_.store == nullptr || pending_store_.empty()) return;
+  const bool was_ok = store_status_.ok();
   store_status_ = config_.store->Append(pending_store_);
   if (!store_status_) {
-    DT_LOG_ERROR(
-        "replica {}: storing {} changes failed (they are not reported durable; "
-        "retrying next tick): {}",
-        config_.address.ToString(), pending_store_.size(), store_status_.error().message);
+    // Logged when the store starts failing, not on every retry.
+    if (was_ok) {
+      DT_LOG_ERROR(
+          "replica {}: storing {} changes failed; they are not reported durable and "
+          "are retried every tick: {}",
+          config_.address.ToString(), pending_store_.size(), store_status_.error().message);
+    }
     return;
+  }
+  if (!was_ok) {
+    DT_LOG_INFO("replica {}: the store accepts changes again ({} stored)",
+                config_.address.ToString(), pending_store_.size());
   }
   pending_store_.clear();
   for (const auto& [author, log] : logs_) durable_[author] = log.contiguous();

@@ -10,6 +10,8 @@
 #include <string>
 #include <thread>
 
+#include <fmt/format.h>
+
 #include "node/control_client.h"
 #include "node/control_command.h"
 #include "node/control_server.h"
@@ -19,8 +21,7 @@ namespace dt {
 namespace {
 
 std::filesystem::path TempSocket(const std::string& tag) {
-  return std::filesystem::temp_directory_path() /
-         fmt::format("dt-ctl-{}-{}.sock", tag, ::getpid());
+  return std::filesystem::temp_directory_path() / fmt::format("dt-ctl-{}-{}.sock", tag, ::getpid());
 }
 
 // Runs a server's Poll loop on its own thread until stopped.
@@ -186,8 +187,9 @@ TEST(ControlServerTest, ReplacesStaleSocketButNotALiveOne) {
                std::runtime_error);
   server.reset();
   EXPECT_FALSE(std::filesystem::exists(path));
-  EXPECT_THROW(ControlServer(std::string(200, 'p'), [](std::string_view) { return ControlReply::Ok(); }),
-               std::invalid_argument);
+  EXPECT_THROW(
+      ControlServer(std::string(200, 'p'), [](std::string_view) { return ControlReply::Ok(); }),
+      std::invalid_argument);
   Result<ControlReply> r = CallControl(path, "ping", 100);
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().message.find("cannot connect"), std::string::npos);

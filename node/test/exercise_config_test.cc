@@ -158,9 +158,7 @@ TEST(ExerciseConfigTest, LoadResolvesScenarioBesideTheFile) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("dt-excfg-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  {
-    std::ofstream(dir / "e.toml") << kGood;
-  }
+  { std::ofstream(dir / "e.toml") << kGood; }
   const ExerciseConfig c = LoadExerciseConfig(dir / "e.toml");
   EXPECT_EQ(c.nodes[0].scenario, dir / "scen/a.toml");
   std::filesystem::remove_all(dir);
@@ -172,7 +170,9 @@ TEST(ExerciseConfigTest, ShippedDemoParses) {
       LoadExerciseConfig(std::filesystem::path(DT_SOURCE_DIR) / "configs/exercises/demo.toml");
   EXPECT_EQ(c.nodes.size(), 3u);
   for (const ProcessConfig& n : c.nodes) {
-    if (!n.scenario.empty()) EXPECT_TRUE(std::filesystem::exists(n.scenario)) << n.scenario;
+    if (!n.scenario.empty()) {
+      EXPECT_TRUE(std::filesystem::exists(n.scenario)) << n.scenario;
+    }
   }
 }
 

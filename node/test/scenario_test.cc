@@ -155,7 +155,7 @@ TEST(ScenarioTest, RefusesBadScenariosBeforeRunning) {
                     "[[step]]\nat_s = 2\naction = \"wait\"\nduration_s = 1\n")
                 .find("goes back in time"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("[[step]]\naction = \"dance\"\n").find("value \"dance\""), std::string::npos)
+  EXPECT_NE(ErrorOf("[[step]]\naction = \"dance\"\n").find("value 'dance'"), std::string::npos)
       << ErrorOf("[[step]]\naction = \"dance\"\n");
   EXPECT_NE(ErrorOf("[[step]]\naction = \"wait\"\nduration_s = 1\nextra = 2\n")
                 .find("step[0].extra: unknown key"),

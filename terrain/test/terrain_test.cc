@@ -69,6 +69,23 @@ TEST(TerrainBerm, CrestIsAtHeightAboveSlopedGroundAndEdgesAtGround) {
   }
 }
 
+TEST(TerrainCrater, RimStandsAboveSlopedGroundAndCentreAndOutsideAreGround) {
+  Terrain t(SlopedGround());
+  const double cx = 101.3, cz = 99.1, r = 12;
+  ExpectAdded(t, Id(1), FeatureParams::Crater(cx, cz, r));
+  EXPECT_EQ(t.ElevationAt(cx, cz), t.GroundElevationAt(cx, cz));
+  for (int k = 0; k < 64; ++k) {
+    const double a = k * 2 * kPi / 64, c = std::cos(a), s = std::sin(a);
+    for (double q : {0.6, 0.7, 0.8}) {  // the rim: rings 1 and 2 and between them
+      EXPECT_NEAR(Above(t, cx + q * r * c, cz + q * r * s), 0.15 * r, 1e-9) << k << " " << q;
+    }
+    EXPECT_EQ(t.ElevationAt(cx + 0.3 * r * c, cz + 0.3 * r * s),
+              t.GroundElevationAt(cx + 0.3 * r * c, cz + 0.3 * r * s));  // the floor
+    EXPECT_EQ(t.ElevationAt(cx + 1.01 * r * c, cz + 1.01 * r * s),
+              t.GroundElevationAt(cx + 1.01 * r * c, cz + 1.01 * r * s));  // outside
+  }
+}
+
 TEST(TerrainBerm, OverlappingBermsGiveTheHigherSurface) {
   Terrain t(SlopedGround());
   ExpectAdded(t, Id(1), FeatureParams::Berm(60, 100, 0, 80, 10, 2));

@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <stdexcept>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -13,7 +14,9 @@ namespace dt {
 GlContext::GlContext() {
   // llvmpipe reads this once, when the first context creates its screen. With worker threads
   // the rasteriser bins work by tile; with none the order of every operation is fixed.
-  setenv("LP_NUM_THREADS", "0", 1);
+  // Written only when needed: setenv races with other threads reading the environment.
+  const char* threads = std::getenv("LP_NUM_THREADS");
+  if (threads == nullptr || std::string_view(threads) != "0") setenv("LP_NUM_THREADS", "0", 1);
   OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
   if (ctx == nullptr) throw std::runtime_error("OSMesaCreateContextExt failed");
   context_ = ctx;

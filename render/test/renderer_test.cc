@@ -118,6 +118,11 @@ TEST_F(RendererTest, InsertionOrderDoesNotChangeThePixels) {
   ASSERT_TRUE(b.Add({9, 9, 9}, FeatureParams::Crater(200.0, 200.0, 20.0)).ok());
   for (const Placed& p : backward) ASSERT_TRUE(b.Add(p.id, p.params).ok());
   ASSERT_TRUE(b.Remove({9, 9, 9}).ok());
+  // And one feature reached its parameters through an update: a bridge destroyed, then repaired.
+  FeatureParams broken = forward.back().params;
+  broken.status = BridgeStatus::kDestroyed;
+  ASSERT_TRUE(b.Update(forward.back().id, broken).ok());
+  ASSERT_TRUE(b.Update(forward.back().id, forward.back().params).ok());
   RenderOptions o;
   o.grid_spacing_m = 32.0;
   for (const Camera& c : {MapCamera(a), Oblique()}) {

@@ -1,0 +1,137 @@
+// Benchmarks of elevation queries, six-point orientation and crater add/remove on terrains holding
+// 10^5 and 10^6 craters at 128 per km^2, and the memory each crater costs.
+#include <malloc.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "terrain/crater.h"
+#include "terrain/terrain.h"
+#include "terrain/vehicle.h"
+#include "terrain/vehicle_traversal.h"
+
+namespace dt {
+namespace {
+
+constexpr double kCratersPerKm2 = 128.0;
+constexpr double kSpacingM = 125.0;  // the thesis's coarsest display resolution
+constexpr NodeAddress kOrigin{1, 1};
+
+// A terrain with `count` craters of radius 2..10 m scattered uniformly at 128 per km^2, plus a
+// cluster of four overlapping craters at its centre for the overlap query.
+struct CraterField {
+  std::unique_ptr<Terrain> terrain;
+  double size_m = 0.0;
+  double bytes_per_crater = 0.0;
+  uint32_t next_number = 1;
+  std::vector<std::pair<double, double>> bare_points;  // in squares with no feature
+  std::vector<std::pair<double, double>> one_points;   // covered by exactly one crater
+  std::vector<std::pair<double, double>> four_points;  // covered by the four-crater cluster
+};
+
+size_t HeapInUse() { return mallinfo2().uordblks; }
+
+CraterField& Field(int64_t count) {
+  static std::map<int64_t, std::unique_ptr<CraterField>> fields;
+  auto& slot = fields[count];
+  if (slot) return *slot;
+  slot = std::make_unique<CraterField>();
+  CraterField& f = *slot;
+  const double area_km2 = static_cast<double>(count) / kCratersPerKm2;
+  const int squares = static_cast<int>(std::ceil(std::sqrt(area_km2) * 1000.0 / kSpacingM));
+  f.terrain = std::make_unique<Terrain>(HeightGrid(squares + 1, kSpacingM, 50.0f));
+  f.size_m = f.terrain->ground().size_m();
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> pos(20.0, f.size_m - 20.0);
+  std::uniform_real_distribution<double> radius(2.0, 10.0);
+
+  const size_t heap_before = HeapInUse();
+  for (int64_t k = 0; k < count; ++k) {
+    const FeatureId id{kOrigin.site, kOrigin.host, f.next_number++};
+    if (!f.terrain->Add(id, FeatureParams::Crater(pos(rng), pos(rng), radius(rng))).ok()) {
+      std::abort();
+    }
+  }
+  f.bytes_per_crater = static_cast<double>(HeapInUse() - heap_before) / static_cast<double>(count);
+
+  const double cx = f.size_m / 2, cz = f.size_m / 2;
+  for (int k = 0; k < 4; ++k) {
+    const FeatureId id{kOrigin.site, kOrigin.host, f.next_number++};
+    if (!f.terrain->Add(id, FeatureParams::Crater(cx + 0.5 * k, cz, 9.0)).ok()) std::abort();
+  }
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  while (f.four_points.size() < 4096) {
+    const double x = cx + 1.5 + 2.0 * unit(rng), z = cz + 2.0 * unit(rng);
+    int covering = 0;
+    for (const Feature* feature : f.terrain->FeaturesNear(x, z)) covering += feature->Covers(x, z);
+    if (covering == 4) f.four_points.emplace_back(x, z);
+  }
+  while (f.bare_points.size() < 4096 || f.one_points.size() < 4096) {
+    const double x = pos(rng), z = pos(rng);
+    const auto near = f.terrain->FeaturesNear(x, z);
+    if (near.empty() && f.bare_points.size() < 4096) f.bare_points.emplace_back(x, z);
+    if (near.size() == 1 && f.one_points.size() < 4096) {
+      // Move the point inside the one crater of this square.
+      const auto* crater = dynamic_cast<const Crater*>(near[0]);
+      const double px = crater->x_m() + 0.5 * crater->radius_m() * unit(rng);
+      const double pz = crater->z_m() + 0.5 * crater->radius_m() * unit(rng);
+      if (f.terrain->FeaturesNear(px, pz).size() == 1) f.one_points.emplace_back(px, pz);
+    }
+  }
+  return f;
+}
+
+void Query(benchmark::State& state, std::vector<std::pair<double, double>> CraterField::*set) {
+  CraterField& f = Field(state.range(0));
+  const auto& points = f.*set;
+  size_t k = 0;
+  for (auto _ : state) {
+    const auto& [x, z] = points[k++ & 4095];
+    benchmark::DoNotOptimize(f.terrain->ElevationAt(x, z));
+  }
+  state.counters["bytes_per_crater"] = f.bytes_per_crater;
+}
+
+void BM_QueryBareSquare(benchmark::State& state) { Query(state, &CraterField::bare_points); }
+void BM_QueryOneCrater(benchmark::State& state) { Query(state, &CraterField::one_points); }
+void BM_QueryFourCraters(benchmark::State& state) { Query(state, &CraterField::four_points); }
+
+void BM_SixPointOrientation(benchmark::State& state) {
+  CraterField& f = Field(state.range(0));
+  const auto [x, z] = f.four_points.front();
+  auto vehicle = Vehicle::Make(TankType(), x, z, 0.3, f.size_m);
+  if (!vehicle) std::abort();
+  Vehicle v = vehicle.value();
+  for (auto _ : state) {
+    auto report = SettleVehicle(*f.terrain, v);
+    if (!report || report.value().method != OrientationMethod::kSixPoint) std::abort();
+    benchmark::DoNotOptimize(v.elevation_m());
+  }
+}
+
+void BM_AddRemoveCrater(benchmark::State& state) {
+  CraterField& f = Field(state.range(0));
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> pos(20.0, f.size_m - 20.0);
+  const FeatureId id{kOrigin.site, kOrigin.host, 0xFFFFFFF0u};
+  for (auto _ : state) {
+    if (!f.terrain->Add(id, FeatureParams::Crater(pos(rng), pos(rng), 6.0)).ok()) std::abort();
+    if (!f.terrain->Remove(id).ok()) std::abort();
+  }
+}
+
+BENCHMARK(BM_QueryBareSquare)->Arg(100'000)->Arg(1'000'000);
+BENCHMARK(BM_QueryOneCrater)->Arg(100'000)->Arg(1'000'000);
+BENCHMARK(BM_QueryFourCraters)->Arg(100'000)->Arg(1'000'000);
+BENCHMARK(BM_SixPointOrientation)->Arg(100'000)->Arg(1'000'000);
+BENCHMARK(BM_AddRemoveCrater)->Arg(100'000)->Arg(1'000'000);
+
+}  // namespace
+}  // namespace dt
+
+BENCHMARK_MAIN();

@@ -66,37 +66,35 @@ void HeightGrid::set_post(int i, int j, float elevation_m) {
   posts_[Index(i, j)] = elevation_m;
 }
 
-void HeightGrid::Locate(double x_m, double z_m, SquareIndex& square, double& u, double& v) const {
+HeightGrid::Location HeightGrid::Locate(double x_m, double z_m) const {
   if (!Contains(x_m, z_m)) {
     throw std::out_of_range(fmt::format("position (x {}, z {}) m is outside the terrain [0, {}]^2",
                                         x_m, z_m, size_m()));
   }
   const double gx = x_m / spacing_m_;
   const double gz = z_m / spacing_m_;
-  square.i = std::min(static_cast<int>(gx), n_ - 2);
-  square.j = std::min(static_cast<int>(gz), n_ - 2);
-  u = gx - square.i;
-  v = gz - square.j;
+  Location at;
+  at.square.i = std::min(static_cast<int>(gx), n_ - 2);
+  at.square.j = std::min(static_cast<int>(gz), n_ - 2);
+  at.u = gx - at.square.i;
+  at.v = gz - at.square.j;
+  return at;
 }
 
-SquareIndex HeightGrid::SquareAt(double x_m, double z_m) const {
-  SquareIndex s;
-  double u, v;
-  Locate(x_m, z_m, s, u, v);
-  return s;
-}
+SquareIndex HeightGrid::SquareAt(double x_m, double z_m) const { return Locate(x_m, z_m).square; }
 
 TriangleHalf HeightGrid::HalfAt(double x_m, double z_m) const {
-  SquareIndex s;
-  double u, v;
-  Locate(x_m, z_m, s, u, v);
-  return u + v >= 1.0 ? TriangleHalf::kUpper : TriangleHalf::kLower;
+  const Location at = Locate(x_m, z_m);
+  return at.u + at.v >= 1.0 ? TriangleHalf::kUpper : TriangleHalf::kLower;
 }
 
 double HeightGrid::ElevationAt(double x_m, double z_m) const {
-  SquareIndex s;
-  double u, v;
-  Locate(x_m, z_m, s, u, v);
+  return ElevationAt(Locate(x_m, z_m));
+}
+
+double HeightGrid::ElevationAt(const Location& at) const {
+  const SquareIndex& s = at.square;
+  const double u = at.u, v = at.v;
   const double h01 = post(s.i, s.j + 1);
   const double h10 = post(s.i + 1, s.j);
   if (u + v >= 1.0) {
@@ -108,9 +106,7 @@ double HeightGrid::ElevationAt(double x_m, double z_m) const {
 }
 
 Eigen::Vector3d HeightGrid::NormalAt(double x_m, double z_m) const {
-  SquareIndex s;
-  double u, v;
-  Locate(x_m, z_m, s, u, v);
+  const auto [s, u, v] = Locate(x_m, z_m);
   const double h01 = post(s.i, s.j + 1);
   const double h10 = post(s.i + 1, s.j);
   double dh_du, dh_dv;

@@ -52,6 +52,17 @@ class HeightGrid {
   // Unit upward normal of the point's triangle. Throws like ElevationAt.
   Eigen::Vector3d NormalAt(double x_m, double z_m) const;
 
+  // Where a point lies: its square and local coordinates u, v in [0, 1] along x and z.
+  struct Location {
+    SquareIndex square;
+    double u = 0.0;
+    double v = 0.0;
+  };
+  // Throws std::out_of_range if !Contains(x_m, z_m).
+  Location Locate(double x_m, double z_m) const;
+  // Bare-ground elevation at a located point (one grid look-up serves square and height).
+  double ElevationAt(const Location& at) const;
+
   // The square holding (x, z); points on the far edge belong to the last square.
   // Throws std::out_of_range if !Contains(x_m, z_m).
   SquareIndex SquareAt(double x_m, double z_m) const;
@@ -68,8 +79,6 @@ class HeightGrid {
   size_t SoilIndex(SquareIndex s, TriangleHalf h) const {
     return (static_cast<size_t>(s.j) * (n_ - 1) + s.i) * 2 + static_cast<size_t>(h);
   }
-  // Local coordinates of (x, z) in its square, each in [0, 1].
-  void Locate(double x_m, double z_m, SquareIndex& square, double& u, double& v) const;
 
   int n_;
   double spacing_m_;

@@ -217,9 +217,9 @@ std::span<const Feature* const> Terrain::FeaturesNear(double x_m, double z_m) co
 }
 
 double Terrain::ElevationAt(double x_m, double z_m) const {
-  const SquareIndex square = ground_.SquareAt(x_m, z_m);
-  const double ground = ground_.ElevationAt(x_m, z_m);
-  const size_t slot = SquareSlot(square);
+  const HeightGrid::Location at = ground_.Locate(x_m, z_m);
+  const double ground = ground_.ElevationAt(at);
+  const size_t slot = SquareSlot(at.square);
   if (bits_[slot] == 0) return ground;
   double highest_offset = 0.0;
   for (const Feature* f : squares_[slot]) {

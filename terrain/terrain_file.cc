@@ -216,7 +216,8 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
 Status SaveTerrain(const Terrain& terrain, const fs::path& path) {
   const std::vector<uint8_t> bytes = EncodeTerrainFile(terrain);
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  std::string temp = (dir / ("." + path.filename().string() + ".tmp.XXXXXX")).string();
+  // fmt, not operator+: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string&&.
+  std::string temp = (dir / fmt::format(".{}.tmp.XXXXXX", path.filename().string())).string();
   const int fd = mkstemp(temp.data());
   if (fd < 0) {
     return Error{fmt::format("{}: cannot create a temporary file in {}: {}", path.string(),

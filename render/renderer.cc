@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -45,6 +46,22 @@ void CheckOptions(const RenderOptions& o) {
         fmt::format("render options: grid_spacing_m {} must be >= 0, max_subdivisions {} >= 1",
                     o.grid_spacing_m, o.max_subdivisions));
   }
+}
+
+// The squares [first, end) that can appear: for a map, those under its area (looking straight
+// down, nothing outside it projects into the image); for a perspective view, all of them.
+std::pair<SquareIndex, SquareIndex> VisibleSquares(const Terrain& terrain, const Camera& camera) {
+  const int m = terrain.ground().squares_per_side();
+  if (camera.kind() != CameraKind::kMap) return {{0, 0}, {m, m}};
+  const Rect area = camera.map_area();
+  const double s = terrain.ground().spacing_m();
+  auto index = [&](double v) {
+    return static_cast<int>(std::clamp(std::floor(v / s), 0.0, static_cast<double>(m)));
+  };
+  const SquareIndex first{index(area.min_x), index(area.min_z)};
+  const SquareIndex end{std::max(first.i, std::min(m, index(area.max_x) + 1)),
+                        std::max(first.j, std::min(m, index(area.max_z) + 1))};
+  return {first, end};
 }
 
 }  // namespace
@@ -91,11 +108,12 @@ Image Renderer::Render(const Terrain& terrain, std::span<const VehicleSprite> ve
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(1.0f, 1.0f);
   const ElevationRange range = GroundElevationRange(terrain.ground());
-  const int rows = terrain.ground().squares_per_side();
+  const auto [first, end] = VisibleSquares(terrain, camera);
   Mesh batch;
-  for (int j = 0; j < rows; j += kRowsPerBatch) {
+  for (int j = first.j; j < end.j; j += kRowsPerBatch) {
     batch.Clear();
-    AppendTerrainRows(terrain, j, std::min(rows, j + kRowsPerBatch), subdivisions, range, batch);
+    AppendTerrainSquares(terrain, {first.i, j}, {end.i, std::min(end.j, j + kRowsPerBatch)},
+                         subdivisions, range, batch);
     DrawMesh(batch);
   }
   glDisable(GL_POLYGON_OFFSET_FILL);

@@ -202,16 +202,17 @@ const Feature* TopEarthworkAt(const Terrain& terrain, SquareIndex square, double
   return top;
 }
 
-void AppendTerrainRows(const Terrain& terrain, int row_begin, int row_end, int subdivisions,
-                       const ElevationRange& range, Mesh& mesh) {
+void AppendTerrainSquares(const Terrain& terrain, SquareIndex first, SquareIndex end,
+                          int subdivisions, const ElevationRange& range, Mesh& mesh) {
   const int m = terrain.ground().squares_per_side();
-  if (row_begin < 0 || row_end > m || row_begin > row_end || subdivisions < 1) {
+  if (first.i < 0 || first.j < 0 || end.i > m || end.j > m || first.i > end.i || first.j > end.j ||
+      subdivisions < 1) {
     throw std::invalid_argument(
-        fmt::format("terrain mesh: rows [{}, {}) of {} with {} subdivisions", row_begin, row_end, m,
-                    subdivisions));
+        fmt::format("terrain mesh: squares [{}, {}) x [{}, {}) of {} with {} subdivisions", first.i,
+                    end.i, first.j, end.j, m, subdivisions));
   }
-  for (int j = row_begin; j < row_end; ++j) {
-    for (int i = 0; i < m; ++i) {
+  for (int j = first.j; j < end.j; ++j) {
+    for (int i = first.i; i < end.i; ++i) {
       const SquareIndex sq{i, j};
       if (SquareHasEarthwork(terrain, sq)) {
         EmitRefinedSquare(terrain, sq, subdivisions, range, mesh);

@@ -27,15 +27,15 @@ struct ElevationRange {
 };
 ElevationRange GroundElevationRange(const HeightGrid& ground);
 
-// Appends the squares of rows [row_begin, row_end) (square j index) to `mesh`. Squares without
+// Appends squares [first.i, end.i) x [first.j, end.j) to `mesh`. Squares without
 // earthworks are the grid's two triangles coloured by their soil; squares holding an earthwork
 // are sampled `subdivisions` times per side through Terrain::ElevationAt and coloured by the
 // topmost earthwork's material, tinted (palette.h). A plain square next to a refined one takes
 // the refined square's vertices along their shared edge, so no T-junction leaves a pinhole.
 // Every triangle is flat-shaded by its slope and each vertex tinted by its elevation within
-// `range`. Throws std::invalid_argument for rows outside the grid or subdivisions < 1.
-void AppendTerrainRows(const Terrain& terrain, int row_begin, int row_end, int subdivisions,
-                       const ElevationRange& range, Mesh& mesh);
+// `range`. Throws std::invalid_argument for squares outside the grid or subdivisions < 1.
+void AppendTerrainSquares(const Terrain& terrain, SquareIndex first, SquareIndex end,
+                          int subdivisions, const ElevationRange& range, Mesh& mesh);
 
 // The topmost earthwork (crater or berm) covering (x, z) among the features of `square`; ties go
 // to the smaller ID so the answer does not depend on insertion order. nullptr if none.

@@ -170,13 +170,26 @@ TEST_F(RendererTest, CraterRimDiffersFromBareGroundWhereTheRimIs) {
   const double cx = 128.0, cz = 128.0, r = 30.0;
   const Terrain bare(FlatGround());
   const Terrain cratered = Build(FlatGround(), {{{1, 1, 1}, FeatureParams::Crater(cx, cz, r)}});
-  const Camera c = MapCamera(bare);
   RenderOptions o;
   o.scale_bar = false;
-  const Image before = renderer_.Render(bare, {}, c, o);
-  const Image after = renderer_.Render(cratered, {}, c, o);
   const double rim_y = cratered.ElevationAt(cx + 0.7 * r, cz);
   ASSERT_GT(rim_y, 10.0);
+  // Zoomed in on the crater, only the squares under the map are drawn; the rim still shows.
+  const Camera zoom = Camera::MapOf({cx - 1.5 * r, cz - 1.5 * r, cx + 1.5 * r, cz + 1.5 * r}, 300);
+  const Image zoom_before = renderer_.Render(bare, {}, zoom, o);
+  const Image zoom_after = renderer_.Render(cratered, {}, zoom, o);
+  // Bare flat ground fills the whole zoomed map with one colour: no background shows.
+  EXPECT_EQ(DiffImages(zoom_before, Image(300, 300, zoom_before.at(0, 0))).differing_pixels, 0u);
+  EXPECT_NE(zoom_before.at(0, 0), o.background);
+  for (int k = 0; k < 16; ++k) {
+    const double a = k * kPi / 8;
+    const double x = cx + 0.7 * r * std::cos(a), z = cz + 0.7 * r * std::sin(a);
+    const auto [col, row] = PixelOf(zoom, x, rim_y, z);
+    EXPECT_NE(zoom_after.at(col, row), zoom_before.at(col, row)) << "spoke " << k;
+  }
+  const Camera c = MapCamera(bare);
+  const Image before = renderer_.Render(bare, {}, c, o);
+  const Image after = renderer_.Render(cratered, {}, c, o);
   for (int k = 0; k < 16; ++k) {
     const double a = k * kPi / 8 + kPi / 16;
     const double x = cx + 0.7 * r * std::cos(a), z = cz + 0.7 * r * std::sin(a);

@@ -1,12 +1,22 @@
 #include "pdu/faulty_transport.h"
 
+#include <algorithm>
+#include <chrono>
+
 #include "pdu/pdu_traits.h"
 
 namespace dt {
 
 FaultyTransport::FaultyTransport(std::unique_ptr<Transport> inner, NodeAddress local,
-                                 FaultConfig faults, uint64_t seed)
-    : inner_(std::move(inner)), local_(local), faults_(faults, seed) {}
+                                 FaultConfig faults, uint64_t seed, DelayUnit unit)
+    : inner_(std::move(inner)), local_(local), faults_(faults, seed), unit_(unit) {}
+
+int64_t FaultyTransport::Now() const {
+  if (unit_ == DelayUnit::kHandleCalls) return calls_;
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
 
 Status FaultyTransport::Publish(PduType type, std::span<const uint8_t> bytes) {
   return inner_->Publish(type, bytes);
@@ -30,8 +40,7 @@ void FaultyTransport::Receive(PduType type, std::span<const uint8_t> bytes) {
     if (d == 0) {
       delivered_in_call_ += Deliver(type, bytes);
     } else {
-      held_.push(Held{calls_ + static_cast<uint64_t>(d), order_++, type,
-                      std::vector<uint8_t>(bytes.begin(), bytes.end())});
+      held_.push(Held{Now() + d, order_++, type, std::vector<uint8_t>(bytes.begin(), bytes.end())});
     }
   }
 }
@@ -46,9 +55,18 @@ int FaultyTransport::Deliver(PduType type, std::span<const uint8_t> bytes) noexc
 Result<int> FaultyTransport::HandleTimeout(int timeout_ms) {
   ++calls_;
   delivered_in_call_ = 0;
-  auto r = inner_->HandleTimeout(held_.empty() ? timeout_ms : 0);
+  int wait_ms = timeout_ms;
+  if (!held_.empty()) {
+    // Wait for new traffic no longer than until the next held message is due.
+    const int64_t until_release = held_.top().release_at - Now();
+    wait_ms = unit_ == DelayUnit::kHandleCalls
+                  ? 0
+                  : static_cast<int>(std::clamp<int64_t>(until_release, 0, timeout_ms));
+  }
+  auto r = inner_->HandleTimeout(wait_ms);
   if (!r) return r;
-  while (!held_.empty() && held_.top().release_call <= calls_) {
+  const int64_t now = Now();
+  while (!held_.empty() && held_.top().release_at <= now) {
     Held h = held_.top();
     held_.pop();
     delivered_in_call_ += Deliver(h.type, h.bytes);

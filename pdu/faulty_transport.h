@@ -14,16 +14,20 @@
 
 namespace dt {
 
+// What FaultConfig's delay ticks count in a FaultyTransport.
+enum class DelayUnit { kHandleCalls, kMilliseconds };
+
 // Faults apply to received messages, per receiver: the sender is read from the PDU bytes
-// (PeekSender), so partitions work over real carriers too. Delays count HandleTimeout calls; a
-// message with delay 0 is delivered in the call that received it. While messages are held,
-// HandleTimeout does not wait on the inner transport, so held messages keep moving; an event
-// loop should call HandleTimeout when held() > 0 even if the fd is quiet. Decisions are
-// deterministic for a given seed and arrival order (the arrival order of a real network is not).
+// (PeekSender), so partitions work over real carriers too. Delays count HandleTimeout calls, or
+// milliseconds of the steady clock; a message with delay 0 is delivered in the call that
+// received it. While messages are held, HandleTimeout waits on the inner transport no longer
+// than until the next release (not at all when counting calls); an event loop should call
+// HandleTimeout when held() > 0 even if the fd is quiet. Decisions are deterministic for a given
+// seed and arrival order (the arrival order of a real network is not).
 class FaultyTransport final : public Transport {
  public:
   FaultyTransport(std::unique_ptr<Transport> inner, NodeAddress local, FaultConfig faults,
-                  uint64_t seed);
+                  uint64_t seed, DelayUnit unit = DelayUnit::kHandleCalls);
 
   Status Publish(PduType type, std::span<const uint8_t> bytes) override;
   void Subscribe(PduType type, Handler handler) override;
@@ -37,14 +41,15 @@ class FaultyTransport final : public Transport {
 
  private:
   struct Held {
-    uint64_t release_call;
+    int64_t release_at;  // a HandleTimeout call number, or steady-clock milliseconds
     uint64_t order;
     PduType type;
     std::vector<uint8_t> bytes;
     bool operator>(const Held& o) const {
-      return release_call != o.release_call ? release_call > o.release_call : order > o.order;
+      return release_at != o.release_at ? release_at > o.release_at : order > o.order;
     }
   };
+  int64_t Now() const;
 
   void Receive(PduType type, std::span<const uint8_t> bytes);
   int Deliver(PduType type, std::span<const uint8_t> bytes) noexcept;
@@ -52,9 +57,10 @@ class FaultyTransport final : public Transport {
   std::unique_ptr<Transport> inner_;
   NodeAddress local_;
   FaultModel faults_;
+  DelayUnit unit_;
   std::map<PduType, std::deque<Handler>> handlers_;
   std::priority_queue<Held, std::vector<Held>, std::greater<>> held_;
-  uint64_t calls_ = 0;
+  int64_t calls_ = 0;
   uint64_t order_ = 0;
   uint64_t dropped_ = 0;
   int delivered_in_call_ = 0;

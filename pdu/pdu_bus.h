@@ -70,6 +70,7 @@ class PduBus {
   Transport& transport_;
   PduBusConfig config_;
   RejectLog reject_log_;
+  std::vector<uint8_t> encode_buffer_;  // reused: no allocation per published PDU
   int64_t sender_seq_ = 0;
   uint64_t accepted_ = 0;
   uint64_t own_echoes_ = 0;
@@ -96,8 +97,8 @@ Result<int64_t> PduBus::Publish(Pdu pdu) {
                              PduTypeName(PduTraits<Pdu>::kType), RejectReasonName(r->reason),
                              r->detail)};
   }
-  const std::vector<uint8_t> bytes = EncodePdu(pdu);
-  if (auto s = transport_.Publish(PduTraits<Pdu>::kType, bytes); !s) return s.error();
+  EncodePduInto(pdu, encode_buffer_);
+  if (auto s = transport_.Publish(PduTraits<Pdu>::kType, encode_buffer_); !s) return s.error();
   return ++sender_seq_;
 }
 

@@ -45,11 +45,18 @@ concept AnyPdu = requires {
 };
 
 // LCM encoding: the 8-byte fingerprint, then the fields big-endian in declaration order.
+// Replaces the contents of `out`, reusing its capacity.
+template <AnyPdu Pdu>
+void EncodePduInto(const Pdu& pdu, std::vector<uint8_t>& out) {
+  out.resize(static_cast<size_t>(pdu.getEncodedSize()));
+  const int n = pdu.encode(out.data(), 0, static_cast<int>(out.size()));
+  if (n != static_cast<int>(out.size())) std::abort();  // LCM sized the buffer itself
+}
+
 template <AnyPdu Pdu>
 std::vector<uint8_t> EncodePdu(const Pdu& pdu) {
-  std::vector<uint8_t> bytes(static_cast<size_t>(pdu.getEncodedSize()));
-  const int n = pdu.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-  if (n != static_cast<int>(bytes.size())) std::abort();  // LCM sized the buffer itself
+  std::vector<uint8_t> bytes;
+  EncodePduInto(pdu, bytes);
   return bytes;
 }
 

@@ -3,6 +3,7 @@
 #include "pdu/faulty_transport.h"
 
 #include <algorithm>
+#include <chrono>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -56,6 +57,24 @@ TEST(FaultyTransport, DelaysCountHandleCalls) {
   EXPECT_EQ(rig.t.HandleTimeout(0).value(), 0);
   EXPECT_EQ(rig.t.HandleTimeout(0).value(), 1);
   EXPECT_EQ(rig.got, (std::vector<int64_t>{1}));
+}
+
+TEST(FaultyTransport, DelaysCanCountMilliseconds) {
+  FaultConfig f;
+  f.min_delay = 30;
+  f.max_delay = 30;
+  FaultyTransport t(std::make_unique<LcmTransport>("memq://", 1), {1, 1}, f, 1,
+                    DelayUnit::kMilliseconds);
+  int got = 0;
+  t.Subscribe(PduType::kDestruct, [&](std::span<const uint8_t>) { ++got; });
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_TRUE(t.Publish(PduType::kDestruct, From({2, 2}, 1)).ok());
+  EXPECT_EQ(t.HandleTimeout(0).value(), 0);
+  EXPECT_EQ(t.held(), 1u);
+  // HandleTimeout waits until the release time, so a few calls with a long timeout suffice.
+  for (int i = 0; i < 5 && got == 0; ++i) ASSERT_TRUE(t.HandleTimeout(1000).ok());
+  EXPECT_EQ(got, 1);
+  EXPECT_GE(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(30));
 }
 
 std::vector<int64_t> RunLossy(uint64_t seed) {

@@ -82,6 +82,7 @@ std::string ControlUsage() {
          "drive <vehicle> <speed_mps> <heading_rate_deg_s>\n"
          "status | digest | features | ping | quit\n"
          "render <file.png>\n"
+         "export <file.dtt> | import <file.dtt> (server)\n"
          "loss <drop_probability>\n"
          "partition <site:host> ... | heal";
 }
@@ -195,9 +196,10 @@ Result<ControlCommand> ParseControlCommand(std::string_view line) {
     c.heading_rate_rad_s = v.value()[2] * kDegToRad;
     return c;
   }
-  if (verb == "render") {
-    if (w.size() != 2) return Error{"render takes <file.png>"};
-    c.verb = ControlVerb::kRender;
+  if (verb == "render" || verb == "export" || verb == "import") {
+    if (w.size() != 2) return Error{fmt::format("{} takes <file>", verb)};
+    c.verb = verb == "render" ? ControlVerb::kRender
+                              : (verb == "export" ? ControlVerb::kExport : ControlVerb::kImport);
     c.path = std::string(w[1]);
     return c;
   }

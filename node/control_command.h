@@ -29,6 +29,8 @@ enum class ControlVerb {
   kPartition,  // partition <site:host> ...: drop everything received from these nodes
   kHeal,       // heal: end partitions
   kPing,       // ping
+  kExport,     // export <file.dtt>: the server saves its terrain as a terrain file
+  kImport,     // import <file.dtt>: the server issues a terrain file's features
   kQuit,       // quit
 };
 
@@ -42,7 +44,7 @@ struct ControlCommand {
   int vehicle = 0;
   double speed_mps = 0.0;
   double heading_rate_rad_s = 0.0;
-  std::string path;                // render
+  std::string path;                // render, export, import
   double drop_probability = 0.0;   // loss
   std::vector<NodeAddress> nodes;  // partition
 };

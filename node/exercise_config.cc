@@ -53,7 +53,24 @@ ProcessConfig ReadProcess(const TomlReader& r, const std::filesystem::path& base
   return p;
 }
 
+bool KnownTransport(std::string_view url) {
+  return url.rfind("udpm://", 0) == 0 || url.rfind("dds://", 0) == 0 ||
+         url.rfind("memq://", 0) == 0;
+}
+
 }  // namespace
+
+void ApplyOverrides(ExerciseConfig& exercise, const std::string& transport_url,
+                    const std::string& run_dir) {
+  if (!transport_url.empty()) {
+    if (!KnownTransport(transport_url)) {
+      throw std::invalid_argument(fmt::format(
+          "--transport \"{}\": expected a udpm://, dds:// or memq:// URL", transport_url));
+    }
+    exercise.transport_url = transport_url;
+  }
+  if (!run_dir.empty()) exercise.run_dir = std::filesystem::absolute(run_dir);
+}
 
 std::vector<const ProcessConfig*> ExerciseConfig::Processes() const {
   std::vector<const ProcessConfig*> out{&server};
@@ -84,8 +101,7 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   c.name = ex.String("name");
   c.exercise_id = static_cast<uint8_t>(ex.Int("id", 1, 0, 255));
   c.transport_url = ex.String("transport", std::string(kDefaultTransportUrl));
-  if (c.transport_url.rfind("udpm://", 0) != 0 && c.transport_url.rfind("dds://", 0) != 0 &&
-      c.transport_url.rfind("memq://", 0) != 0) {
+  if (!KnownTransport(c.transport_url)) {
     ex.Fail("transport", "expected a udpm://, dds:// or memq:// URL");
   }
   c.run_dir = std::filesystem::absolute(ex.String("run_dir", "run/" + c.name));

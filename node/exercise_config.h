@@ -70,6 +70,11 @@ struct ExerciseConfig {
 ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,
                                    const std::filesystem::path& base_dir);
 
+// Replaces the transport URL and run_dir when the strings are non-empty (command-line flags).
+// Throws std::invalid_argument for a transport that is not udpm://, dds:// or memq://.
+void ApplyOverrides(ExerciseConfig& exercise, const std::string& transport_url,
+                    const std::string& run_dir);
+
 // Reads and parses a file (relative paths resolve against its folder). Throws
 // std::invalid_argument as ParseExerciseConfig, or if the file cannot be read.
 ExerciseConfig LoadExerciseConfig(const std::filesystem::path& path);

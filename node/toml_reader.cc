@@ -102,6 +102,24 @@ bool TomlReader::Bool(std::string_view key, bool fallback) const {
   return *v;
 }
 
+std::vector<std::string> TomlReader::StringList(std::string_view key) const {
+  std::vector<std::string> out;
+  const toml::node* n = Get(key);
+  if (n == nullptr) return out;
+  if (auto one = n->value_exact<std::string>()) {
+    out.push_back(*one);
+    return out;
+  }
+  const toml::array* a = n->as_array();
+  if (a == nullptr) Fail(key, "expected a string or an array of strings");
+  for (const toml::node& e : *a) {
+    const auto v = e.value_exact<std::string>();
+    if (!v) Fail(key, "expected a string or an array of strings");
+    out.push_back(*v);
+  }
+  return out;
+}
+
 TomlReader TomlReader::Table(std::string_view key) const {
   const toml::table* t = Require(key).as_table();
   if (t == nullptr) Fail(key, "expected a table");

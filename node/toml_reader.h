@@ -32,6 +32,8 @@ class TomlReader {
   std::string String(std::string_view key) const;
   std::string String(std::string_view key, std::string fallback) const;
   bool Bool(std::string_view key, bool fallback) const;
+  // An array of strings, or one string as a one-element list; empty if absent.
+  std::vector<std::string> StringList(std::string_view key) const;
 
   TomlReader Table(std::string_view key) const;
   std::optional<TomlReader> OptionalTable(std::string_view key) const;

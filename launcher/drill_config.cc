@@ -1,0 +1,80 @@
+#include "launcher/drill_config.h"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "node/toml_reader.h"
+
+namespace dt {
+
+DrillConfig ParseDrillConfig(std::string_view toml_text, std::string_view source_name,
+                             const std::filesystem::path& base_dir) {
+  const toml::table root = TomlReader::ParseText(toml_text, source_name);
+  const TomlReader top(root, std::string(source_name), "");
+  DrillConfig d;
+  d.source = std::string(source_name);
+  const TomlReader dr = top.Table("drill");
+  d.name = dr.String("name");
+  d.exercise = std::filesystem::absolute(base_dir / dr.String("exercise"));
+  d.deadline_s = dr.Double("deadline_s", 60.0, 1.0, 3600.0);
+  d.settle_s = dr.Double("settle_s", 20.0, 1.0, 3600.0);
+  d.ready_timeout_s = dr.Double("ready_timeout_s", 20.0, 1.0, 3600.0);
+  dr.Finish();
+
+  const std::vector<TomlReader> entries = top.TableArray("action");
+  top.Finish();
+  for (size_t i = 0; i < entries.size(); ++i) {
+    const TomlReader& r = entries[i];
+    DrillAction a;
+    a.where = fmt::format("{} action {}", source_name, i + 1);
+    a.at_s = r.Double("at_s", 0.0, 0.0, d.deadline_s);
+    const std::string kind = r.String("do");
+    a.targets = r.StringList("targets");
+    if (kind == "random_ops") {
+      a.kind = DrillActionKind::kRandomOps;
+      a.count = static_cast<int>(r.Int("count", 1, 100000));
+      a.duration_s = r.Double("duration_s", 0.0, 3600.0);
+      a.seed = static_cast<uint64_t>(r.Int("seed", 1, 0, INT64_MAX));
+    } else if (kind == "kill" || kind == "stop" || kind == "restart") {
+      a.kind = kind == "kill"   ? DrillActionKind::kKill
+               : kind == "stop" ? DrillActionKind::kStop
+                                : DrillActionKind::kRestart;
+      if (a.targets.empty()) r.Fail("targets", fmt::format("{} needs targets", kind));
+    } else if (kind == "loss") {
+      a.kind = DrillActionKind::kLoss;
+      a.drop_probability = r.Double("drop_probability", 0.0, 1.0);
+    } else if (kind == "partition") {
+      a.kind = DrillActionKind::kPartition;
+      a.from = r.StringList("from");
+      if (a.targets.empty() || a.from.empty()) {
+        r.Fail("from", "a partition needs targets and from");
+      }
+    } else if (kind == "heal") {
+      a.kind = DrillActionKind::kHeal;
+    } else if (kind == "command") {
+      a.kind = DrillActionKind::kCommand;
+      a.line = r.String("line");
+    } else {
+      r.Fail("do", "expected random_ops, kill, stop, restart, loss, partition, heal or command");
+    }
+    r.Finish();
+    d.actions.push_back(std::move(a));
+  }
+  std::stable_sort(d.actions.begin(), d.actions.end(),
+                   [](const DrillAction& x, const DrillAction& y) { return x.at_s < y.at_s; });
+  return d;
+}
+
+DrillConfig LoadDrillConfig(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(fmt::format("{}: cannot read the drill", path.string()));
+  std::ostringstream text;
+  text << in.rdbuf();
+  return ParseDrillConfig(text.str(), path.string(), path.parent_path());
+}
+
+}  // namespace dt

@@ -1,0 +1,77 @@
+// dt_drill: runs a recovery drill (configs/drills/*.toml) and exits non-zero if a check fails.
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <cstdio>
+
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+
+#include "launcher/drill_config.h"
+#include "launcher/drill_runner.h"
+
+namespace {
+
+int g_wake[2] = {-1, -1};
+
+void OnSignal(int) {
+  const char c = 's';
+  ssize_t ignored = write(g_wake[1], &c, 1);
+  (void)ignored;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Run a dynterrain recovery drill"};
+  std::string drill_path;
+  std::string transport;
+  std::string run_dir;
+  dt::ProgramPaths programs = dt::ProgramPaths::BesideSelf();
+  std::string node_bin = programs.node.string();
+  std::string server_bin = programs.server.string();
+  bool verbose = false;
+  app.add_option("--drill", drill_path, "drill TOML (configs/drills/*.toml)")->required();
+  app.add_option("--transport", transport, "override the exercise's transport URL");
+  app.add_option("--run-dir", run_dir, "override the exercise's run_dir (emptied first)");
+  app.add_option("--node-bin", node_bin, "the dt_node program")->capture_default_str();
+  app.add_option("--server-bin", server_bin, "the dt_server program")->capture_default_str();
+  app.add_flag("--verbose", verbose, "show every line of every process");
+  CLI11_PARSE(app, argc, argv);
+
+  dt::DrillConfig drill;
+  dt::ExerciseConfig exercise;
+  try {
+    drill = dt::LoadDrillConfig(drill_path);
+    exercise = dt::LoadExerciseConfig(drill.exercise);
+    dt::ApplyOverrides(exercise, transport, run_dir);
+    for (const dt::DrillAction& a : drill.actions) {
+      for (const auto* list : {&a.targets, &a.from}) {
+        for (const std::string& n : *list) {
+          if (exercise.FindProcess(n) == nullptr) {
+            throw std::invalid_argument(fmt::format("{}: {} has no process named \"{}\"", a.where,
+                                                    exercise.source.string(), n));
+          }
+        }
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dt_drill: %s\n", e.what());
+    return 2;
+  }
+  if (pipe2(g_wake, O_CLOEXEC | O_NONBLOCK) != 0) return 2;
+  struct sigaction sa {};
+  sa.sa_handler = OnSignal;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+
+  dt::DrillOptions options;
+  options.programs = {node_bin, server_bin};
+  options.transport_override = transport;
+  options.wake_fd = g_wake[0];
+  options.echo_output = verbose;
+  dt::DrillRunner runner(std::move(drill), std::move(exercise), options);
+  return runner.Run();
+}

@@ -1,0 +1,449 @@
+#include "launcher/drill_runner.h"
+
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "node/control_client.h"
+#include "node/control_command.h"
+#include "render/montage.h"
+#include "render/png_io.h"
+
+namespace dt {
+namespace {
+
+// Child lines worth showing on the drill's own output (everything goes to <run_dir>/<name>.log).
+bool Notable(std::string_view line) {
+  return line.rfind("READY ", 0) == 0 || line.find(" warning ") != std::string_view::npos ||
+         line.find(" error ") != std::string_view::npos ||
+         line.find(" critical ") != std::string_view::npos || line.rfind("dt_", 0) == 0;
+}
+
+double Uniform(std::mt19937_64& rng, double lo, double hi) {
+  return lo + (hi - lo) * static_cast<double>(rng() >> 11) * (1.0 / 9007199254740992.0);
+}
+
+}  // namespace
+
+DrillRunner::DrillRunner(DrillConfig drill, ExerciseConfig exercise, DrillOptions options)
+    : drill_(std::move(drill)),
+      exercise_(std::move(exercise)),
+      options_(std::move(options)),
+      sup_([this](const std::string& name, std::string_view line) {
+        std::FILE*& f = logs_[name];
+        if (f == nullptr) {
+          f = std::fopen((exercise_.run_dir / (name + ".log")).c_str(), "a");
+        }
+        if (f != nullptr) {
+          std::fprintf(f, "%.*s\n", static_cast<int>(line.size()), line.data());
+          std::fflush(f);
+        }
+        if (options_.echo_output || Notable(line)) Supervisor::PrintPrefixed(name, line);
+      }) {
+  std::error_code ec;
+  std::filesystem::remove_all(exercise_.run_dir, ec);
+  std::filesystem::create_directories(exercise_.run_dir);
+  sup_.set_wake_fd(options_.wake_fd);
+}
+
+double DrillRunner::ElapsedS() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+bool DrillRunner::Expired() const { return ElapsedS() > drill_.deadline_s; }
+
+std::vector<std::string> DrillRunner::Expand(const std::vector<std::string>& names) const {
+  if (!names.empty()) return names;
+  std::vector<std::string> all;
+  for (const ProcessConfig* p : exercise_.Processes()) all.push_back(p->name);
+  return all;
+}
+
+std::vector<std::string> DrillRunner::Live() const {
+  std::vector<std::string> out;
+  for (const ProcessConfig* p : exercise_.Processes()) {
+    if (sup_.running(p->name)) out.push_back(p->name);
+  }
+  return out;
+}
+
+std::vector<std::string> DrillRunner::LiveNodes() const {
+  std::vector<std::string> out;
+  for (const ProcessConfig& n : exercise_.nodes) {
+    if (sup_.running(n.name)) out.push_back(n.name);
+  }
+  return out;
+}
+
+std::vector<std::string> DrillRunner::Command(const std::string& name) const {
+  std::vector<std::string> extra = {"--run-dir", exercise_.run_dir.string()};
+  if (!options_.transport_override.empty()) {
+    extra.insert(extra.end(), {"--transport", options_.transport_override});
+  }
+  return ProcessCommand(exercise_, *exercise_.FindProcess(name), options_.programs, extra);
+}
+
+Result<ControlReply> DrillRunner::Call(const std::string& name, const std::string& line,
+                                       int timeout_ms) {
+  sup_.Poll(0);  // keep children's output moving
+  return CallControl(exercise_.SocketPath(name), line, timeout_ms);
+}
+
+std::map<std::string, std::string> DrillRunner::Status(const std::string& name) {
+  std::map<std::string, std::string> out;
+  Result<ControlReply> r = Call(name, "status");
+  if (!r || !r.value().ok) return out;
+  std::istringstream in(r.value().body);
+  for (std::string line; std::getline(in, line);) {
+    const size_t sp = line.find(' ');
+    if (sp == std::string::npos) continue;
+    // Repeated keys (max_feature, vehicle) keep their first word after the key.
+    out[line.substr(0, sp)] = line.substr(sp + 1);
+  }
+  if (out.count("acknowledged_change_seq") != 0) {
+    const int64_t ack = std::stoll(out["acknowledged_change_seq"]);
+    acked_[name] = std::max(acked_[name], ack);
+  }
+  return out;
+}
+
+void DrillRunner::StartAll() {
+  std::vector<std::string> servers = {exercise_.server.name};
+  if (exercise_.standby) servers.push_back(exercise_.standby->name);
+  for (const std::string& s : servers) sup_.Start(s, Command(s));
+  dt::Status st = sup_.WaitReady(servers, static_cast<int>(drill_.ready_timeout_s * 1000));
+  std::vector<std::string> all = servers;
+  if (st) {
+    for (const ProcessConfig& n : exercise_.nodes) {
+      sup_.Start(n.name, Command(n.name));
+      all.push_back(n.name);
+    }
+    st = sup_.WaitReady(all, static_cast<int>(drill_.ready_timeout_s * 1000));
+  }
+  Check("every process READY at start", st.ok(), st ? "" : st.error().message);
+  if (!st) fatal_ = true;
+}
+
+void DrillRunner::RunAction(const DrillAction& a) {
+  std::printf("[drill] %.1f s: %s\n", ElapsedS(), a.where.c_str());
+  std::fflush(stdout);
+  switch (a.kind) {
+    case DrillActionKind::kRandomOps: {
+      Burst b{&a, ElapsedS(), 0, std::mt19937_64(a.seed)};
+      bursts_.push_back(std::move(b));
+      return;
+    }
+    case DrillActionKind::kKill:
+      for (const std::string& n : a.targets) {
+        sup_.Signal(n, SIGKILL);
+        if (!sup_.WaitExit(n, 10000)) Check("kill " + n, false, "still running");
+      }
+      return;
+    case DrillActionKind::kStop:
+      for (const std::string& n : a.targets) {
+        sup_.Signal(n, SIGTERM);
+        const bool ended = sup_.WaitExit(n, 15000);
+        const int st = sup_.last_wait_status(n);
+        Check("stop " + n, ended && WIFEXITED(st) && WEXITSTATUS(st) == 0,
+              ended ? DescribeWaitStatus(st) : "still running");
+      }
+      return;
+    case DrillActionKind::kRestart: {
+      for (const std::string& n : a.targets) sup_.Start(n, Command(n));
+      dt::Status st = sup_.WaitReady(a.targets, static_cast<int>(drill_.ready_timeout_s * 1000));
+      Check(fmt::format("restart {} READY", fmt::join(a.targets, ", ")), st.ok(),
+            st ? "" : st.error().message);
+      return;
+    }
+    case DrillActionKind::kLoss:
+      for (const std::string& n : Expand(a.targets)) {
+        if (!sup_.running(n)) continue;
+        Result<ControlReply> r = Call(n, fmt::format("loss {}", a.drop_probability));
+        if (!r || !r.value().ok)
+          Check("loss on " + n, false, r ? r.value().error : r.error().message);
+      }
+      return;
+    case DrillActionKind::kPartition: {
+      auto addresses = [&](const std::vector<std::string>& names) {
+        std::string out;
+        for (const std::string& n : names)
+          out += " " + exercise_.FindProcess(n)->address.ToString();
+        return out;
+      };
+      for (const auto& [side, other] :
+           {std::pair{a.targets, a.from}, std::pair{a.from, a.targets}}) {
+        for (const std::string& n : side) {
+          if (!sup_.running(n)) continue;
+          Result<ControlReply> r = Call(n, "partition" + addresses(other));
+          if (!r || !r.value().ok)
+            Check("partition " + n, false, r ? r.value().error : r.error().message);
+        }
+      }
+      return;
+    }
+    case DrillActionKind::kHeal:
+      for (const std::string& n : Live()) (void)Call(n, "heal");
+      return;
+    case DrillActionKind::kCommand:
+      for (const std::string& n : Expand(a.targets)) {
+        Result<ControlReply> r = Call(n, a.line, 10000);
+        Check(fmt::format("{} on {}", a.line, n), r && r.value().ok,
+              r ? r.value().error : r.error().message);
+      }
+      return;
+  }
+}
+
+void DrillRunner::RandomOp(Burst& b) {
+  const DrillAction& a = *b.action;
+  std::vector<std::string> candidates;
+  for (const std::string& n : a.targets.empty() ? LiveNodes() : a.targets) {
+    if (sup_.running(n)) candidates.push_back(n);
+  }
+  ++b.issued;
+  if (candidates.empty()) return;
+  const std::string node = candidates[b.rng() % candidates.size()];
+  const double size_m = exercise_.terrain_size_m();
+  const int dice = static_cast<int>(b.rng() % 10);
+  Op op{node, OpKind::kCreate, {}, -1};
+  std::string line;
+  if (dice < 6 || alive_.empty()) {
+    const double r = Uniform(b.rng, 2.0, 8.0);
+    line = fmt::format("crater {:.2f} {:.2f} {:.2f}", Uniform(b.rng, 20.0, size_m - 20.0),
+                       Uniform(b.rng, 20.0, size_m - 20.0), r);
+  } else {
+    auto it = alive_.begin();
+    std::advance(it, static_cast<long>(b.rng() % alive_.size()));
+    op.id = *it;
+    if (dice < 8) {
+      op.kind = OpKind::kUpdate;
+      line = fmt::format("update {} radius_m={:.2f}", op.id.ToString(), Uniform(b.rng, 2.0, 8.0));
+    } else {
+      op.kind = OpKind::kDestroy;
+      line = "destroy " + op.id.ToString();
+    }
+  }
+  Result<ControlReply> r = Call(node, line);
+  if (!r || !r.value().ok) {
+    ++ops_failed_;  // a killed node, or a feature another node destroyed: not an error
+    return;
+  }
+  if (op.kind == OpKind::kCreate) {
+    Result<FeatureId> id = ParseFeatureId(r.value().body);
+    if (!id) {
+      Check("create reply", false, r.value().body);
+      return;
+    }
+    op.id = id.value();
+    if (!issued_ids_.insert(op.id).second) reused_ids_.push_back(op.id);
+    alive_.insert(op.id);
+  } else if (op.kind == OpKind::kDestroy) {
+    alive_.erase(op.id);
+  }
+  const auto st = Status(node);
+  if (st.count("own_change_seq") != 0) op.seq = std::stoll(st.at("own_change_seq"));
+  ops_.push_back(op);
+}
+
+bool DrillRunner::Converge(std::string& detail) {
+  for (const std::string& n : Live()) {
+    (void)Call(n, "loss 0");
+    (void)Call(n, "heal");
+  }
+  const double until_s = std::min(ElapsedS() + drill_.settle_s, drill_.deadline_s);
+  for (;;) {
+    std::map<std::string, std::string> digests;
+    bool all_caught_up = true;
+    bool all_acked = true;
+    for (const std::string& n : Live()) {
+      auto st = Status(n);
+      if (st.empty()) {
+        all_caught_up = false;
+        continue;
+      }
+      digests[n] = st["digest"];
+      all_caught_up &= st["caught_up"] == "1";
+      if (st["role"] == "node") {
+        all_acked &= st["acknowledged_change_seq"] == st["own_change_seq"];
+      }
+    }
+    std::set<std::string> distinct;
+    for (const auto& [n, d] : digests) distinct.insert(d);
+    detail.clear();
+    for (const auto& [n, d] : digests) detail += fmt::format("\n    {:10} {}", n, d);
+    if (distinct.size() == 1 && all_caught_up && all_acked) return true;
+    if (ElapsedS() >= until_s) {
+      detail += fmt::format("\n    caught_up everywhere: {}, every change acknowledged: {}",
+                            all_caught_up, all_acked);
+      return false;
+    }
+    if (sup_.Poll(250)) return false;  // interrupted
+  }
+}
+
+void DrillRunner::Check(const std::string& what, bool ok, const std::string& detail) {
+  const std::string line =
+      fmt::format("  [{}] {}{}{}", ok ? "PASS" : "FAIL", what, detail.empty() ? "" : ": ", detail);
+  report_.push_back(line);
+  if (!ok) failures_.push_back(what);
+  std::printf("[drill] %s\n", line.c_str());
+  std::fflush(stdout);
+}
+
+void DrillRunner::Renders() {
+  std::vector<Image> images;
+  std::vector<std::string> labels;
+  for (const std::string& n : LiveNodes()) {
+    const std::filesystem::path png = exercise_.run_dir / ("render-" + n + ".png");
+    Result<ControlReply> r = Call(n, "render " + png.string(), 60000);
+    if (!r || !r.value().ok) {
+      report_.push_back(
+          fmt::format("  render of {} failed: {}", n, r ? r.value().error : r.error().message));
+      continue;
+    }
+    Result<Image> img = ReadPng(png.string());
+    if (img) {
+      images.push_back(std::move(img).value());
+      labels.push_back(n);
+    }
+  }
+  if (images.empty()) return;
+  const std::filesystem::path montage = exercise_.run_dir / "montage.png";
+  if (WritePng(Montage(images, labels), montage.string())) {
+    report_.push_back("  renders: " + (exercise_.run_dir / "render-*.png").string() + ", " +
+                      montage.string());
+  }
+}
+
+int DrillRunner::Run() {
+  start_ = std::chrono::steady_clock::now();
+  std::printf(
+      "[drill] %s: exercise %s over %s, run dir %s\n", drill_.name.c_str(), exercise_.name.c_str(),
+      (options_.transport_override.empty() ? exercise_.transport_url : options_.transport_override)
+          .c_str(),
+      exercise_.run_dir.c_str());
+  std::fflush(stdout);
+  try {
+    StartAll();
+    size_t next = 0;
+    bool interrupted = false;
+    while (!fatal_ && !interrupted) {
+      const double now_s = ElapsedS();
+      while (next < drill_.actions.size() && drill_.actions[next].at_s <= now_s) {
+        RunAction(drill_.actions[next++]);
+      }
+      bool bursting = false;
+      double next_due_s = 1e300;
+      for (Burst& b : bursts_) {
+        const DrillAction& a = *b.action;
+        while (b.issued < a.count && b.start_s + a.duration_s * b.issued / a.count <= ElapsedS()) {
+          RandomOp(b);
+        }
+        if (b.issued < a.count) {
+          bursting = true;
+          next_due_s = std::min(next_due_s, b.start_s + a.duration_s * b.issued / a.count);
+        }
+      }
+      if (next >= drill_.actions.size() && !bursting) break;
+      if (Expired()) {
+        Check("timeline within the deadline", false,
+              fmt::format("{} s passed with the timeline unfinished", drill_.deadline_s));
+        fatal_ = true;
+        break;
+      }
+      if (next < drill_.actions.size())
+        next_due_s = std::min(next_due_s, drill_.actions[next].at_s);
+      const int wait_ms =
+          static_cast<int>(std::clamp((next_due_s - ElapsedS()) * 1000.0, 0.0, 250.0));
+      interrupted = sup_.Poll(wait_ms);
+    }
+    if (interrupted) Check("not interrupted", false, "stopped by a signal");
+
+    if (!fatal_ && !interrupted) {
+      std::string detail;
+      const bool converged = Converge(detail);
+      Check("equal digests on every live process, all caught up and acknowledged", converged,
+            detail);
+      Check("no feature ID issued twice", reused_ids_.empty(),
+            reused_ids_.empty() ? fmt::format("{} IDs issued", issued_ids_.size())
+                                : fmt::format("reused: {}", reused_ids_.front().ToString()));
+      // Acknowledged = at or below the highest acknowledged sequence seen for the node.
+      std::set<FeatureId> must_live, must_be_gone;
+      int unacked_creates = 0, unacked_destroys = 0;
+      for (const Op& op : ops_) {
+        const bool acked = op.seq >= 0 && op.seq <= acked_[op.node];
+        if (op.kind == OpKind::kCreate) {
+          if (acked)
+            must_live.insert(op.id);
+          else
+            ++unacked_creates;
+        } else if (op.kind == OpKind::kDestroy) {
+          must_live.erase(op.id);
+          if (acked)
+            must_be_gone.insert(op.id);
+          else
+            ++unacked_destroys;
+        }
+      }
+      for (const FeatureId& id : must_be_gone) must_live.erase(id);
+      const std::vector<std::string> live = Live();
+      std::set<FeatureId> present;
+      if (!live.empty()) {
+        Result<ControlReply> r = Call(live.front(), "features", 10000);
+        if (r && r.value().ok) {
+          std::istringstream in(r.value().body);
+          for (std::string l; std::getline(in, l);) {
+            if (auto id = ParseFeatureId(l)) present.insert(id.value());
+          }
+        }
+      }
+      const long expected = static_cast<long>(alive_.size());
+      // Features of scenarios are not the drill's to count: only IDs the drill issued.
+      long have = 0;
+      for (const FeatureId& id : present) have += issued_ids_.count(id) != 0 ? 1 : 0;
+      Check(
+          "expected feature count (of the drill's own operations)",
+          have >= expected - unacked_creates && have <= expected + unacked_destroys,
+          fmt::format("{} live, {} expected ({} unacknowledged creates, {} destroys may be lost; "
+                      "{} operations ran, {} refused)",
+                      have, expected, unacked_creates, unacked_destroys, ops_.size(), ops_failed_));
+      std::vector<std::string> lost;
+      for (const FeatureId& id : must_live) {
+        if (!present.count(id)) lost.push_back(id.ToString());
+      }
+      for (const FeatureId& id : must_be_gone) {
+        if (present.count(id)) lost.push_back(id.ToString() + " (destroyed, came back)");
+      }
+      Check("nothing acknowledged lost", lost.empty(),
+            lost.empty() ? fmt::format("{} acknowledged live features checked", must_live.size())
+                         : fmt::format("{}", fmt::join(lost, ", ")));
+      Renders();
+    }
+  } catch (const std::exception& e) {
+    Check("drill ran", false, e.what());
+  }
+  const std::vector<std::string> still = Live();
+  sup_.StopAll(15000);
+  for (const std::string& n : still) {
+    const int st = sup_.last_wait_status(n);
+    Check(n + " stops cleanly", WIFEXITED(st) && WEXITSTATUS(st) == 0, DescribeWaitStatus(st));
+  }
+  for (auto& [n, f] : logs_) {
+    if (f != nullptr) std::fclose(f);
+  }
+  logs_.clear();
+  std::printf("\n== drill %s: %s in %.1f s ==\n", drill_.name.c_str(),
+              failures_.empty() ? "PASS" : "FAIL", ElapsedS());
+  for (const std::string& l : report_) std::printf("%s\n", l.c_str());
+  std::fflush(stdout);
+  return failures_.empty() ? 0 : 1;
+}
+
+}  // namespace dt

@@ -1,0 +1,27 @@
+#include "launcher/exercise_commands.h"
+
+#include <unistd.h>
+
+namespace dt {
+
+ProgramPaths ProgramPaths::BesideSelf() {
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::filesystem::path dir = ec ? std::filesystem::path(".") : self.parent_path();
+  return {dir / ".." / "node" / "dt_node", dir / ".." / "server" / "dt_server"};
+}
+
+std::vector<std::string> ProcessCommand(const ExerciseConfig& exercise,
+                                        const ProcessConfig& process, const ProgramPaths& programs,
+                                        const std::vector<std::string>& extra) {
+  const bool is_server =
+      &process == &exercise.server || (exercise.standby && &process == &*exercise.standby);
+  std::vector<std::string> argv = {(is_server ? programs.server : programs.node).string(),
+                                   "--config", std::filesystem::absolute(exercise.source).string(),
+                                   "--name", process.name};
+  if (exercise.standby && &process == &*exercise.standby) argv.push_back("--standby");
+  argv.insert(argv.end(), extra.begin(), extra.end());
+  return argv;
+}
+
+}  // namespace dt

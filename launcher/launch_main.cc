@@ -1,0 +1,125 @@
+// dt_launch: starts a whole exercise (server, standby, nodes), prefixes their output, waits for
+// every READY, and on Ctrl-C or SIGTERM stops them all by PID and reports how each ended.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+
+#include "launcher/exercise_commands.h"
+#include "launcher/supervisor.h"
+#include "node/exercise_config.h"
+
+namespace {
+
+int g_wake[2] = {-1, -1};
+
+void OnSignal(int) {
+  const char c = 's';
+  ssize_t ignored = write(g_wake[1], &c, 1);
+  (void)ignored;
+}
+
+void Say(const std::string& text) { dt::Supervisor::PrintPrefixed("launch", text); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Launch a dynterrain exercise: server, standby and nodes"};
+  std::string config_path;
+  dt::ProgramPaths programs = dt::ProgramPaths::BesideSelf();
+  std::string node_bin = programs.node.string();
+  std::string server_bin = programs.server.string();
+  std::string transport_override;
+  std::string run_dir_override;
+  int ready_timeout_s = 120;
+  int grace_ms = 10000;
+  app.add_option("--config", config_path, "exercise TOML (configs/exercises/*.toml)")->required();
+  app.add_option("--transport", transport_override, "override the exercise's transport URL");
+  app.add_option("--run-dir", run_dir_override, "override the exercise's run_dir");
+  app.add_option("--node-bin", node_bin, "the dt_node program")->capture_default_str();
+  app.add_option("--server-bin", server_bin, "the dt_server program")->capture_default_str();
+  app.add_option("--ready-timeout-s", ready_timeout_s, "give up if not all READY by then")
+      ->check(CLI::Range(1, 3600))
+      ->capture_default_str();
+  app.add_option("--grace-ms", grace_ms, "after SIGTERM, SIGKILL children still running")
+      ->check(CLI::Range(0, 600000))
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  programs = {node_bin, server_bin};
+
+  dt::ExerciseConfig exercise;
+  try {
+    exercise = dt::LoadExerciseConfig(config_path);
+    dt::ApplyOverrides(exercise, transport_override, run_dir_override);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dt_launch: %s\n", e.what());
+    return 2;
+  }
+
+  if (pipe2(g_wake, O_CLOEXEC | O_NONBLOCK) != 0) return 1;
+  struct sigaction sa {};
+  sa.sa_handler = OnSignal;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+
+  // Children get the same overrides.
+  std::vector<std::string> extra;
+  if (!transport_override.empty()) extra.insert(extra.end(), {"--transport", transport_override});
+  if (!run_dir_override.empty()) {
+    extra.insert(extra.end(), {"--run-dir", exercise.run_dir.string()});
+  }
+  dt::Supervisor sup;
+  sup.set_wake_fd(g_wake[0]);
+  int rc = 0;
+  bool interrupted = false;
+  try {
+    // The server first: nodes sign on to it.
+    std::vector<std::string> servers = {exercise.server.name};
+    if (exercise.standby) servers.push_back(exercise.standby->name);
+    for (const std::string& n : servers) {
+      sup.Start(n, dt::ProcessCommand(exercise, *exercise.FindProcess(n), programs, extra));
+    }
+    dt::Status s = sup.WaitReady(servers, ready_timeout_s * 1000);
+    std::vector<std::string> all = servers;
+    if (s) {
+      for (const dt::ProcessConfig& n : exercise.nodes) {
+        sup.Start(n.name, dt::ProcessCommand(exercise, n, programs, extra));
+        all.push_back(n.name);
+      }
+      s = sup.WaitReady(all, ready_timeout_s * 1000);
+    }
+    if (!s) {
+      Say("exercise failed to start: " + s.error().message);
+      rc = 1;
+    } else {
+      Say(fmt::format("all {} processes ready", all.size()));
+      std::printf("READY %s\n", exercise.name.c_str());
+      std::fflush(stdout);
+      // Runs until a signal, or until every child has ended on its own.
+      while (sup.any_running()) {
+        if (sup.Poll(1000)) {
+          interrupted = true;
+          break;
+        }
+      }
+    }
+  } catch (const std::exception& e) {
+    Say(std::string("error: ") + e.what());
+    rc = 1;
+  }
+  if (interrupted) Say("stopping every process");
+  sup.StopAll(grace_ms);
+  for (const std::string& n : sup.names()) {
+    const int st = sup.last_wait_status(n);
+    Say(fmt::format("{}: {}", n, dt::DescribeWaitStatus(st)));
+    if (!(WIFEXITED(st) && WEXITSTATUS(st) == 0)) rc = rc == 0 ? 1 : rc;
+  }
+  return rc;
+}

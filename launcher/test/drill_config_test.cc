@@ -1,0 +1,79 @@
+#include "launcher/drill_config.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+
+#include "node/exercise_config.h"
+
+namespace dt {
+namespace {
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    ParseDrillConfig(text, "d.toml", "/base");
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const std::string kHead = "[drill]\nname = \"x\"\nexercise = \"e.toml\"\ndeadline_s = 30\n";
+
+TEST(DrillConfigTest, ReadsTimelineInTimeOrder) {
+  const DrillConfig d = ParseDrillConfig(
+      kHead +
+          "[[action]]\nat_s = 5\ndo = \"kill\"\ntargets = \"node-2\"\n"
+          "[[action]]\nat_s = 1\ndo = \"random_ops\"\ncount = 20\nduration_s = 6\nseed = 3\n"
+          "[[action]]\nat_s = 2\ndo = \"partition\"\ntargets = [\"node-1\"]\n"
+          "from = [\"node-2\", \"node-3\"]\n"
+          "[[action]]\nat_s = 2\ndo = \"loss\"\ndrop_probability = 0.3\n",
+      "d.toml", "/base");
+  EXPECT_EQ(d.exercise, std::filesystem::path("/base/e.toml"));
+  EXPECT_DOUBLE_EQ(d.deadline_s, 30.0);
+  ASSERT_EQ(d.actions.size(), 4u);
+  EXPECT_EQ(d.actions[0].kind, DrillActionKind::kRandomOps);
+  EXPECT_EQ(d.actions[0].count, 20);
+  EXPECT_EQ(d.actions[0].seed, 3u);
+  EXPECT_EQ(d.actions[1].kind, DrillActionKind::kPartition);  // stable among equal times
+  EXPECT_EQ(d.actions[1].from.size(), 2u);
+  EXPECT_EQ(d.actions[2].kind, DrillActionKind::kLoss);
+  EXPECT_TRUE(d.actions[2].targets.empty());
+  EXPECT_EQ(d.actions[3].targets, std::vector<std::string>{"node-2"});
+}
+
+TEST(DrillConfigTest, RefusesBadDrills) {
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"explode\"\n").find("action[0].do"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"kill\"\n").find("kill needs targets"),
+            std::string::npos);
+  EXPECT_NE(
+      ErrorOf(kHead + "[[action]]\ndo = \"loss\"\ndrop_probability = 2\n").find("drop_probability"),
+      std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\nat_s = 99\ndo = \"heal\"\n").find("at_s"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"heal\"\ncolour = 1\n").find("unknown key"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"kill\"\ntargets = [1]\n").find("strings"),
+            std::string::npos);
+}
+
+TEST(DrillConfigTest, ShippedDrillsParseAndNameRealProcesses) {
+  const std::filesystem::path dir = std::filesystem::path(DT_SOURCE_DIR) / "configs/drills";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.path().extension() != ".toml") continue;
+    ++count;
+    const DrillConfig d = LoadDrillConfig(entry.path());
+    const ExerciseConfig e = LoadExerciseConfig(d.exercise);
+    for (const DrillAction& a : d.actions) {
+      for (const std::string& n : a.targets) EXPECT_NE(e.FindProcess(n), nullptr) << a.where;
+      for (const std::string& n : a.from) EXPECT_NE(e.FindProcess(n), nullptr) << a.where;
+    }
+  }
+  EXPECT_GE(count, 5);
+}
+
+}  // namespace
+}  // namespace dt

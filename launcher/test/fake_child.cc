@@ -1,0 +1,47 @@
+// fake_child: a stand-in for dt_node / dt_server in launcher tests.
+//   fake_child --name N [--config X] [--mode ready|fail|ignore-term|silent] [--exit-code C]
+// ready: prints a line, a partial line, then "READY N", and exits C on SIGTERM.
+// fail: prints a line and exits C (3 if unset) before READY. ignore-term: READY, ignores SIGTERM.
+// silent: never prints READY; exits C on SIGTERM.
+#include <signal.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+namespace {
+volatile sig_atomic_t g_term = 0;
+void OnTerm(int) { g_term = 1; }
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string name = "fake";
+  std::string mode = "ready";
+  int exit_code = -1;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (std::strcmp(argv[i], "--name") == 0) name = argv[i + 1];
+    if (std::strcmp(argv[i], "--mode") == 0) mode = argv[i + 1];
+    if (std::strcmp(argv[i], "--exit-code") == 0) exit_code = std::atoi(argv[i + 1]);
+  }
+  std::printf("starting %s\n", name.c_str());
+  std::fflush(stdout);
+  if (mode == "fail") return exit_code < 0 ? 3 : exit_code;
+  struct sigaction sa {};
+  sa.sa_handler = mode == "ignore-term" ? SIG_IGN : OnTerm;
+  sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGINT, &sa, nullptr);
+  if (mode != "silent") {
+    std::fprintf(stderr, "half a ");
+    std::fflush(stderr);
+    std::fprintf(stderr, "line from stderr\n");
+    std::printf("READY %s\n", name.c_str());
+    std::fflush(stdout);
+  }
+  sigset_t none;
+  sigemptyset(&none);
+  while (g_term == 0) sigsuspend(&none);  // woken by the signal itself: no polling
+  std::printf("stopping %s\n", name.c_str());
+  return exit_code < 0 ? 0 : exit_code;
+}

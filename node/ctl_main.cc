@@ -1,0 +1,59 @@
+// dt_ctl: sends one command to a running node or server over its control socket, e.g.
+//   dt_ctl --config configs/exercises/demo.toml --name node-2 crater 100 200 5
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "node/control_client.h"
+#include "node/control_command.h"
+#include "node/exercise_config.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"Send a command to a running dynterrain process.\nCommands:\n" + dt::ControlUsage()};
+  std::string config_path;
+  std::string name;
+  int timeout_ms = 10000;
+  std::vector<std::string> words;
+  app.add_option("--config", config_path, "exercise TOML")->required();
+  std::string transport_override;
+  std::string run_dir_override;
+  app.add_option("--transport", transport_override, "override the exercise's transport URL");
+  app.add_option("--run-dir", run_dir_override, "override the exercise's run_dir");
+  app.add_option("--name", name, "the process to talk to (node-1, server, ...)")->required();
+  app.add_option("--timeout-ms", timeout_ms, "give up waiting for the reply")
+      ->check(CLI::Range(1, 3600000))
+      ->capture_default_str();
+  app.add_option("command", words, "the command and its arguments")->required();
+  app.allow_extras(false);
+  app.prefix_command(false);
+  CLI11_PARSE(app, argc, argv);
+
+  std::string line;
+  for (const std::string& w : words) line += (line.empty() ? "" : " ") + w;
+  try {
+    dt::ExerciseConfig exercise = dt::LoadExerciseConfig(config_path);
+    dt::ApplyOverrides(exercise, transport_override, run_dir_override);
+    if (exercise.FindProcess(name) == nullptr) {
+      std::fprintf(stderr, "dt_ctl: %s has no process named \"%s\"\n", config_path.c_str(),
+                   name.c_str());
+      return 2;
+    }
+    dt::Result<dt::ControlReply> reply =
+        dt::CallControl(exercise.SocketPath(name), line, timeout_ms);
+    if (!reply) {
+      std::fprintf(stderr, "dt_ctl: %s\n", reply.error().message.c_str());
+      return 2;
+    }
+    if (!reply.value().ok) {
+      std::fprintf(stderr, "error: %s\n", reply.value().error.c_str());
+      return 1;
+    }
+    if (!reply.value().body.empty()) std::printf("%s\n", reply.value().body.c_str());
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dt_ctl: %s\n", e.what());
+    return 2;
+  }
+}

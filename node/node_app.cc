@@ -1,0 +1,126 @@
+#include "node/node_app.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "log/log.h"
+#include "node/control_command.h"
+#include "terrain/random_terrain.h"
+#include "terrain/vehicle_traversal.h"
+
+namespace dt {
+
+NodeApp::NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process)
+    : exercise_(exercise), process_(process) {
+  if (!process.scenario.empty()) {
+    scenario_.emplace(LoadScenario(process.scenario, static_cast<int>(process.vehicles.size())));
+  }
+  const int64_t t0 = MonotonicMs();
+  HeightGrid ground = MakeRandomTerrain(exercise.terrain);
+  DT_LOG_INFO("terrain {} x {} posts ({} m) ready in {} ms", exercise.terrain.posts_per_side,
+              exercise.terrain.posts_per_side, exercise.terrain_size_m(), MonotonicMs() - t0);
+  transport_ = MakeProcessTransport(exercise, process);
+  ReplicaConfig rc;
+  rc.address = process.address;
+  rc.role = NodeRole::kNode;
+  rc.max_feature_period_ms = exercise.protocol.max_feature_period_ms;
+  rc.silence_ms = exercise.protocol.silence_ms;
+  rc.playback_retry_ms = exercise.protocol.playback_retry_ms;
+  rc.playback_window = exercise.protocol.playback_window;
+  replica_ = std::make_unique<Replica>(rc, std::move(ground), *transport_.bus);
+  for (size_t i = 0; i < process.vehicles.size(); ++i) {
+    const VehicleConfig& vc = process.vehicles[i];
+    Result<Vehicle> v = Vehicle::Make(BuiltInVehicleType(vc.type).value(), vc.x_m, vc.z_m,
+                                      vc.heading_rad, exercise.terrain_size_m());
+    if (!v) {
+      throw std::invalid_argument(fmt::format("{}: {} vehicle {}: {}", exercise.source.string(),
+                                              process.name, i, v.error().message));
+    }
+    (void)SettleVehicle(replica_->terrain(), v.value());
+    vehicles_.push_back(std::move(v).value());
+  }
+}
+
+void NodeApp::Start(int64_t now_ms) {
+  replica_->SignOn(now_ms);
+  DT_LOG_INFO("signing on as {} over {}", process_.address.ToString(), transport_.transport->Url());
+}
+
+void NodeApp::Tick(int64_t now_ms, double dt_s) {
+  replica_->Tick(now_ms);
+  for (Vehicle& v : vehicles_) {
+    Result<TraversalReport> r = DriveVehicle(replica_->terrain(), v, dt_s);
+    if (r && r.value().died) DT_LOG_WARN("a {} died falling off a bridge", v.type().name);
+  }
+  if (!was_ready_) {
+    if (ready()) {
+      was_ready_ = true;
+      progress_.Done(now_ms, *replica_);
+      scenario_start_ms_ = now_ms;
+      std::printf("READY %s\n", process_.name.c_str());
+      std::fflush(stdout);
+    } else if (replica_->signed_on()) {
+      progress_.Update(now_ms, *replica_);
+    }
+  }
+  if (scenario_ && scenario_start_ms_ >= 0 && !scenario_->done()) {
+    scenario_->Advance(static_cast<double>(now_ms - scenario_start_ms_) / 1000.0, *this);
+    if (scenario_->done()) {
+      DT_LOG_INFO("scenario finished ({} step(s) failed)", scenario_->failed());
+    }
+  }
+}
+
+void NodeApp::Receive(int timeout_ms) {
+  // Held (delayed) messages need HandleTimeout calls even when the socket is quiet.
+  if (transport_.faults->held() > 0 && timeout_ms > 1) timeout_ms = 1;
+  Result<int> r = transport_.bus->HandleTimeout(timeout_ms);
+  if (!r && !StopRequested()) DT_LOG_WARN("receive: {}", r.error().message);
+}
+
+ControlReply NodeApp::Handle(std::string_view line) {
+  Result<ControlCommand> c = ParseControlCommand(line);
+  if (!c) return ControlReply::Fail(c.error().message);
+  if (c.value().verb == ControlVerb::kQuit) {
+    quit_ = true;
+    return ControlReply::Ok("bye");
+  }
+  if (auto r = AnswerCommonCommand(c.value(), process_.name, NodeRole::kNode, *replica_,
+                                   *transport_.faults, vehicles_)) {
+    return *r;
+  }
+  ControlReply reply = RunFeatureCommand(c.value(), *this);
+  DT_LOG_INFO("control \"{}\": {}", line, reply.ok ? "ok " + reply.body : reply.error);
+  return reply;
+}
+
+Result<FeatureId> NodeApp::Create(const FeatureParams& params) { return replica_->Create(params); }
+
+std::optional<FeatureParams> NodeApp::Params(FeatureId id) const {
+  const Record* r = replica_->records().Find(id);
+  if (r == nullptr || r->destroyed) return std::nullopt;
+  return r->params;
+}
+
+Status NodeApp::Modify(FeatureId id, const FeatureParams& params) {
+  return replica_->Modify(id, params);
+}
+
+Status NodeApp::Destroy(FeatureId id) { return replica_->Destroy(id); }
+
+Result<std::vector<FeatureId>> NodeApp::Breach(FeatureId berm, double gap_start_m,
+                                               double gap_width_m) {
+  return replica_->Breach(berm, gap_start_m, gap_width_m);
+}
+
+Status NodeApp::Drive(int index, double speed_mps, double heading_rate_rad_s) {
+  if (index < 0 || index >= vehicle_count()) {
+    return Error{
+        fmt::format("vehicle {} does not exist (this node has {})", index, vehicle_count())};
+  }
+  return vehicles_[static_cast<size_t>(index)].Command(speed_mps, heading_rate_rad_s);
+}
+
+}  // namespace dt

@@ -1,0 +1,61 @@
+// NodeApp: a node process's state (replica, vehicles, scenario) and its per-tick work.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "node/control_protocol.h"
+#include "node/exercise_config.h"
+#include "node/node_actions.h"
+#include "node/process_runtime.h"
+#include "node/replica.h"
+#include "node/scenario_runner.h"
+#include "terrain/vehicle.h"
+
+namespace dt {
+
+class NodeApp final : public NodeActions {
+ public:
+  // Loads the scenario (a bad one throws std::invalid_argument before anything runs), builds the
+  // ground, the transport, the replica and the vehicles. Throws std::invalid_argument for a bad
+  // vehicle placement.
+  NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process);
+
+  // Signs on; the scenario starts once the node is ready (signed on and caught up).
+  void Start(int64_t now_ms);
+  // One loop tick: protocol timers, vehicles, scenario. dt_s is the simulated time step.
+  void Tick(int64_t now_ms, double dt_s);
+  // Receives PDUs for up to timeout_ms.
+  void Receive(int timeout_ms);
+  ControlReply Handle(std::string_view line);
+
+  bool ready() const { return replica_->signed_on() && replica_->caught_up(); }
+  bool quit_requested() const { return quit_; }
+  const Replica& replica() const { return *replica_; }
+
+  // NodeActions.
+  Result<FeatureId> Create(const FeatureParams& params) override;
+  std::optional<FeatureParams> Params(FeatureId id) const override;
+  Status Modify(FeatureId id, const FeatureParams& params) override;
+  Status Destroy(FeatureId id) override;
+  Result<std::vector<FeatureId>> Breach(FeatureId berm, double gap_start_m,
+                                        double gap_width_m) override;
+  int vehicle_count() const override { return static_cast<int>(vehicles_.size()); }
+  Status Drive(int index, double speed_mps, double heading_rate_rad_s) override;
+
+ private:
+  const ExerciseConfig& exercise_;
+  const ProcessConfig& process_;
+  std::optional<ScenarioRunner> scenario_;
+  ProcessTransport transport_;
+  std::unique_ptr<Replica> replica_;
+  std::vector<Vehicle> vehicles_;
+  CatchUpProgress progress_;
+  int64_t scenario_start_ms_ = -1;
+  bool was_ready_ = false;
+  bool quit_ = false;
+};
+
+}  // namespace dt

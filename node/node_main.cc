@@ -1,0 +1,68 @@
+// dt_node: one node of an exercise: a fixed-rate loop over its replica, vehicles, scenario and
+// control socket. Prints "READY <name>" once signed on and caught up.
+#include <cstdio>
+#include <filesystem>
+
+#include <CLI/CLI.hpp>
+
+#include "log/log.h"
+#include "node/control_server.h"
+#include "node/node_app.h"
+#include "node/process_runtime.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"A dynterrain node"};
+  std::string config_path;
+  std::string name;
+  std::string level = "info";
+  app.add_option("--config", config_path, "exercise TOML (configs/exercises/*.toml)")->required();
+  std::string transport_override;
+  std::string run_dir_override;
+  app.add_option("--transport", transport_override, "override the exercise's transport URL");
+  app.add_option("--run-dir", run_dir_override, "override the exercise's run_dir");
+  app.add_option("--name", name, "this node's name in the exercise")->required();
+  app.add_option("--log-level", level, "debug, info, warn or error")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    dt::log::Init(name, level);
+    dt::ExerciseConfig exercise = dt::LoadExerciseConfig(config_path);
+    dt::ApplyOverrides(exercise, transport_override, run_dir_override);
+    const dt::ProcessConfig* process = exercise.FindProcess(name);
+    if (process == nullptr || process == &exercise.server ||
+        (exercise.standby && process == &*exercise.standby)) {
+      throw std::invalid_argument(
+          fmt::format("{}: no [[node]] named \"{}\"", exercise.source.string(), name));
+    }
+    dt::InstallStopSignals();
+    dt::NodeApp node(exercise, *process);
+    std::filesystem::create_directories(exercise.run_dir);
+    dt::ControlServer control(exercise.SocketPath(name),
+                              [&](std::string_view line) { return node.Handle(line); });
+
+    const int64_t tick_ms = 1000 / exercise.tick_hz;
+    int64_t next_ms = dt::MonotonicMs();
+    node.Start(next_ms);
+    while (!dt::StopRequested() && !node.quit_requested()) {
+      const int64_t now = dt::MonotonicMs();
+      node.Tick(now, static_cast<double>(tick_ms) / 1000.0);
+      control.Poll(0);
+      next_ms += tick_ms;
+      // Behind by more than a tick (a long catch-up): start afresh rather than spin.
+      if (next_ms < dt::MonotonicMs() - tick_ms) next_ms = dt::MonotonicMs();
+      // Receive until the next tick is due.
+      for (int64_t left; (left = next_ms - dt::MonotonicMs()) > 0 && !dt::StopRequested();) {
+        node.Receive(static_cast<int>(left));
+      }
+      node.Receive(0);
+    }
+    const auto c = node.replica().counters();
+    DT_LOG_INFO("stopping: {} features, digest {}, sent {}, received {}, rejected {}",
+                node.replica().live_feature_count(), node.replica().Digest(), c.sent, c.received,
+                c.rejected);
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dt_node %s: %s\n", name.c_str(), e.what());
+    return 2;
+  }
+}

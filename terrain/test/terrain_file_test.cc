@@ -46,6 +46,8 @@ void Reseal(std::vector<uint8_t>& bytes) {
 }
 
 void PutU32(std::vector<uint8_t>& bytes, size_t at, uint32_t v) {
+  // The bound check also keeps GCC 12 from a false -Wstringop-overflow under -O2.
+  if (at > bytes.size() || bytes.size() - at < 4) std::abort();
   for (size_t k = 0; k < 4; ++k) bytes[at + k] = static_cast<uint8_t>(v >> (8 * k));
 }
 

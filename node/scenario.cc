@@ -89,16 +89,16 @@ Scenario ParseScenario(std::string_view toml_text, std::string_view source_name,
       if (s.name.empty()) r.Fail("name", "must not be empty");
       new_name(s.name);
       Result<FeatureParams> p = MakeFeature(ParseFeatureType(action).value(), ReadEdit(r, t));
-      if (!p) r.Fail("action", p.error().message);
+      if (!p) r.FailTable(p.error().message);
       s.params = p.value();
       live[s.name] = s.params;
     } else if (action == "update") {
       s.action = ScenarioAction::kUpdate;
       const FeatureParams& old = need_target();
       s.edit = ReadEdit(r, t);
-      if (s.edit.values.empty()) r.Fail("action", "an update changes at least one key");
+      if (s.edit.values.empty()) r.FailTable("an update changes at least one key");
       Result<FeatureParams> p = ApplyFeatureEdit(old, s.edit);
-      if (!p) r.Fail("action", p.error().message);
+      if (!p) r.FailTable(p.error().message);
       live[s.target] = p.value();
     } else if (action == "destroy") {
       s.action = ScenarioAction::kDestroy;

@@ -40,6 +40,11 @@ void TomlReader::Fail(std::string_view key, std::string_view problem) const {
   throw std::invalid_argument(fmt::format("{}: {}: {}", source_, KeyPath(key), problem));
 }
 
+void TomlReader::FailTable(std::string_view problem) const {
+  throw std::invalid_argument(
+      fmt::format("{}: {}: {}", source_, prefix_.empty() ? "top level" : prefix_, problem));
+}
+
 bool TomlReader::Has(std::string_view key) const { return table_->contains(key); }
 
 const toml::node* TomlReader::Get(std::string_view key) const {

@@ -45,6 +45,8 @@ class TomlReader {
 
   // Throws std::invalid_argument with this table's context for `key`.
   [[noreturn]] void Fail(std::string_view key, std::string_view problem) const;
+  // Throws naming this table only, for a problem of several keys together.
+  [[noreturn]] void FailTable(std::string_view problem) const;
   std::string KeyPath(std::string_view key) const;
   const std::string& source() const { return source_; }
 

@@ -130,7 +130,9 @@ TEST(ScenarioTest, RunTimeFailureIsCountedAndSkipped) {
 TEST(ScenarioTest, RefusesBadScenariosBeforeRunning) {
   const std::string base = "[[step]]\naction = \"crater\"\nname = \"c\"\nx_m = 5\nz_m = 5\n";
   EXPECT_NE(ErrorOf(base).find("needs radius_m"), std::string::npos) << ErrorOf(base);
-  EXPECT_NE(ErrorOf(base + "radius_m = -1\n").find("radius"), std::string::npos);
+  EXPECT_NE(ErrorOf(base + "radius_m = -1\n").find("s.toml: step[0]: crater radius_m = -1"),
+            std::string::npos)
+      << ErrorOf(base + "radius_m = -1\n");
   EXPECT_NE(ErrorOf(base + "radius_m = 2\nheight_m = 1\n").find("height_m is not a key"),
             std::string::npos)
       << ErrorOf(base + "radius_m = 2\nheight_m = 1\n");

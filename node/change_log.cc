@@ -1,11 +1,12 @@
 #include "node/change_log.h"
 
+#include <algorithm>
+
 namespace dt {
 
 bool ChangeLog::Insert(const Change& change) {
   const int64_t seq = change.stamp.change_seq;
   if (!changes_.emplace(seq, change).second) return false;
-  NoteKnown(seq);
   if (seq == contiguous_ + 1) {
     auto it = changes_.find(seq);
     while (it != changes_.end() && it->first == contiguous_ + 1) {
@@ -29,11 +30,18 @@ std::vector<const Change*> ChangeLog::Range(int64_t start, int64_t end) const {
   return out;
 }
 
+int64_t ChangeLog::max_known() const {
+  int64_t m = max_held();
+  for (const auto& [reporter, seq] : reports_) m = std::max(m, seq);
+  return m;
+}
+
 std::pair<int64_t, int64_t> ChangeLog::FirstGap() const {
   if (!has_gap()) return {0, -1};
+  const int64_t known = max_known();
   const int64_t start = contiguous_ + 1;
   auto next = changes_.upper_bound(contiguous_);
-  const int64_t end = next == changes_.end() ? max_known_ : next->first - 1;
+  const int64_t end = next == changes_.end() ? known : next->first - 1;
   return {start, end};
 }
 

@@ -6,11 +6,12 @@
 #include <vector>
 
 #include "node/change.h"
+#include "terrain/feature_id.h"
 
 namespace dt {
 
 // Keyed by the author's change sequence. The gap-free point is the highest s such that 1..s are
-// all held; max_known is the highest sequence anyone said exists (received or reported).
+// all held; max_known is the highest sequence held here or claimed by a live reporter.
 class ChangeLog {
  public:
   // False (and nothing changes) if the sequence is already held.
@@ -19,13 +20,17 @@ class ChangeLog {
   // Held changes with start <= seq <= end, in sequence order.
   std::vector<const Change*> Range(int64_t start, int64_t end) const;
 
-  void NoteKnown(int64_t seq) {
-    if (seq > max_known_) max_known_ = seq;
-  }
+  // A live replica (the author itself, a server, a peer answering a sign-on) says it holds the
+  // author's changes up to `seq`. The latest report of each reporter counts, so an author that
+  // restarted after losing changes nobody else held takes its claim back.
+  void Report(NodeAddress reporter, int64_t seq) { reports_[reporter] = seq; }
+  // A reporter that fell silent no longer vouches for anything.
+  void ForgetReporter(NodeAddress reporter) { reports_.erase(reporter); }
+  const std::map<NodeAddress, int64_t>& reports() const { return reports_; }
   int64_t contiguous() const { return contiguous_; }
-  int64_t max_known() const { return max_known_; }
+  int64_t max_known() const;
   int64_t max_held() const { return changes_.empty() ? 0 : changes_.rbegin()->first; }
-  bool has_gap() const { return max_known_ > contiguous_; }
+  bool has_gap() const { return max_known() > contiguous_; }
   // The first missing sequence after the gap-free point and the end of that missing run (capped
   // at max_known); {0, -1} when there is no gap.
   std::pair<int64_t, int64_t> FirstGap() const;
@@ -34,7 +39,7 @@ class ChangeLog {
  private:
   std::map<int64_t, Change> changes_;
   int64_t contiguous_ = 0;
-  int64_t max_known_ = 0;
+  std::map<NodeAddress, int64_t> reports_;
 };
 
 }  // namespace dt

@@ -34,6 +34,11 @@ class PlaybackScheduler {
   // Forget everything outstanding (a restart of the protocol).
   void Clear() { outstanding_.clear(); }
   bool idle() const { return outstanding_.empty(); }
+  // Consecutive requests for the author's first gap that brought nothing.
+  uint64_t attempts(NodeAddress author) const {
+    auto it = outstanding_.find(author);
+    return it == outstanding_.end() ? 0 : it->second.attempts;
+  }
   uint64_t requests_sent() const { return requests_sent_; }
 
  private:

@@ -67,12 +67,22 @@ Replica::~Replica() = default;
 
 // ---- commands ----
 
-Status Replica::CheckSignedOn() const {
+Status Replica::CheckSignedOn(int64_t changes) const {
   if (!signed_on_) {
     return Error{
         fmt::format("node {} has not signed on yet: it does not know its last feature "
                     "number, so it may not issue one",
                     config_.address.ToString())};
+  }
+  // At most a window of changes unacknowledged: after a crash the node skips that many feature
+  // numbers past what the server reported, so it never reissues one (docs/protocol.md).
+  const int64_t unacknowledged = own_change_seq_ - acknowledged_change_seq_;
+  if (!IsServerRole(config_.role) && config_.require_server &&
+      unacknowledged + changes > config_.playback_window) {
+    return Error{
+        fmt::format("node {} has {} changes the server has not acknowledged yet (at most "
+                    "{}); try again when the server has stored them",
+                    config_.address.ToString(), unacknowledged, config_.playback_window)};
   }
   return Status::Ok();
 }
@@ -94,7 +104,7 @@ void Replica::Issue(const Change& change) {
 }
 
 Result<FeatureId> Replica::Create(const FeatureParams& params) {
-  if (auto s = CheckSignedOn(); !s) return s.error();
+  if (auto s = CheckSignedOn(1); !s) return s.error();
   if (own_feature_number_ >= kMaxSerial || own_change_seq_ >= kMaxSerial) {
     return Error{fmt::format("node {} has used every feature number or change sequence",
                              config_.address.ToString())};
@@ -108,7 +118,7 @@ Result<FeatureId> Replica::Create(const FeatureParams& params) {
 }
 
 Status Replica::Modify(FeatureId id, const FeatureParams& params) {
-  if (auto s = CheckSignedOn(); !s) return s;
+  if (auto s = CheckSignedOn(1); !s) return s;
   const Record* r = records_.Find(id);
   if (r == nullptr) return Error{fmt::format("no feature {}", id.ToString())};
   if (r->destroyed) return Error{fmt::format("feature {} is destroyed", id.ToString())};
@@ -123,7 +133,7 @@ Status Replica::Modify(FeatureId id, const FeatureParams& params) {
 }
 
 Status Replica::Destroy(FeatureId id) {
-  if (auto s = CheckSignedOn(); !s) return s;
+  if (auto s = CheckSignedOn(1); !s) return s;
   const Record* r = records_.Find(id);
   if (r == nullptr) return Error{fmt::format("no feature {}", id.ToString())};
   if (r->destroyed) return Error{fmt::format("feature {} is already destroyed", id.ToString())};
@@ -136,7 +146,7 @@ Status Replica::Destroy(FeatureId id) {
 
 Result<std::vector<FeatureId>> Replica::Breach(FeatureId berm, double gap_start_m,
                                                double gap_width_m) {
-  if (auto s = CheckSignedOn(); !s) return s.error();
+  if (auto s = CheckSignedOn(3); !s) return s.error();
   const Record* r = records_.Find(berm);
   if (r == nullptr) return Error{fmt::format("no feature {}", berm.ToString())};
   if (r->destroyed) return Error{fmt::format("feature {} is destroyed", berm.ToString())};
@@ -315,7 +325,7 @@ void Replica::OnMaxFeature(const dtpdu::max_feature_t& pdu) {
   HeardFrom(sender, role);
   ObserveLamport(static_cast<uint64_t>(pdu.lamport));
   const NodeAddress subject = FromPdu(pdu.subject);
-  logs_[subject].NoteKnown(pdu.max_change_seq);
+  logs_[subject].Report(sender, pdu.max_change_seq);
   auto& max = max_feature_[subject];
   max = std::max(max, pdu.max_feature_number);
   if (subject == config_.address) {
@@ -326,6 +336,9 @@ void Replica::OnMaxFeature(const dtpdu::max_feature_t& pdu) {
       // A server reports only what it has made durable.
       acknowledged_change_seq_ = std::max(acknowledged_change_seq_, pdu.max_change_seq);
       if (signing_on_) server_answered_ = true;
+    }
+    if (signing_on_ && !pdu.sign_on) {
+      sign_on_answered_by_.insert(sender);
     }
   }
   if (pdu.sign_on && sender != config_.address) {
@@ -389,6 +402,7 @@ void Replica::SignOn(int64_t now_ms) {
     signed_on_ = false;
     signing_on_ = true;
     server_answered_ = false;
+    sign_on_answered_by_.clear();
   }
   sign_on_started_ms_ = now_ms_;
   sign_on_sent_ms_ = now_ms_;
@@ -410,7 +424,7 @@ bool Replica::AnswersForServer() const {
   return true;
 }
 
-void Replica::SendReport(NodeAddress subject, bool sign_on) {
+void Replica::SendReport(NodeAddress subject, bool sign_on, bool answer) {
   dtpdu::max_feature_t pdu{};
   pdu.subject = ToPdu(subject);
   auto mf = max_feature_.find(subject);
@@ -426,6 +440,9 @@ void Replica::SendReport(NodeAddress subject, bool sign_on) {
     if (subject == config_.address) pdu.max_change_seq = own_change_seq_;
   } else if (subject == config_.address) {
     pdu.max_change_seq = own_change_seq_;
+  } else if (answer) {
+    // Everything held: this node may hold a later change of the subject than the server got.
+    pdu.max_change_seq = lg == logs_.end() ? 0 : lg->second.max_held();
   } else {
     pdu.max_change_seq = lg == logs_.end() ? 0 : lg->second.contiguous();
   }
@@ -486,7 +503,47 @@ std::vector<NodeAddress> Replica::Candidates(NodeAddress author) const {
   return out;
 }
 
+void Replica::ForgetSilentReporters() {
+  for (auto& [author, log] : logs_) {
+    std::vector<NodeAddress> gone;
+    for (const auto& [reporter, seq] : log.reports()) {
+      if (IsSilent(reporter)) gone.push_back(reporter);
+    }
+    for (NodeAddress g : gone) log.ForgetReporter(g);
+  }
+}
+
+void Replica::VoidLostOwnChanges() {
+  // Changes of this node's previous incarnation that every live replica was asked for and none
+  // holds are lost; filling their sequences with void changes (a tombstone of a fresh, never
+  // issued feature number) closes the gap for everyone (docs/protocol.md, "Lost changes").
+  auto it = logs_.find(config_.address);
+  if (!signed_on_ || it == logs_.end() || !it->second.has_gap()) return;
+  const auto candidates = Candidates(config_.address);
+  if (candidates.empty() || scheduler_.attempts(config_.address) <= candidates.size()) return;
+  auto [start, end] = it->second.FirstGap();
+  end = std::min(end, own_change_seq_);
+  for (int64_t seq = start; seq <= end; ++seq) {
+    if (own_feature_number_ >= kMaxSerial) return;
+    Change c;
+    c.kind = ChangeKind::kDestruct;
+    c.id = {config_.address.site, config_.address.host,
+            static_cast<uint32_t>(++own_feature_number_)};
+    c.params.type = FeatureType::kCrater;
+    c.stamp.changed_by = config_.address;
+    c.stamp.change_seq = static_cast<uint32_t>(seq);
+    c.stamp.lamport = ++lamport_;
+    ++counters_.voided;
+    Issue(c);
+  }
+  DT_LOG_INFO(
+      "replica {}: changes {}..{} of an earlier incarnation are held by no live replica; "
+      "voided",
+      config_.address.ToString(), start, end);
+}
+
 void Replica::RequestMissing() {
+  VoidLostOwnChanges();
   for (const auto& [author, log] : logs_) {
     auto req = scheduler_.Poll(author, log, Candidates(author), now_ms_);
     if (!req) continue;
@@ -504,33 +561,44 @@ void Replica::RequestMissing() {
   }
 }
 
+Status Replica::Flush() {
+  Commit();
+  return store_status_;
+}
+
 void Replica::Tick(int64_t now_ms) {
   now_ms_ = std::max(now_ms_, now_ms);
   Commit();
   if (signing_on_) {
     const int64_t waited = now_ms_ - sign_on_started_ms_;
-    // Wait one period after the server's answer began to be possible, so the answers of the
-    // other replicas (who may hold a later own change than the server) arrive too.
-    if (server_answered_ && waited >= config_.max_feature_period_ms) {
+    // Listen for silence_ms, so every live peer has been heard (each reports every period),
+    // and wait for the answers of all of them: a peer may hold a later change of this node
+    // than the server does.
+    // Every peer heard since the sign-on began must have answered too: a peer may hold a later
+    // change of this node than the server does (docs/protocol.md, "Sign-on").
+    bool peers_answered = true;
+    for (const auto& [addr, p] : peers_) {
+      if (p.last_heard_ms >= sign_on_started_ms_ && !IsSilent(addr) &&
+          sign_on_answered_by_.count(addr) == 0) {
+        peers_answered = false;
+      }
+    }
+    if ((server_answered_ && peers_answered && waited >= config_.silence_ms) ||
+        (!config_.require_server && waited >= config_.silence_ms)) {
       signed_on_ = true;
       signing_on_ = false;
-    } else if (!config_.require_server && waited >= config_.silence_ms) {
-      signed_on_ = true;
-      signing_on_ = false;
-    } else if (!server_answered_ && now_ms_ - sign_on_sent_ms_ >= config_.playback_retry_ms) {
+      // The previous incarnation may have created up to a window of features nobody
+      // acknowledged; skipping a window of numbers means none is ever issued twice.
+      own_feature_number_ =
+          std::min<int64_t>(kMaxSerial, own_feature_number_ + config_.playback_window);
+    } else if (now_ms_ - sign_on_sent_ms_ >= config_.playback_retry_ms) {
       sign_on_sent_ms_ = now_ms_;
       SendReport(config_.address, /*sign_on=*/true);
     }
   }
   if (!sign_on_requests_.empty()) {
     // Answer after the commit above, so a server's answer is durable.
-    for (NodeAddress who : sign_on_requests_) {
-      if (AnswersForServer() || IsServerRole(config_.role)) {
-        SendReport(who, false);
-      } else if (logs_.count(who) != 0 && logs_.at(who).max_held() > 0) {
-        SendReport(who, false);  // this node may hold a change the server never got
-      }
-    }
+    for (NodeAddress who : sign_on_requests_) SendReport(who, false, /*answer=*/true);
     sign_on_requests_.clear();
     SendReports();
     last_report_ms_ = now_ms_;
@@ -539,6 +607,7 @@ void Replica::Tick(int64_t now_ms) {
     SendReports();
     last_report_ms_ = now_ms_;
   }
+  ForgetSilentReporters();
   RequestMissing();
 }
 

@@ -71,6 +71,8 @@ class Replica {
   // MaxFeature period, playback pacing and retries, silence detection, and for a store the batch
   // commit of what was accepted since the last Tick.
   void Tick(int64_t now_ms);
+  // For a store: commits what was accepted since the last Tick now (shutdown). Ok without one.
+  Status Flush();
 
   const Terrain& terrain() const { return records_.terrain(); }
   std::string Digest() const;  // terrain digest (terrain_digest.h), hex
@@ -79,7 +81,8 @@ class Replica {
   const ReplicaConfig& config() const { return config_; }
 
   struct Counters {
-    uint64_t sent = 0, received = 0, rejected = 0, played_back = 0, applied = 0, ignored_stale = 0;
+    uint64_t sent = 0, received = 0, rejected = 0, played_back = 0, applied = 0, ignored_stale = 0,
+             voided = 0;
   };
   Counters counters() const;
   // Highest feature number known per origin (own included).
@@ -92,6 +95,11 @@ class Replica {
   // Live features (records not destroyed), placed or not.
   size_t live_feature_count() const { return records_.live_count(); }
   const RecordStore& records() const { return records_; }
+  // The changes this replica holds from one author; null if none.
+  const ChangeLog* log(NodeAddress author) const {
+    auto it = logs_.find(author);
+    return it == logs_.end() ? nullptr : &it->second;
+  }
   // Gap-free point of each author's log as this replica holds it.
   std::map<NodeAddress, int64_t> contiguous_change_seq() const;
   // For a store: the gap-free point per author that the store holds (committed).
@@ -109,7 +117,7 @@ class Replica {
     int64_t reported_max_feature = 0;
   };
 
-  Status CheckSignedOn() const;
+  Status CheckSignedOn(int64_t changes) const;
   Change NewChange(ChangeKind kind, FeatureId id, const FeatureParams& params);
   void Issue(const Change& change);
   // Logs and applies a change from anywhere; false if already held.
@@ -125,9 +133,11 @@ class Replica {
   void OnPlayback(const dtpdu::playback_t& pdu);
 
   void SendReports();
-  void SendReport(NodeAddress subject, bool sign_on);
+  void SendReport(NodeAddress subject, bool sign_on, bool answer = false);
   void AnswerPlayback(const dtpdu::playback_t& request);
   void RequestMissing();
+  void ForgetSilentReporters();
+  void VoidLostOwnChanges();
   void Commit();
   // Whom to ask for an author's changes, in order of preference.
   std::vector<NodeAddress> Candidates(NodeAddress author) const;
@@ -155,7 +165,8 @@ class Replica {
   bool server_answered_ = false;
   int64_t sign_on_started_ms_ = 0;
   int64_t sign_on_sent_ms_ = 0;
-  std::set<NodeAddress> sign_on_requests_;  // answered in the next Tick, after the commit
+  std::set<NodeAddress> sign_on_requests_;
+  std::set<NodeAddress> sign_on_answered_by_;  // answered in the next Tick, after the commit
   int64_t now_ms_ = 0;
   int64_t last_report_ms_ = -1;
   Counters counters_;

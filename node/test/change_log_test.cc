@@ -30,18 +30,25 @@ TEST(ChangeLogTest, GapFreePointFollowsArrivalsInAnyOrder) {
   EXPECT_EQ(log.contiguous(), 2);
   EXPECT_FALSE(log.Insert(Numbered(2)));  // duplicate
   EXPECT_FALSE(log.has_gap());
-  log.NoteKnown(9);
+  log.Report({1, 1}, 9);
   EXPECT_TRUE(log.Insert(Numbered(6)));
   EXPECT_EQ(log.FirstGap(), std::make_pair(int64_t{3}, int64_t{5}));
   for (uint32_t s : {3u, 4u, 5u}) EXPECT_TRUE(log.Insert(Numbered(s)));
   EXPECT_EQ(log.contiguous(), 6);
   EXPECT_EQ(log.FirstGap(), std::make_pair(int64_t{7}, int64_t{9}));
   EXPECT_EQ(log.Range(2, 4).size(), 3u);
+  // A reporter's latest claim counts: an author that lost changes takes its claim back.
+  log.Report({1, 1}, 6);
+  EXPECT_FALSE(log.has_gap());
+  log.Report({9, 9}, 8);
+  EXPECT_TRUE(log.has_gap());
+  log.ForgetReporter({9, 9});
+  EXPECT_FALSE(log.has_gap());
 }
 
 TEST(PlaybackSchedulerTest, PacesRetriesAndMovesToTheNextCandidate) {
   ChangeLog log;
-  log.NoteKnown(1000);
+  log.Report({1, 1}, 1000);
   const NodeAddress server{9, 9};
   const std::vector<NodeAddress> candidates = {kAuthor, server};
   PlaybackScheduler s(/*window=*/100, /*retry_ms=*/50);

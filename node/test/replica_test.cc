@@ -22,7 +22,7 @@ ReplicaConfig Defaults() {
   c.max_feature_period_ms = 200;
   c.silence_ms = 800;
   c.playback_retry_ms = 300;
-  c.playback_window = 16;
+  c.playback_window = 64;
   return c;
 }
 
@@ -46,12 +46,27 @@ TEST_F(ReplicaTest, ACreatedFeatureReachesEveryReplica) {
   ASSERT_TRUE(A().signed_on());
   auto id = A().Create(FeatureParams::Crater(40, 40, 5));
   ASSERT_TRUE(id.ok()) << id.error().message;
-  EXPECT_EQ(id.value(), (FeatureId{1, 1, 1}));
+  // A node skips a window of numbers when it signs on (docs/protocol.md).
+  EXPECT_EQ(id.value(), (FeatureId{1, 1, 65}));
   cluster_.Run(100);
   ASSERT_NE(B().terrain().Find(id.value()), nullptr);
   EXPECT_EQ(B().Digest(), A().Digest());
   EXPECT_EQ(S().Digest(), A().Digest());
-  EXPECT_EQ(B().max_feature_known().at(kA), 1);
+  EXPECT_EQ(B().max_feature_known().at(kA), 65);
+}
+
+TEST_F(ReplicaTest, ANodeHoldsAtMostAWindowOfUnacknowledgedChanges) {
+  cluster_.Crash(kServer);
+  int accepted = 0;
+  for (int i = 0; i < 100; ++i) {
+    if (A().Create(FeatureParams::Crater(10 + i, 40, 1)).ok()) ++accepted;
+  }
+  EXPECT_EQ(accepted, 64);
+  Replica& s = cluster_.Start(kServer, NodeRole::kServer, &store_);
+  cluster_.Run(1500);
+  EXPECT_EQ(s.live_feature_count(), 64u);
+  EXPECT_EQ(A().acknowledged_change_seq(), 64);
+  EXPECT_TRUE(A().Create(FeatureParams::Crater(10, 80, 1)).ok());
 }
 
 TEST_F(ReplicaTest, BadCommandsReturnAnErrorAndChangeNothing) {
@@ -78,7 +93,7 @@ TEST_F(ReplicaTest, BadCommandsReturnAnErrorAndChangeNothing) {
   // Numbers are not consumed by refused commands.
   auto next = A().Create(FeatureParams::Crater(60, 60, 5));
   ASSERT_TRUE(next.ok());
-  EXPECT_EQ(next.value().number, 2u);
+  EXPECT_EQ(next.value().number, id.value().number + 1);
 }
 
 TEST_F(ReplicaTest, ABreachReplacesTheBermByItsPiecesEverywhere) {
@@ -154,16 +169,19 @@ TEST_F(ReplicaTest, SignOnReturnsTheLastIdSoNoneIsIssuedTwice) {
     ASSERT_TRUE(A().Create(FeatureParams::Crater(20 + 10 * i, 20, 2)).ok());
   cluster_.Run(600);
   EXPECT_EQ(A().acknowledged_change_seq(), 3);
+  const int64_t last = A().own_feature_number();
   cluster_.Crash(kA);
   cluster_.Run(200);
   Replica& a = cluster_.Start(kA, NodeRole::kNode);
   cluster_.Run(1000);
   ASSERT_TRUE(a.signed_on());
-  EXPECT_EQ(a.own_feature_number(), 3);
+  // It learned its last number and skipped a window past it: even features it created but
+  // nobody acknowledged cannot be reissued.
+  EXPECT_EQ(a.own_feature_number(), last + 64);
   EXPECT_EQ(a.own_change_seq(), 3);
   auto id = a.Create(FeatureParams::Crater(80, 80, 3));
   ASSERT_TRUE(id.ok());
-  EXPECT_EQ(id.value().number, 4u);
+  EXPECT_EQ(id.value().number, static_cast<uint32_t>(last + 65));
   cluster_.Run(500);
   // The rejoined node caught up on its own earlier changes too.
   EXPECT_EQ(a.live_feature_count(), 4u);
@@ -228,6 +246,7 @@ TEST(ReplicaStandbyTest, TheStandbyAnswersWhenThePrimaryIsSilent) {
   }
   cluster.Run(500);
   const std::string digest = cluster.at(kA).Digest();
+  const int64_t last = cluster.at(kA).own_feature_number();
   EXPECT_EQ(standby_store.size(), 10u);
   cluster.Crash(kA);
   cluster.Crash(kServer);
@@ -239,7 +258,7 @@ TEST(ReplicaStandbyTest, TheStandbyAnswersWhenThePrimaryIsSilent) {
   Replica& a = cluster.Start(kA, NodeRole::kNode);
   cluster.Run(1000);
   ASSERT_TRUE(a.signed_on());
-  EXPECT_EQ(a.own_feature_number(), 10);
+  EXPECT_EQ(a.own_feature_number(), last + 64);
 }
 
 }  // namespace

@@ -1,0 +1,41 @@
+#include "server/server_replica.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "terrain/terrain_file.h"
+
+namespace dt {
+
+Result<std::unique_ptr<ServerReplica>> ServerReplica::Open(ReplicaConfig config, HeightGrid ground,
+                                                           PduBus& bus,
+                                                           const std::filesystem::path& database) {
+  if (config.role == NodeRole::kNode) {
+    throw std::invalid_argument(
+        fmt::format("server {}: role must be server or standby", config.address.ToString()));
+  }
+  auto store = SqliteChangeStore::Open(database);
+  if (!store) return store.error();
+  std::unique_ptr<ServerReplica> server(new ServerReplica());
+  server->store_ = std::move(store).value();
+  config.store = server->store_.get();
+  server->replica_ = std::make_unique<Replica>(config, std::move(ground), bus);
+  if (!server->replica_->load_status()) return server->replica_->load_status().error();
+  return server;
+}
+
+Status ServerReplica::ExportTerrain(const std::filesystem::path& path) const {
+  return SaveTerrain(replica_->terrain(), path);
+}
+
+Status ServerReplica::ImportTerrain(const std::filesystem::path& path) {
+  auto terrain = LoadTerrain(path);
+  if (!terrain) return terrain.error();
+  if (auto s = replica_->Import(*terrain.value()); !s) {
+    return Error{fmt::format("{}: {}", path.string(), s.error().message)};
+  }
+  return replica_->Flush();
+}
+
+}  // namespace dt

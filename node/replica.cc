@@ -204,10 +204,9 @@ Status Replica::Import(const Terrain& terrain) {
   if (own_change_seq_ + static_cast<int64_t>(features.size()) > kMaxSerial) {
     return Error{"change sequence exhausted"};
   }
-  for (const Feature* f : features) {
-    const bool exists = records_.Find(f->id()) != nullptr;
-    Issue(NewChange(exists ? ChangeKind::kUpdate : ChangeKind::kConstruct, f->id(), f->params()));
-  }
+  // Updates, not Constructs: only a feature's origin constructs it (PDU validation), and an
+  // Update carries every parameter, so it creates the record where none exists.
+  for (const Feature* f : features) Issue(NewChange(ChangeKind::kUpdate, f->id(), f->params()));
   return Status::Ok();
 }
 

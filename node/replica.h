@@ -61,7 +61,7 @@ class Replica {
   Status Destroy(FeatureId id);                              // Destruct
   // Destruct of the berm plus a Construct per remaining piece; returns the pieces' IDs.
   Result<std::vector<FeatureId>> Breach(FeatureId berm, double gap_start_m, double gap_width_m);
-  // Issues a change of every feature of `terrain` under its own ID (server import of a terrain
+  // Issues an Update of every feature of `terrain` under its own ID (server import of a terrain
   // file). The ground must equal this replica's. Refused as a whole if any feature is refused.
   Status Import(const Terrain& terrain);
 

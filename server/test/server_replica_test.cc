@@ -1,0 +1,171 @@
+// Tests ServerReplica: resuming from SQLite after a crash, export and import of terrain files,
+// and a full database reported rather than acknowledged.
+#include "server/server_replica.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "node/test/sim_cluster.h"
+#include "pdu/sim_network.h"
+#include "terrain/terrain_file.h"
+
+namespace dt {
+namespace {
+
+const NodeAddress kServer{1, 100};
+const NodeAddress kA{1, 1};
+
+HeightGrid Ground() { return HeightGrid(33, 4.0, 10.0f); }
+
+ReplicaConfig Config(NodeAddress address, NodeRole role) {
+  ReplicaConfig c;
+  c.address = address;
+  c.role = role;
+  c.max_feature_period_ms = 200;
+  c.silence_ms = 800;
+  c.playback_retry_ms = 300;
+  c.playback_window = 64;
+  return c;
+}
+
+// A server process and a node in one SimNetwork; the server can be crashed and reopened.
+class ServerReplicaTest : public ::testing::Test {
+ protected:
+  ServerReplicaTest()
+      : dir_(std::filesystem::temp_directory_path() /
+             fmt::format("dt_server_replica_{}_{}", static_cast<long>(::getpid()),
+                         ::testing::UnitTest::GetInstance()->current_test_info()->name())),
+        net_(7) {
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    node_transport_ = net_.Join(kA, 1);
+    node_bus_ = std::make_unique<PduBus>(*node_transport_, BusConfig(kA));
+    node_ = std::make_unique<Replica>(Config(kA, NodeRole::kNode), Ground(), *node_bus_);
+    OpenServer();
+    node_->SignOn(0);
+    Run(2000);
+  }
+  ~ServerReplicaTest() override {
+    CrashServer();
+    node_.reset();
+    node_bus_.reset();
+    node_transport_.reset();
+    std::filesystem::remove_all(dir_);
+  }
+
+  static PduBusConfig BusConfig(NodeAddress a) {
+    PduBusConfig c;
+    c.exercise_id = 1;
+    c.local = a;
+    c.terrain_size_m = 128.0;
+    c.clock = [] { return 0u; };
+    return c;
+  }
+  void OpenServer() {
+    server_transport_ = net_.Join(kServer, 1);
+    server_bus_ = std::make_unique<PduBus>(*server_transport_, BusConfig(kServer));
+    auto s = ServerReplica::Open(Config(kServer, NodeRole::kServer), Ground(), *server_bus_,
+                                 dir_ / "server.db");
+    ASSERT_TRUE(s.ok()) << s.error().message;
+    server_ = std::move(s).value();
+    server_->replica().SignOn(net_.now_ms());
+  }
+  void CrashServer() {
+    server_.reset();
+    server_bus_.reset();
+    server_transport_.reset();
+  }
+  void Run(int64_t ms) {
+    for (int64_t t = 0; t < ms; t += 10) {
+      net_.AdvanceMs(10);
+      ASSERT_TRUE(node_bus_->HandleTimeout(0).ok());
+      if (server_) {
+        ASSERT_TRUE(server_bus_->HandleTimeout(0).ok());
+      }
+      node_->Tick(net_.now_ms());
+      if (server_) server_->replica().Tick(net_.now_ms());
+    }
+  }
+
+  std::filesystem::path dir_;
+  SimNetwork net_;
+  std::unique_ptr<Transport> node_transport_, server_transport_;
+  std::unique_ptr<PduBus> node_bus_, server_bus_;
+  std::unique_ptr<Replica> node_;
+  std::unique_ptr<ServerReplica> server_;
+};
+
+TEST_F(ServerReplicaTest, ARestartedServerHasEverythingItAcknowledged) {
+  ASSERT_TRUE(node_->signed_on());
+  for (int i = 0; i < 10; ++i) {
+    ASSERT_TRUE(node_->Create(FeatureParams::Crater(10 + 10 * i, 50, 3)).ok());
+  }
+  Run(500);
+  ASSERT_EQ(node_->acknowledged_change_seq(), 10);
+  const std::string digest = node_->Digest();
+  CrashServer();
+  OpenServer();
+  EXPECT_EQ(server_->replica().Digest(), digest);  // before any message: from the database
+  EXPECT_EQ(server_->replica().live_feature_count(), 10u);
+  Run(1000);
+  EXPECT_EQ(server_->replica().Digest(), node_->Digest());
+}
+
+TEST_F(ServerReplicaTest, ExportThenImportMovesTheExercise) {
+  ASSERT_TRUE(node_->Create(FeatureParams::Crater(30, 30, 4)).ok());
+  ASSERT_TRUE(node_->Create(FeatureParams::Berm(60, 60, 0.3, 20, 4, 2)).ok());
+  Run(500);
+  const auto file = dir_ / "exercise.dtt";
+  ASSERT_TRUE(server_->ExportTerrain(file).ok());
+  auto loaded = LoadTerrain(file);
+  ASSERT_TRUE(loaded.ok());
+  EXPECT_EQ(loaded.value()->feature_count(), 2u);
+
+  // A new exercise (fresh database) imports the file; its node receives the features.
+  CrashServer();
+  std::filesystem::remove(dir_ / "server.db");
+  node_.reset();
+  node_bus_.reset();
+  node_transport_.reset();
+  node_transport_ = net_.Join({1, 3}, 1);
+  node_bus_ = std::make_unique<PduBus>(*node_transport_, BusConfig({1, 3}));
+  node_ = std::make_unique<Replica>(Config({1, 3}, NodeRole::kNode), Ground(), *node_bus_);
+  OpenServer();
+  node_->SignOn(net_.now_ms());
+  ASSERT_TRUE(server_->ImportTerrain(file).ok());
+  Run(1500);
+  EXPECT_EQ(node_->counters().rejected, 0u);
+  EXPECT_EQ(server_->replica().counters().sent, 2u);
+  EXPECT_EQ(node_->live_feature_count(), 2u);
+  EXPECT_EQ(node_->Digest(), server_->replica().Digest());
+  EXPECT_EQ(server_->store().LoadAll().value().size(), 2u);
+
+  // A file with other ground is refused as a whole.
+  Terrain other(HeightGrid(33, 4.0, 3.0f));
+  ASSERT_TRUE(other.Add({1, 9, 1}, FeatureParams::Crater(20, 20, 2)).ok());
+  ASSERT_TRUE(SaveTerrain(other, dir_ / "other.dtt").ok());
+  EXPECT_FALSE(server_->ImportTerrain(dir_ / "other.dtt").ok());
+  EXPECT_EQ(server_->replica().live_feature_count(), 2u);
+}
+
+TEST_F(ServerReplicaTest, AFullDatabaseIsReportedAndNothingIsAcknowledged) {
+  ASSERT_TRUE(server_->store().LimitPages(1).ok());
+  for (int i = 0; i < 60; ++i) {
+    ASSERT_TRUE(node_->Create(FeatureParams::Crater(10 + i, 50, 2)).ok());
+  }
+  Run(600);
+  EXPECT_FALSE(server_->replica().store_status().ok());
+  EXPECT_FALSE(server_->Flush().ok());
+  EXPECT_EQ(node_->acknowledged_change_seq(), 0);
+  ASSERT_TRUE(server_->store().LimitPages(1 << 20).ok());  // space freed
+  Run(600);
+  EXPECT_TRUE(server_->replica().store_status().ok());
+  EXPECT_EQ(node_->acknowledged_change_seq(), 60);
+}
+
+}  // namespace
+}  // namespace dt

@@ -29,7 +29,7 @@ class Image {
   // Unchecked in release: callers stay inside (Contains) as a matter of invariant.
   Rgba at(int col, int row) const;
   void set(int col, int row, Rgba rgba);
-  // Sets the pixel if it lies inside the image; drawing helpers clip through this.
+  // Sets the pixel if it lies inside the image; drawing functions clip through this.
   void SetClipped(int col, int row, Rgba rgba) {
     if (Contains(col, row)) set(col, row, rgba);
   }

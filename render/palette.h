@@ -11,7 +11,7 @@ namespace dt {
 // Linear colour, each channel in [0, 1].
 using Colour = Eigen::Vector3d;
 
-// The base colour of a material (kFromGround, which never reaches the renderer, is magenta).
+// The base colour of a material (kFromGround, which never reaches the renderer, is bright pink).
 Colour MaterialColour(Material material);
 
 // Earthworks (crater, berm) are tinted towards freshly moved earth by this fraction so that they

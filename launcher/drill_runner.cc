@@ -269,6 +269,7 @@ bool DrillRunner::Converge(std::string& detail) {
         continue;
       }
       digests[n] = st["digest"];
+      dropped_[n] = std::stoull(st["fault_dropped"].empty() ? "0" : st["fault_dropped"]);
       all_caught_up &= st["caught_up"] == "1";
       if (st["role"] == "node") {
         all_acked &= st["acknowledged_change_seq"] == st["own_change_seq"];
@@ -371,6 +372,10 @@ int DrillRunner::Run() {
       const bool converged = Converge(detail);
       Check("equal digests on every live process, all caught up and acknowledged", converged,
             detail);
+      uint64_t dropped = 0;
+      for (const auto& [n, d] : dropped_) dropped += d;
+      report_.push_back(
+          fmt::format("  {} messages dropped by fault injection (live processes)", dropped));
       Check("no feature ID issued twice", reused_ids_.empty(),
             reused_ids_.empty() ? fmt::format("{} IDs issued", issued_ids_.size())
                                 : fmt::format("reused: {}", reused_ids_.front().ToString()));
@@ -408,6 +413,8 @@ int DrillRunner::Run() {
       // Features of scenarios are not the drill's to count: only IDs the drill issued.
       long have = 0;
       for (const FeatureId& id : present) have += issued_ids_.count(id) != 0 ? 1 : 0;
+      report_.push_back(fmt::format("  {} features live in all ({} from scenarios)", present.size(),
+                                    static_cast<long>(present.size()) - have));
       Check(
           "expected feature count (of the drill's own operations)",
           have >= expected - unacked_creates && have <= expected + unacked_destroys,

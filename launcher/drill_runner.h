@@ -77,8 +77,9 @@ class DrillRunner {
   std::vector<Op> ops_;
   std::set<FeatureId> issued_ids_;
   std::vector<FeatureId> reused_ids_;
-  std::set<FeatureId> alive_;             // the drill's model
-  std::map<std::string, int64_t> acked_;  // highest acknowledged_change_seq seen per node
+  std::set<FeatureId> alive_;                // the drill's model
+  std::map<std::string, uint64_t> dropped_;  // fault_dropped per process, last seen
+  std::map<std::string, int64_t> acked_;     // highest acknowledged_change_seq seen per node
   std::vector<Burst> bursts_;
   std::vector<std::string> failures_;
   std::vector<std::string> report_;

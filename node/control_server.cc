@@ -134,6 +134,13 @@ void ControlServer::Flush(Client& c) {
   }
 }
 
+void ControlServer::AddPollFds(std::vector<pollfd>& fds) const {
+  fds.push_back({listen_fd_, POLLIN, 0});
+  for (const Client& c : clients_) {
+    fds.push_back({c.fd, static_cast<short>(POLLIN | (c.out.empty() ? 0 : POLLOUT)), 0});
+  }
+}
+
 int ControlServer::Poll(int timeout_ms) {
   std::vector<pollfd> fds;
   fds.push_back({listen_fd_, POLLIN, 0});

@@ -1,6 +1,8 @@
 // ControlServer: the Unix-domain control socket a process serves inside its own loop.
 #pragma once
 
+#include <poll.h>
+
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -30,6 +32,10 @@ class ControlServer {
   // replies. Waits up to timeout_ms for activity when there is nothing to do. Returns the number
   // of requests answered.
   int Poll(int timeout_ms);
+
+  // Adds the descriptors Poll would wait on (listening socket, connections; POLLOUT where a
+  // reply is pending), so a process loop can wait on them together with its transport.
+  void AddPollFds(std::vector<pollfd>& fds) const;
 
   int listen_fd() const { return listen_fd_; }
   const std::filesystem::path& path() const { return path_; }

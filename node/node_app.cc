@@ -44,6 +44,7 @@ NodeApp::NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process)
 }
 
 void NodeApp::Start(int64_t now_ms) {
+  sign_on_ms_ = now_ms;
   replica_->SignOn(now_ms);
   DT_LOG_INFO("signing on as {} over {}", process_.address.ToString(), transport_.transport->Url());
 }
@@ -59,6 +60,9 @@ void NodeApp::Tick(int64_t now_ms, double dt_s) {
       was_ready_ = true;
       progress_.Done(now_ms, *replica_);
       scenario_start_ms_ = now_ms;
+      DT_LOG_INFO("signed on and caught up in {} ms: {} features, {} changes applied",
+                  now_ms - sign_on_ms_, replica_->live_feature_count(),
+                  replica_->counters().applied);
       std::printf("READY %s\n", process_.name.c_str());
       std::fflush(stdout);
     } else if (replica_->signed_on()) {

@@ -29,6 +29,8 @@ class NodeApp final : public NodeActions {
   void Tick(int64_t now_ms, double dt_s);
   // Receives PDUs for up to timeout_ms.
   void Receive(int timeout_ms);
+  int transport_fd() const { return transport_.bus->Fd(); }
+  bool messages_held() const { return transport_.faults->held() > 0; }
   ControlReply Handle(std::string_view line);
 
   bool ready() const { return replica_->signed_on() && replica_->caught_up(); }
@@ -53,6 +55,7 @@ class NodeApp final : public NodeActions {
   std::unique_ptr<Replica> replica_;
   std::vector<Vehicle> vehicles_;
   CatchUpProgress progress_;
+  int64_t sign_on_ms_ = 0;
   int64_t scenario_start_ms_ = -1;
   bool was_ready_ = false;
   bool quit_ = false;

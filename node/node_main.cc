@@ -51,10 +51,14 @@ int main(int argc, char** argv) {
       // Behind by more than a tick (a long catch-up): start afresh rather than spin.
       if (next_ms < dt::MonotonicMs() - tick_ms) next_ms = dt::MonotonicMs();
       // Receive until the next tick is due.
-      for (int64_t left; (left = next_ms - dt::MonotonicMs()) > 0 && !dt::StopRequested();) {
-        node.Receive(static_cast<int>(left));
+      // Until the next tick: PDUs and control requests as they arrive.
+      for (int64_t left; (left = next_ms - dt::MonotonicMs()) > 0 && !dt::StopRequested() &&
+                         !node.quit_requested();) {
+        dt::WaitForWork(node.transport_fd(), node.messages_held(), control, static_cast<int>(left));
+        node.Receive(0);
+        control.Poll(0);
       }
-      node.Receive(0);
+      node.Receive(0);  // at least once per tick, even when behind
     }
     const auto c = node.replica().counters();
     DT_LOG_INFO("stopping: {} features, digest {}, sent {}, received {}, rejected {}",

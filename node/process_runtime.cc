@@ -1,8 +1,10 @@
 #include "node/process_runtime.h"
 
+#include <poll.h>
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 
@@ -64,6 +66,13 @@ void InstallStopSignals() {
 }
 
 bool StopRequested() { return g_stop != 0; }
+
+void WaitForWork(int transport_fd, bool messages_held, const ControlServer& control,
+                 int timeout_ms) {
+  std::vector<pollfd> fds = {{transport_fd, POLLIN, 0}};
+  control.AddPollFds(fds);
+  poll(fds.data(), fds.size(), messages_held ? std::min(timeout_ms, 1) : timeout_ms);
+}
 
 int64_t MonotonicMs() {
   static const auto start = std::chrono::steady_clock::now();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "node/control_command.h"
+#include "node/control_server.h"
 #include "node/exercise_config.h"
 #include "node/replica.h"
 #include "pdu/faulty_transport.h"
@@ -30,6 +31,11 @@ ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise, const Proc
 // SIGTERM and SIGINT set a flag (no SA_RESTART, so waits end early); SIGPIPE is ignored.
 void InstallStopSignals();
 bool StopRequested();
+
+// Waits up to timeout_ms until the transport or the control socket has work (1 ms at most while
+// the fault injector holds delayed messages, which need HandleTimeout calls to move).
+void WaitForWork(int transport_fd, bool messages_held, const ControlServer& control,
+                 int timeout_ms);
 
 // Milliseconds since the first call (steady clock).
 int64_t MonotonicMs();

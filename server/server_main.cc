@@ -113,10 +113,14 @@ int main(int argc, char** argv) {
       control.Poll(0);
       next_ms += tick_ms;
       if (next_ms < dt::MonotonicMs() - tick_ms) next_ms = dt::MonotonicMs();
-      for (int64_t left; (left = next_ms - dt::MonotonicMs()) > 0 && !dt::StopRequested();) {
-        const int wait = transport.faults->held() > 0 ? 1 : static_cast<int>(left);
-        (void)transport.bus->HandleTimeout(wait);
+      for (int64_t left;
+           (left = next_ms - dt::MonotonicMs()) > 0 && !dt::StopRequested() && !quit;) {
+        dt::WaitForWork(transport.bus->Fd(), transport.faults->held() > 0, control,
+                        static_cast<int>(left));
+        (void)transport.bus->HandleTimeout(0);
+        control.Poll(0);
       }
+      (void)transport.bus->HandleTimeout(0);  // at least once per tick, even when behind
     }
     if (dt::Status s = server.Flush(); !s) {
       DT_LOG_ERROR("final save failed: {}", s.error().message);

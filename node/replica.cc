@@ -340,6 +340,10 @@ void Replica::OnMaxFeature(const dtpdu::max_feature_t& pdu) {
       sign_on_answered_by_.insert(sender);
     }
   }
+  if (signing_on_ && IsServerRole(role) && subject != config_.address && subject != sender) {
+    // A node the server knows: it too may hold a change of this node the server never got.
+    sign_on_expected_.insert(subject);
+  }
   if (pdu.sign_on && sender != config_.address) {
     sign_on_requests_.insert(sender);
   }
@@ -402,6 +406,7 @@ void Replica::SignOn(int64_t now_ms) {
     signing_on_ = true;
     server_answered_ = false;
     sign_on_answered_by_.clear();
+    sign_on_expected_.clear();
   }
   sign_on_started_ms_ = now_ms_;
   sign_on_sent_ms_ = now_ms_;
@@ -519,8 +524,14 @@ void Replica::VoidLostOwnChanges() {
   auto it = logs_.find(config_.address);
   if (!signed_on_ || it == logs_.end() || !it->second.has_gap()) return;
   const auto candidates = Candidates(config_.address);
-  if (candidates.empty() || scheduler_.attempts(config_.address) <= candidates.size()) return;
+  // Asked each candidate three times over without progress: a lost answer is not taken for a
+  // lost change. A server's claim is its durable gap-free point, so a gap it claims is held.
+  if (candidates.empty() || scheduler_.attempts(config_.address) <= 3 * candidates.size()) return;
   auto [start, end] = it->second.FirstGap();
+  for (const auto& [reporter, seq] : it->second.reports()) {
+    auto p = peers_.find(reporter);
+    if (p != peers_.end() && IsServerRole(p->second.role) && seq >= start) return;
+  }
   end = std::min(end, own_change_seq_);
   for (int64_t seq = start; seq <= end; ++seq) {
     if (own_feature_number_ >= kMaxSerial) return;
@@ -579,6 +590,14 @@ void Replica::Tick(int64_t now_ms) {
     for (const auto& [addr, p] : peers_) {
       if (p.last_heard_ms >= sign_on_started_ms_ && !IsSilent(addr) &&
           sign_on_answered_by_.count(addr) == 0) {
+        peers_answered = false;
+      }
+    }
+    // Nodes the server knows are waited for too, unless still unheard after three silences
+    // (gone for good), so a peer whose reports happened to be lost is not skipped.
+    for (NodeAddress n : sign_on_expected_) {
+      if (sign_on_answered_by_.count(n) == 0 &&
+          !(IsSilent(n) && waited >= 3 * int64_t{config_.silence_ms})) {
         peers_answered = false;
       }
     }

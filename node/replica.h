@@ -166,7 +166,8 @@ class Replica {
   int64_t sign_on_started_ms_ = 0;
   int64_t sign_on_sent_ms_ = 0;
   std::set<NodeAddress> sign_on_requests_;
-  std::set<NodeAddress> sign_on_answered_by_;  // answered in the next Tick, after the commit
+  std::set<NodeAddress> sign_on_answered_by_;
+  std::set<NodeAddress> sign_on_expected_;  // answered in the next Tick, after the commit
   int64_t now_ms_ = 0;
   int64_t last_report_ms_ = -1;
   Counters counters_;

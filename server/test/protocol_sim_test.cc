@@ -61,6 +61,13 @@ class SimRun {
   std::string Command(NodeAddress who);
   void RecordIssued(NodeAddress who, int64_t seq_before);
   void ObserveAcks();
+  int64_t MaxAck(NodeAddress a) const {
+    int64_t m = 0;
+    for (const auto& [key, v] : max_ack_) {
+      if (key.first == a) m = std::max(m, v);
+    }
+    return m;
+  }
   // Crashes and partitions do not overlap: a crash only while the network is whole and every
   // replica is up, a partition only while every replica is up (docs/protocol.md, "Limits").
   bool AllUp() {
@@ -91,9 +98,10 @@ class SimRun {
   std::set<std::pair<NodeAddress, int64_t>> issued_seqs_;
   std::set<FeatureId> issued_ids_;
   std::vector<FeatureId> ids_;
-  std::map<NodeAddress, int64_t> max_ack_;
+  std::map<std::pair<NodeAddress, int>, int64_t> max_ack_;
   std::string failure_;
   bool partitioned_ = false;
+  bool trace_ = std::getenv("DT_SIM_TRACE") != nullptr;
 };
 
 Status SimRun::StartServer(NodeAddress address, NodeRole role) {
@@ -116,11 +124,28 @@ Status SimRun::StartServer(NodeAddress address, NodeRole role) {
 }
 
 void SimRun::StartNode(NodeAddress address) {
+  if (trace_) {
+    std::printf("t=%lld start %s\n", static_cast<long long>(cluster_->now_ms()),
+                address.ToString().c_str());
+  }
   ++incarnation_[address];
   cluster_->Start(address, NodeRole::kNode);
 }
 
 void SimRun::Crash(NodeAddress address) {
+  if (trace_) {
+    std::printf("t=%lld crash %s\n", static_cast<long long>(cluster_->now_ms()),
+                address.ToString().c_str());
+    for (NodeAddress a : cluster_->live()) {
+      std::string held;
+      if (const ChangeLog* l = cluster_->at(a).log(address)) {
+        for (const Change* c : l->Range(1, l->max_held())) {
+          held += fmt::format(" {}@{}", c->stamp.change_seq, c->stamp.lamport);
+        }
+      }
+      std::printf("   %s holds%s\n", a.ToString().c_str(), held.c_str());
+    }
+  }
   cluster_->Crash(address);
   if (use_sqlite_) stores_.erase(address);
   restart_at_ms_[address] = cluster_->now_ms() + 200 + static_cast<int64_t>(Next(1500));
@@ -152,7 +177,7 @@ void SimRun::RecordIssued(NodeAddress who, int64_t seq_before) {
     if (!issued_seqs_.insert({who, s}).second) {
       // A restarted node may reuse the sequence of a change that was never acknowledged (it
       // learns only what the server and its peers hold); an acknowledged one, never.
-      if (s <= max_ack_[who]) {
+      if (s <= MaxAck(who)) {
         failure_ =
             fmt::format("acknowledged change sequence {}:{} issued twice", who.ToString(), s);
         return;
@@ -162,6 +187,12 @@ void SimRun::RecordIssued(NodeAddress who, int64_t seq_before) {
       }
     }
     issued_.push_back({*c, incarnation_[who], false});
+    if (trace_) {
+      std::printf("t=%lld issue %s:%lld lamport %llu id %s kind %d\n",
+                  static_cast<long long>(cluster_->now_ms()), who.ToString().c_str(),
+                  static_cast<long long>(s), static_cast<unsigned long long>(c->stamp.lamport),
+                  c->id.ToString().c_str(), static_cast<int>(c->kind));
+    }
     if (c->kind == ChangeKind::kConstruct) {
       if (!issued_ids_.insert(c->id).second) {
         failure_ = fmt::format("feature ID {} issued twice", c->id.ToString());
@@ -204,7 +235,13 @@ std::string SimRun::Command(NodeAddress who) {
 void SimRun::ObserveAcks() {
   for (NodeAddress a : cluster_->live()) {
     if (a == kServer || a == kStandby) continue;
-    auto& m = max_ack_[a];
+    // Acknowledgements count for the incarnation that saw them: a later one's may cover voids.
+    auto& m = max_ack_[{a, incarnation_[a]}];
+    if (trace_ && cluster_->at(a).acknowledged_change_seq() > m) {
+      std::printf("t=%lld %s acknowledged up to %lld\n", static_cast<long long>(cluster_->now_ms()),
+                  a.ToString().c_str(),
+                  static_cast<long long>(cluster_->at(a).acknowledged_change_seq()));
+    }
     m = std::max(m, cluster_->at(a).acknowledged_change_seq());
   }
 }
@@ -286,16 +323,27 @@ std::string SimRun::Run() {
   // Heal: no more faults; everything crashed comes back.
   cluster_->net().faults().set_config({});
   cluster_->net().faults().Heal();
-  for (const auto& [a, at] : restart_at_ms_) {
-    if (a == kServer || a == kStandby) {
-      if (auto s = StartServer(a, a == kServer ? NodeRole::kServer : NodeRole::kStandby); !s) {
-        return s.error().message;
+  // Each comes back when its downtime is over, as during the run (a process restarts after its
+  // last messages have landed).
+  while (!restart_at_ms_.empty()) {
+    cluster_->Run(10);
+    ObserveAcks();
+    for (auto it = restart_at_ms_.begin(); it != restart_at_ms_.end();) {
+      if (it->second > cluster_->now_ms()) {
+        ++it;
+        continue;
       }
-    } else {
-      StartNode(a);
+      const NodeAddress a = it->first;
+      it = restart_at_ms_.erase(it);
+      if (a == kServer || a == kStandby) {
+        if (auto s = StartServer(a, a == kServer ? NodeRole::kServer : NodeRole::kStandby); !s) {
+          return s.error().message;
+        }
+      } else {
+        StartNode(a);
+      }
     }
   }
-  restart_at_ms_.clear();
   cluster_->Run(kHealMs);
   ObserveAcks();
   return Check();
@@ -344,7 +392,7 @@ std::string SimRun::Check() {
     const NodeAddress author = i.change.author();
     const ChangeLog* log = server.log(author);
     const Change* held = log != nullptr ? log->Find(i.change.stamp.change_seq) : nullptr;
-    const bool acked = i.change.stamp.change_seq <= max_ack_[author];
+    const bool acked = i.change.stamp.change_seq <= max_ack_[{author, i.incarnation}];
     const bool author_survived = incarnation_[author] == i.incarnation;
     if (held == nullptr) {
       if (acked) {

@@ -616,7 +616,19 @@ void Replica::Tick(int64_t now_ms) {
   }
   if (!sign_on_requests_.empty()) {
     // Answer after the commit above, so a server's answer is durable.
-    for (NodeAddress who : sign_on_requests_) SendReport(who, false, /*answer=*/true);
+    for (NodeAddress who : sign_on_requests_) {
+      SendReport(who, false, /*answer=*/true);
+      // A server reports only its gap-free durable point; changes of the newcomer it holds
+      // beyond a gap are sent along, so the newcomer never reuses their sequences.
+      auto lg = logs_.find(who);
+      if (IsServerRole(config_.role) && lg != logs_.end()) {
+        for (const Change* c :
+             lg->second.Range(lg->second.contiguous() + 1, lg->second.max_held())) {
+          Publish(*c, who);
+          ++counters_.played_back;
+        }
+      }
+    }
     sign_on_requests_.clear();
     SendReports();
     last_report_ms_ = now_ms_;

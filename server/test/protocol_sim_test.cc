@@ -378,6 +378,21 @@ std::string SimRun::Check() {
         }
       }
     }
+    if (r.Digest() != digest && trace_) {
+      for (const auto& [author, n] : incarnation_) {
+        for (Replica* x : {&r, &server}) {
+          std::string held;
+          if (const ChangeLog* l = x->log(author)) {
+            for (const Change* c : l->Range(1, l->max_held())) {
+              held += fmt::format(" {}@{}:{}:{}", c->stamp.change_seq, c->stamp.lamport,
+                                  static_cast<int>(c->kind), c->id.ToString());
+            }
+          }
+          std::printf("  %s's log of %s:%s\n", x->config().address.ToString().c_str(),
+                      author.ToString().c_str(), held.c_str());
+        }
+      }
+    }
     if (r.Digest() != digest) {
       return fmt::format("{} digest {} != server digest {} ({} vs {} live features)", a.ToString(),
                          r.Digest(), digest, r.live_feature_count(), server.live_feature_count());

@@ -90,10 +90,10 @@ bool Berm::MayCover(const Rect& rect) const {
   return true;
 }
 
-std::optional<double> Berm::OffsetAboveGround(double x_m, double z_m) const {
+double Berm::OffsetOrNotCovered(double x_m, double z_m) const {
   double along, left;
   Local(x_m, z_m, along, left);
-  if (!InFootprint(along, left)) return std::nullopt;
+  if (!InFootprint(along, left)) return kNotCovered;
   // Bilinear over the mesh: the cross-section times the end-piece factor, each a fraction of the
   // height clamped to [0, 1]. Branch-free, as query points fall anywhere on the berm.
   const double side = (half_width_m_ - std::abs(left)) * inverse_run_;

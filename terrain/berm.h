@@ -3,7 +3,6 @@
 #pragma once
 
 #include <memory>
-#include <optional>
 
 #include "terrain/feature.h"
 
@@ -35,7 +34,7 @@ class Berm final : public Feature {
   Rect Bounds() const override;
   bool Covers(double x_m, double z_m) const override;
   bool MayCover(const Rect& rect) const override;
-  std::optional<double> OffsetAboveGround(double x_m, double z_m) const override;
+  double OffsetOrNotCovered(double x_m, double z_m) const override;
 
   double x_m() const { return x_m_; }
   double z_m() const { return z_m_; }

@@ -52,7 +52,7 @@ class Bridge final : public Feature {
   // Over the deck (ramps and span), whatever the status.
   bool Covers(double x_m, double z_m) const override;
   bool MayCover(const Rect& rect) const override;
-  std::optional<double> OffsetAboveGround(double, double) const override { return std::nullopt; }
+  double OffsetOrNotCovered(double, double) const override { return kNotCovered; }
   void OnGroundChanged(const HeightGrid& ground) override;
   // Another bridge whose deck overlaps this deck (touching edges do not count).
   bool ConflictsWith(const Feature& other) const override;

@@ -132,10 +132,10 @@ bool Crater::MayCover(const Rect& rect) const {
   return dx * dx + dz * dz <= CoveredRadiusSquared();
 }
 
-std::optional<double> Crater::OffsetAboveGround(double x_m, double z_m) const {
+double Crater::OffsetOrNotCovered(double x_m, double z_m) const {
   const double dx = x_m - x_m_, dz = z_m - z_m_;
   const double d2 = dx * dx + dz * dz;
-  if (!(d2 <= CoveredRadiusSquared())) return std::nullopt;  // also refuses NaN
+  if (!(d2 <= CoveredRadiusSquared())) return kNotCovered;  // also refuses NaN
   if (!edits_) return StandardProfile(d2, radius_m_);
   if (d2 == 0.0) return 0.0;  // the centre: the floor is at the ground
   const double q = std::min(1.0, std::sqrt(d2) * edits_->inverse_radius_per_m);

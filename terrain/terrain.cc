@@ -31,10 +31,10 @@ void Terrain::SquareRange(const Rect& rect, SquareIndex& lo, SquareIndex& hi) co
 Status Terrain::CheckPlacement(const Feature& candidate, const Feature* replacing) const {
   const Rect b = candidate.Bounds();
   if (!ground_.Contains(b.min_x, b.min_z) || !ground_.Contains(b.max_x, b.max_z)) {
-    return Error{fmt::format(
-        "{} {} covers x [{}, {}] z [{}, {}] m, which leaves the terrain [0, {}]^2",
-        FeatureTypeName(candidate.type()), candidate.id().ToString(), b.min_x, b.max_x, b.min_z,
-        b.max_z, ground_.size_m())};
+    return Error{
+        fmt::format("{} {} covers x [{}, {}] z [{}, {}] m, which leaves the terrain [0, {}]^2",
+                    FeatureTypeName(candidate.type()), candidate.id().ToString(), b.min_x, b.max_x,
+                    b.min_z, b.max_z, ground_.size_m())};
   }
   SquareIndex lo, hi;
   SquareRange(b, lo, hi);
@@ -184,8 +184,8 @@ Status Terrain::SetPostElevation(int i, int j, float elevation_m) {
 Status Terrain::SetSoil(SquareIndex square, TriangleHalf half, Material soil) {
   const int m = ground_.squares_per_side();
   if (square.i < 0 || square.j < 0 || square.i >= m || square.j >= m) {
-    return Error{fmt::format("square ({}, {}) is outside the {} x {} squares", square.i, square.j,
-                             m, m)};
+    return Error{
+        fmt::format("square ({}, {}) is outside the {} x {} squares", square.i, square.j, m, m)};
   }
   if (!IsValidMaterial(static_cast<uint16_t>(soil)) || soil == Material::kFromGround) {
     return Error{fmt::format("{} is not a soil", static_cast<uint16_t>(soil))};
@@ -221,23 +221,21 @@ double Terrain::ElevationAt(double x_m, double z_m) const {
   const double ground = ground_.ElevationAt(at);
   const size_t slot = SquareSlot(at.square);
   if (bits_[slot] == 0) return ground;
-  double highest_offset = 0.0;
+  double highest_offset_m = 0.0;  // kNotCovered never wins against the ground's 0
   for (const Feature* f : squares_[slot]) {
-    if (auto offset = f->OffsetAboveGround(x_m, z_m); offset && *offset > highest_offset) {
-      highest_offset = *offset;
-    }
+    highest_offset_m = std::max(highest_offset_m, f->OffsetOrNotCovered(x_m, z_m));
   }
-  return ground + highest_offset;
+  return ground + highest_offset_m;
 }
 
 bool Terrain::FeatureBitAt(double x_m, double z_m) const {
   const SquareIndex square = ground_.SquareAt(x_m, z_m);
   const double s = ground_.spacing_m();
   const double cell = s / kBitgridCellsPerSide;
-  const int cx = std::clamp(static_cast<int>((x_m - square.i * s) / cell), 0,
-                            kBitgridCellsPerSide - 1);
-  const int cz = std::clamp(static_cast<int>((z_m - square.j * s) / cell), 0,
-                            kBitgridCellsPerSide - 1);
+  const int cx =
+      std::clamp(static_cast<int>((x_m - square.i * s) / cell), 0, kBitgridCellsPerSide - 1);
+  const int cz =
+      std::clamp(static_cast<int>((z_m - square.j * s) / cell), 0, kBitgridCellsPerSide - 1);
   return (bits_[SquareSlot(square)] >> (cz * kBitgridCellsPerSide + cx)) & 1u;
 }
 

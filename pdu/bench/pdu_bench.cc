@@ -8,6 +8,7 @@
 #include <lcm/lcm.h>
 
 #include "log/log.h"
+#include "pdu/bench/raw_lcm_link.h"
 #include "pdu/dds_transport.h"
 #include "pdu/lcm_transport.h"
 #include "pdu/pdu_bus.h"
@@ -104,34 +105,10 @@ void BM_PduBusThroughput(benchmark::State& state, std::string url) {
 
 // Raw LCM: the same number of same-size pre-encoded messages, lcm_publish and a counting handler.
 void BM_RawLcmThroughput(benchmark::State& state, std::string url) {
-  std::string lcm_url = url;
-  if (url != "memq://") lcm_url += "&recv_buf_size=2097152";
-  lcm_t* tx = lcm_create(lcm_url.c_str());
-  lcm_t* rx = url == "memq://" ? tx : lcm_create(lcm_url.c_str());
+  bench::RawLcmLink link(url, "DT7_UPDATE");
   const auto bytes = EncodePdu(sample::Update());
-  int64_t received = 0;
-  lcm_subscription_t* sub = lcm_subscribe(
-      rx, "DT7_UPDATE",
-      [](const lcm_recv_buf_t*, const char*, void* user) { ++*static_cast<int64_t*>(user); },
-      &received);
-  lcm_subscription_set_queue_capacity(sub, 0);
   int64_t lost = 0;
-  for (auto _ : state) {
-    const int64_t target = received + kBatch;
-    for (int i = 0; i < kBatch; ++i) {
-      lcm_publish(tx, "DT7_UPDATE", bytes.data(), static_cast<unsigned>(bytes.size()));
-    }
-    if (!ReceiveUntil(received, target, [&] {
-          int r = lcm_handle_timeout(rx, 10);
-          while (r > 0) r = lcm_handle_timeout(rx, 0);
-        })) {
-      lost += target - received;
-      received = target;
-    }
-  }
-  lcm_unsubscribe(rx, sub);
-  if (rx != tx) lcm_destroy(rx);
-  lcm_destroy(tx);
+  for (auto _ : state) lost += link.Send(bytes, kBatch);
   state.SetItemsProcessed(state.iterations() * kBatch);
   state.counters["lost"] = static_cast<double>(lost);
   state.counters["bytes"] = static_cast<double>(bytes.size());

@@ -1,0 +1,83 @@
+// LcmCluster: replicas over a real LCM transport (memq in this process, or udpm), driven in real
+// time by one loop, for the protocol benchmarks.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "node/replica.h"
+#include "pdu/lcm_transport.h"
+#include "pdu/pdu_bus.h"
+
+namespace dt::bench {
+
+// The benchmarks' terrain: 10 km x 10 km, 1001 x 1001 posts at 10 m (render_bench's size).
+inline HeightGrid BenchGround() { return HeightGrid(1001, 10.0, 5.0f); }
+
+// Crater n: radius 2 m on a 10 m lattice, distinct for the first 960 400 n, so features do not
+// pile up on one spot (the terrain's cost per placed feature grows with the features already
+// on its squares).
+inline FeatureParams BenchCrater(int64_t n) {
+  return FeatureParams::Crater(100 + static_cast<double>(n % 980) * 10.0,
+                               100 + static_cast<double>((n / 980) % 980) * 10.0, 2);
+}
+
+// memq:// is one LCM queue per lcm_t, so every member's PduBus sits on an endpoint of one shared
+// LcmTransport that hands each message to every live member (as multicast would); a member can
+// leave without the others. udpm://... gives each member its own LcmTransport (its own socket).
+// Single-threaded: Pump dispatches what arrived and ticks every replica with the wall clock.
+class LcmCluster {
+ public:
+  LcmCluster(std::string url, HeightGrid ground, ReplicaConfig defaults);
+  ~LcmCluster();
+  LcmCluster(const LcmCluster&) = delete;
+  LcmCluster& operator=(const LcmCluster&) = delete;
+
+  // A new replica that signs on at once; `config` overrides the defaults (address, role and
+  // store are set here).
+  Replica& Start(NodeAddress address, NodeRole role, ChangeStore* store = nullptr);
+  Replica& Start(NodeAddress address, NodeRole role, ChangeStore* store, ReplicaConfig config);
+  // Destroys the member's replica, bus and transport (a crash: its state is gone).
+  void Crash(NodeAddress address);
+  Replica& at(NodeAddress address) { return *members_.at(address)->replica; }
+  PduBus& bus(NodeAddress address) { return *members_.at(address)->bus; }
+
+  // Waits up to wait_ms for traffic, dispatches everything that arrived to every member, then
+  // ticks every replica (address order) at now_ms().
+  void Pump(int wait_ms = 0);
+  // Milliseconds of the steady clock since the cluster was made.
+  int64_t now_ms() const;
+
+  // memq only: while on, a copy of every Construct message dispatched is kept (the bytes as
+  // sent), so a baseline can send exactly the same messages.
+  void RecordConstructs(bool on);
+  std::vector<std::vector<uint8_t>> TakeRecorded();
+  // memq only: wall time spent in the member's handlers (decode, validate, apply) so far, so a
+  // run on one thread can say what each replica costs.
+  int64_t ReceiveNs(NodeAddress address) const;
+
+ private:
+  class MemqHub;
+  struct Member {
+    std::unique_ptr<Transport> transport;  // for memq a MemqHub endpoint
+    std::unique_ptr<PduBus> bus;
+    std::unique_ptr<Replica> replica;
+    ~Member() {
+      replica.reset();
+      bus.reset();
+      transport.reset();
+    }
+  };
+
+  std::string url_;
+  HeightGrid ground_;
+  ReplicaConfig defaults_;
+  int64_t start_ns_;
+  std::unique_ptr<MemqHub> hub_;  // memq only
+  std::map<NodeAddress, std::unique_ptr<Member>> members_;
+};
+
+}  // namespace dt::bench

@@ -1,0 +1,289 @@
+// Benchmarks of the protocol engine over real LCM: features/s from node A to node B against raw
+// LCM of same-size messages in the same run, and the latency from create on A to applied on B.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include "log/log.h"
+#include "node/change.h"
+#include "node/memory_change_store.h"
+#include "pdu/bench/raw_lcm_link.h"
+#include "pdu/pdu_traits.h"
+#include "pdu/test/private_netns.h"
+#include "server/bench/lcm_cluster.h"
+
+namespace dt {
+namespace {
+
+constexpr int kBatch = 500;
+constexpr const char* kMemq = "memq://";
+constexpr const char* kUdpm = "udpm://239.255.76.67:7667?ttl=0";
+// The raw baseline gets its own port so its datagrams never queue on the replicas' sockets.
+constexpr const char* kUdpmRaw = "udpm://239.255.76.67:7668?ttl=0";
+const NodeAddress kA{1, 1}, kB{1, 2}, kServer{1, 100};
+
+int64_t NowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+// Protocol defaults (docs/protocol.md): A may have 256 unacknowledged changes and the server
+// acknowledges every 500 ms, so the sustained rate is at most 256 / 0.5 s = 512 features/s.
+ReplicaConfig Defaults() { return ReplicaConfig{}; }
+
+// Acknowledgements every 10 ms and a window of 4096: at most 409 600 features/s from the
+// protocol, so the engine's own cost is what is measured.
+ReplicaConfig FastAcks() {
+  ReplicaConfig rc;
+  rc.max_feature_period_ms = 10;
+  rc.silence_ms = 200;
+  rc.playback_retry_ms = 100;
+  rc.playback_window = 4096;
+  return rc;
+}
+
+std::vector<uint8_t> ConstructBytes() {
+  Change c;
+  c.kind = ChangeKind::kConstruct;
+  c.id = {kA.site, kA.host, 1};
+  c.params = bench::BenchCrater(0);
+  c.stamp.changed_by = kA;
+  c.stamp.change_seq = 1;
+  c.stamp.lamport = 1;
+  return EncodePdu(ToConstruct(ToFeaturePdu(c)));
+}
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  const auto k = static_cast<size_t>(p * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+// A server (changes in memory), node A and node B, signed on, and a tap on B's bus that runs
+// right after B's replica has handled each Construct: the moment the feature is applied on B.
+class ThreeReplicas {
+ public:
+  ThreeReplicas(const std::string& url, ReplicaConfig rc)
+      : cluster_(url, bench::BenchGround(), rc) {
+    cluster_.Start(kServer, NodeRole::kServer, &store_);
+    cluster_.Start(kA, NodeRole::kNode);
+    Replica& b = cluster_.Start(kB, NodeRole::kNode);
+    cluster_.bus(kB).Subscribe<dtpdu::construct_t>([this, &b](const dtpdu::construct_t& p) {
+      if (FromPdu(p.origin) != kA) return;
+      const auto n = static_cast<size_t>(p.feature_number);
+      if (n >= created_ns_.size() || created_ns_[n] < 0) return;  // not timed, or seen
+      if (b.records().Find(FeatureId{kA.site, kA.host, static_cast<uint32_t>(n)}) == nullptr) {
+        return;
+      }
+      latencies_us_.push_back(static_cast<double>(NowNs() - created_ns_[n]) / 1000.0);
+      created_ns_[n] = -1;
+      ++applied_on_b_;
+    });
+    const int64_t deadline = cluster_.now_ms() + 10 * rc.silence_ms + 5000;
+    while (!(a().signed_on() && cluster_.at(kB).signed_on()) && cluster_.now_ms() < deadline) {
+      cluster_.Pump(1);
+    }
+  }
+
+  bool ready() { return a().signed_on() && b().signed_on(); }
+  Replica& a() { return cluster_.at(kA); }
+  Replica& b() { return cluster_.at(kB); }
+  bench::LcmCluster& cluster() { return cluster_; }
+
+  // Creates one crater on A, timed from before the call. False if the command was refused.
+  bool Create(int64_t n, std::string* error) {
+    const int64_t t = NowNs();
+    auto id = a().Create(bench::BenchCrater(n));
+    create_ns_ += NowNs() - t;
+    if (!id) {
+      *error = id.error().message;
+      return false;
+    }
+    const size_t number = id.value().number;
+    if (created_ns_.size() <= number) created_ns_.resize(number + 1, -1);
+    created_ns_[number] = t;
+    return true;
+  }
+
+  int64_t applied_on_b() const { return applied_on_b_; }
+  int64_t create_ns() const { return create_ns_; }
+  std::vector<double>& latencies_us() { return latencies_us_; }
+
+ private:
+  MemoryChangeStore store_;
+  bench::LcmCluster cluster_;
+  std::vector<int64_t> created_ns_;  // by A's feature number; -1 once applied on B
+  std::vector<double> latencies_us_;
+  int64_t applied_on_b_ = 0;
+  int64_t create_ns_ = 0;  // inside A's Create calls
+};
+
+// Pumps until B has applied `target` features or 10 s passed (a loss recovered by playback is
+// still counted; one never recovered fails the run).
+bool PumpUntilApplied(ThreeReplicas& r, int64_t target) {
+  const int64_t deadline = r.cluster().now_ms() + 10000;
+  while (r.applied_on_b() < target) {
+    if (r.cluster().now_ms() > deadline) return false;
+    r.cluster().Pump(1);
+  }
+  return true;
+}
+
+// Per iteration: kBatch raw LCM messages of a Construct's size (lcm_publish, a counting handler),
+// then kBatch craters created on A until B has applied them all (A waits for acknowledgements
+// whenever its window is full). Time (manual) is the engine's; counters give both rates, their
+// ratio and B's create-to-applied latency under this load.
+void BM_NodeToNodeVsRawLcm(benchmark::State& state, std::string url, bool fast_acks) {
+  if (url != kMemq && dt::testing::NetnsSkipReason()) {
+    state.SkipWithError("udpm runs only inside a private network namespace");
+    return;
+  }
+  ThreeReplicas r(url, fast_acks ? FastAcks() : Defaults());
+  if (!r.ready()) {
+    state.SkipWithError("A and B did not sign on");
+    return;
+  }
+  // The exact bytes of a Construct as A sends it, for same-size raw messages.
+  r.cluster().RecordConstructs(true);
+  std::string error;
+  if (!r.Create(0, &error) || !PumpUntilApplied(r, 1)) {
+    state.SkipWithError(("first crater: " + error).c_str());
+    return;
+  }
+  r.cluster().RecordConstructs(false);
+  const auto sample = r.cluster().TakeRecorded();  // memq only
+  // A Construct of the same crater encoded here is the same size (every field but the vertex
+  // edits has a fixed size); over memq the captured message itself is used.
+  const std::vector<uint8_t> bytes = sample.empty() ? ConstructBytes() : sample.front();
+  bench::RawLcmLink raw(url == kMemq ? kMemq : kUdpmRaw, ChannelName(1, PduType::kConstruct));
+  r.latencies_us().clear();
+  const int64_t create0 = r.create_ns(), a0 = r.cluster().ReceiveNs(kA),
+                b0 = r.cluster().ReceiveNs(kB), s0 = r.cluster().ReceiveNs(kServer);
+
+  int64_t raw_ns = 0, engine_ns = 0, raw_lost = 0, window_waits = 0, n = 1;
+  for (auto _ : state) {
+    int64_t t = NowNs();
+    raw_lost += raw.Send(bytes, kBatch);
+    raw_ns += NowNs() - t;
+
+    t = NowNs();
+    const int64_t target = r.applied_on_b() + kBatch;
+    for (int created = 0; created < kBatch;) {
+      if (r.Create(n, &error)) {
+        ++n;
+        ++created;
+      } else if (error.find("not acknowledged") != std::string::npos) {
+        ++window_waits;
+        r.cluster().Pump(1);
+      } else {
+        state.SkipWithError(("create refused: " + error).c_str());
+        return;
+      }
+    }
+    if (!PumpUntilApplied(r, target)) {
+      state.SkipWithError("B did not apply every feature within 10 s");
+      return;
+    }
+    const int64_t dt_ns = NowNs() - t;
+    engine_ns += dt_ns;
+    state.SetIterationTime(static_cast<double>(dt_ns) / 1e9);
+  }
+  const double features = static_cast<double>(state.iterations()) * kBatch;
+  const double engine_rate = features / (static_cast<double>(engine_ns) / 1e9);
+  const double raw_rate = features / (static_cast<double>(raw_ns) / 1e9);
+  state.SetItemsProcessed(static_cast<int64_t>(features));
+  state.counters["features_per_s"] = engine_rate;
+  state.counters["raw_lcm_per_s"] = raw_rate;
+  state.counters["ratio"] = engine_rate / raw_rate;
+  state.counters["raw_lost"] = static_cast<double>(raw_lost);
+  state.counters["bytes"] = static_cast<double>(bytes.size());
+  state.counters["window_waits"] = static_cast<double>(window_waits);
+  state.counters["lat_p50_us"] = Percentile(r.latencies_us(), 0.50);
+  state.counters["lat_p99_us"] = Percentile(r.latencies_us(), 0.99);
+  // Where the time goes, per feature (memq: every replica runs on this one thread): A's Create
+  // (check, apply, encode, publish), each replica's receive handlers (A's own echo included).
+  auto per_feature_us = [&](int64_t ns) { return static_cast<double>(ns) / features / 1000.0; };
+  state.counters["raw_us"] = 1e6 / raw_rate;
+  state.counters["a_create_us"] = per_feature_us(r.create_ns() - create0);
+  state.counters["a_recv_us"] = per_feature_us(r.cluster().ReceiveNs(kA) - a0);
+  state.counters["b_recv_us"] = per_feature_us(r.cluster().ReceiveNs(kB) - b0);
+  state.counters["server_recv_us"] = per_feature_us(r.cluster().ReceiveNs(kServer) - s0);
+  // Zero final loss: B holds every change A made and knows of no gap.
+  const bool equal = r.b().caught_up() && r.b().live_feature_count() == r.a().live_feature_count();
+  state.counters["final_lost"] =
+      static_cast<double>(r.a().live_feature_count() - r.b().live_feature_count());
+  if (!equal) state.SkipWithError("B does not hold every feature A created");
+}
+
+// One crater at a time on an otherwise idle exercise: create on A, then pump until B has applied
+// it. Iterations are features; the counters are percentiles of create-to-applied time.
+void BM_CreateToAppliedLatency(benchmark::State& state, std::string url) {
+  if (url != kMemq && dt::testing::NetnsSkipReason()) {
+    state.SkipWithError("udpm runs only inside a private network namespace");
+    return;
+  }
+  ThreeReplicas r(url, FastAcks());
+  if (!r.ready()) {
+    state.SkipWithError("A and B did not sign on");
+    return;
+  }
+  std::string error;
+  int64_t n = 0;
+  for (auto _ : state) {
+    const int64_t t = NowNs();
+    while (!r.Create(n, &error)) r.cluster().Pump(1);  // a full window: wait for the server
+    ++n;
+    const int64_t target = r.applied_on_b() + 1;
+    while (r.applied_on_b() < target) r.cluster().Pump(0);
+    state.SetIterationTime(static_cast<double>(NowNs() - t) / 1e9);
+  }
+  state.counters["lat_p50_us"] = Percentile(r.latencies_us(), 0.50);
+  state.counters["lat_p99_us"] = Percentile(r.latencies_us(), 0.99);
+  state.counters["lat_max_us"] = Percentile(r.latencies_us(), 1.0);
+}
+
+// Fixed iterations: each run signs on once (2 s of silence with the defaults).
+BENCHMARK_CAPTURE(BM_NodeToNodeVsRawLcm, memq_fast_acks, std::string(kMemq), true)
+    ->UseManualTime()
+    ->Iterations(400)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_NodeToNodeVsRawLcm, memq_defaults, std::string(kMemq), false)
+    ->UseManualTime()
+    ->Iterations(6)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_NodeToNodeVsRawLcm, udpm_fast_acks, std::string(kUdpm), true)
+    ->UseManualTime()
+    ->Iterations(100)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_CreateToAppliedLatency, memq, std::string(kMemq))
+    ->UseManualTime()
+    ->Iterations(5000)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_CreateToAppliedLatency, udpm, std::string(kUdpm))
+    ->UseManualTime()
+    ->Iterations(5000)
+    ->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace dt
+
+int main(int argc, char** argv) {
+  // udpm only ever runs in a private network namespace this program makes (docs/pdu.md).
+  dt::testing::EnterPrivateNetns(argc, argv);
+  if (auto reason = dt::testing::NetnsSkipReason()) {
+    std::fprintf(stderr, "no private network namespace (%s): the udpm runs are skipped\n",
+                 reason->c_str());
+  }
+  dt::log::Init("protocol-bench", "error");
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

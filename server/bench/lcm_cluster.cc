@@ -125,6 +125,8 @@ void LcmCluster::Pump(int wait_ms) {
     for (auto& [a, m] : members_) (void)m->bus->HandleTimeout(0);
   }
   const int64_t now = now_ms();
+  if (tick_period_ms_ > 0 && last_tick_ms_ >= 0 && now - last_tick_ms_ < tick_period_ms_) return;
+  last_tick_ms_ = now;
   for (auto& [a, m] : members_) m->replica->Tick(now);
 }
 

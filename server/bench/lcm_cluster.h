@@ -46,8 +46,11 @@ class LcmCluster {
   PduBus& bus(NodeAddress address) { return *members_.at(address)->bus; }
 
   // Waits up to wait_ms for traffic, dispatches everything that arrived to every member, then
-  // ticks every replica (address order) at now_ms().
+  // ticks every replica (address order) at now_ms() if a tick is due.
   void Pump(int wait_ms = 0);
+  // 0 (the default): every Pump ticks, so only the engine paces the protocol. node_main ticks at
+  // tick_hz (30: every 33 ms) and dispatches in between; a period gives that pacing.
+  void set_tick_period_ms(int64_t period_ms) { tick_period_ms_ = period_ms; }
   // Milliseconds of the steady clock since the cluster was made.
   int64_t now_ms() const;
 
@@ -76,6 +79,8 @@ class LcmCluster {
   HeightGrid ground_;
   ReplicaConfig defaults_;
   int64_t start_ns_;
+  int64_t tick_period_ms_ = 0;
+  int64_t last_tick_ms_ = -1;
   std::unique_ptr<MemqHub> hub_;  // memq only
   std::map<NodeAddress, std::unique_ptr<Member>> members_;
 };

@@ -34,7 +34,8 @@ bool PumpUntil(bench::LcmCluster& cluster, int64_t timeout_ms, Done done, int wa
 }
 
 // range(0) features; range(1) = 0: origin A alive (it is asked first), 1: A gone, the server
-// answers. Every replica runs the protocol defaults (playback_window 256: one window per round
+// answers; range(2) = tick period during the catch-up (0: after every dispatch; 33: node_main's
+// 30 Hz). Every replica runs the protocol defaults (playback_window 256: one window per round
 // trip) except A's window of unacknowledged changes, raised so the setup is quick. Setup (not
 // timed): server, A and B sign on, B crashes, A creates the features and the server stores them.
 // Timed (manual): from B's restart with no state until B holds all of A's changes. Then the
@@ -43,6 +44,7 @@ bool PumpUntil(bench::LcmCluster& cluster, int64_t timeout_ms, Done done, int wa
 void BM_RejoinCatchUp(benchmark::State& state) {
   const int64_t n = state.range(0);
   const bool from_server = state.range(1) == 1;
+  const int64_t tick_ms = state.range(2);
   const ReplicaConfig defaults;
   double catch_up_s = 0, raw_s = 0, messages = 0, raw_lost = 0, by_origin = 0, by_server = 0;
   double b_ns = 0, origin_ns = 0, server_ns = 0;
@@ -80,11 +82,12 @@ void BM_RejoinCatchUp(benchmark::State& state) {
     const int64_t server_ns0 = cluster.ReceiveNs(kServer);
 
     cluster.RecordConstructs(true);
+    cluster.set_tick_period_ms(tick_ms);
     const int64_t t0 = NowNs();
     Replica& b = cluster.Start(kB, NodeRole::kNode);
     if (!PumpUntil(
             cluster, 120000, [&] { return b.log(kA) != nullptr && b.log(kA)->contiguous() >= n; },
-            0)) {
+            tick_ms > 0 ? 1 : 0)) {
       state.SkipWithError("B did not catch up within 120 s");
       return;
     }
@@ -125,11 +128,13 @@ void BM_RejoinCatchUp(benchmark::State& state) {
   state.counters["features_per_s"] = static_cast<double>(n) / (catch_up_s / iterations);
 }
 BENCHMARK(BM_RejoinCatchUp)
-    ->ArgNames({"features", "from_server"})
-    ->Args({10000, 0})
-    ->Args({10000, 1})
-    ->Args({100000, 0})
-    ->Args({100000, 1})
+    ->ArgNames({"features", "from_server", "tick_ms"})
+    ->Args({10000, 0, 0})
+    ->Args({10000, 1, 0})
+    ->Args({100000, 0, 0})
+    ->Args({100000, 1, 0})
+    ->Args({10000, 1, 33})
+    ->Args({100000, 1, 33})
     ->UseManualTime()
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);

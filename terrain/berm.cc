@@ -121,26 +121,12 @@ BermVertex Berm::Vertex(int length_line, int width_line) const {
 
 Result<std::unique_ptr<Feature>> MakeBerm(FeatureId id, const FeatureParams& params,
                                           const HeightGrid& ground) {
-  if (params.type != FeatureType::kBerm) {
-    return Error{fmt::format("feature {}: MakeBerm given a {}", id.ToString(),
-                             FeatureTypeName(params.type))};
-  }
-  if (auto s = ValidateFeatureParams(params); !s) {
-    return Error{fmt::format("feature {}: {}", id.ToString(), s.error().message)};
-  }
+  Result<Material> resolved = CheckPlacementBasics(id, params, FeatureType::kBerm, ground);
+  if (!resolved) return resolved.error();
   if (auto s = CheckUnused(params); !s) {
-    return Error{fmt::format("feature {}: {}", id.ToString(), s.error().message)};
+    return Error{fmt::format("berm {}: {}", id.ToString(), s.error().message)};
   }
-  if (!ground.Contains(params.x_m, params.z_m)) {
-    return Error{fmt::format("berm {}: placement point (x {}, z {}) m is off the terrain [0, {}]^2",
-                             id.ToString(), params.x_m, params.z_m, ground.size_m())};
-  }
-  Material resolved = params.material;
-  if (resolved == Material::kFromGround) {
-    resolved =
-        ground.soil(ground.SquareAt(params.x_m, params.z_m), ground.HalfAt(params.x_m, params.z_m));
-  }
-  return std::unique_ptr<Feature>(new Berm(id, params, resolved));
+  return std::unique_ptr<Feature>(new Berm(id, params, resolved.value()));
 }
 
 }  // namespace dt

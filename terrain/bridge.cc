@@ -187,25 +187,10 @@ std::vector<DeckSection> Bridge::DeckProfile() const {
 
 Result<std::unique_ptr<Feature>> MakeBridge(FeatureId id, const FeatureParams& params,
                                             const HeightGrid& ground) {
-  if (params.type != FeatureType::kBridge) {
-    return Error{fmt::format("feature {}: MakeBridge given a {}", id.ToString(),
-                             FeatureTypeName(params.type))};
-  }
-  if (auto s = ValidateFeatureParams(params); !s) {
-    return Error{fmt::format("bridge {}: {}", id.ToString(), s.error().message)};
-  }
-  if (!ground.Contains(params.x_m, params.z_m)) {
-    return Error{
-        fmt::format("bridge {}: placement point (x {}, z {}) m is off the terrain [0, {}]^2",
-                    id.ToString(), params.x_m, params.z_m, ground.size_m())};
-  }
-  Material resolved = params.material;
-  if (resolved == Material::kFromGround) {
-    resolved =
-        ground.soil(ground.SquareAt(params.x_m, params.z_m), ground.HalfAt(params.x_m, params.z_m));
-  }
+  Result<Material> resolved = CheckPlacementBasics(id, params, FeatureType::kBridge, ground);
+  if (!resolved) return resolved.error();
   // The ground is sampled along the deck only once the whole footprint is known to be on it.
-  std::unique_ptr<Bridge> bridge(new Bridge(id, params, resolved));
+  std::unique_ptr<Bridge> bridge(new Bridge(id, params, resolved.value()));
   const Rect b = bridge->Bounds();
   if (!ground.Contains(b.min_x, b.min_z) || !ground.Contains(b.max_x, b.max_z)) {
     return Error{fmt::format(

@@ -182,24 +182,10 @@ CraterVertex Crater::Vertex(int spoke, int ring) const {
 
 Result<std::unique_ptr<Feature>> MakeCrater(FeatureId id, const FeatureParams& params,
                                             const HeightGrid& ground) {
-  if (params.type != FeatureType::kCrater) {
-    return Error{fmt::format("feature {}: MakeCrater given a {}", id.ToString(),
-                             FeatureTypeName(params.type))};
-  }
-  if (auto s = ValidateFeatureParams(params); !s) {
-    return Error{fmt::format("feature {}: {}", id.ToString(), s.error().message)};
-  }
+  Result<Material> resolved = CheckPlacementBasics(id, params, FeatureType::kCrater, ground);
+  if (!resolved) return resolved.error();
   if (auto s = CheckUnused(params); !s) {
-    return Error{fmt::format("feature {}: {}", id.ToString(), s.error().message)};
-  }
-  if (!ground.Contains(params.x_m, params.z_m)) {
-    return Error{fmt::format("crater {}: centre (x {}, z {}) m is off the terrain [0, {}]^2",
-                             id.ToString(), params.x_m, params.z_m, ground.size_m())};
-  }
-  Material resolved = params.material;
-  if (resolved == Material::kFromGround) {
-    resolved =
-        ground.soil(ground.SquareAt(params.x_m, params.z_m), ground.HalfAt(params.x_m, params.z_m));
+    return Error{fmt::format("crater {}: {}", id.ToString(), s.error().message)};
   }
   std::unique_ptr<Crater::Edits> edits;
   if (!params.vertex_edits.empty()) {
@@ -217,7 +203,7 @@ Result<std::unique_ptr<Feature>> MakeCrater(FeatureId id, const FeatureParams& p
     }
   }
   return std::unique_ptr<Feature>(new Crater(id, params.x_m, params.z_m, params.length_m[0],
-                                             params.material, resolved, std::move(edits)));
+                                             params.material, resolved.value(), std::move(edits)));
 }
 
 FeatureParams WithCraterVertexEdit(const FeatureParams& params, const CraterVertexEdit& edit) {

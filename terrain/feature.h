@@ -71,4 +71,10 @@ class Feature {
 Result<std::unique_ptr<Feature>> MakeFeature(FeatureId id, const FeatureParams& params,
                                              const HeightGrid& ground);
 
+// What every feature type's maker checks first: `params` is of type `expected`, valid, and its
+// placement point lies on the terrain. Returns the resolved material: the soil of the ground
+// triangle under the placement point where the parameters say kFromGround.
+Result<Material> CheckPlacementBasics(FeatureId id, const FeatureParams& params,
+                                      FeatureType expected, const HeightGrid& ground);
+
 }  // namespace dt

@@ -17,8 +17,9 @@ Result<std::unique_ptr<Feature>> MakeFeature(FeatureId id, const FeatureParams& 
     return Error{fmt::format("feature {}: {}", id.ToString(), s.error().message)};
   }
   if (!ground.Contains(params.x_m, params.z_m)) {
-    return Error{fmt::format("feature {}: placement point (x {}, z {}) m is off the terrain [0, {}]^2",
-                             id.ToString(), params.x_m, params.z_m, ground.size_m())};
+    return Error{
+        fmt::format("feature {}: placement point (x {}, z {}) m is off the terrain [0, {}]^2",
+                    id.ToString(), params.x_m, params.z_m, ground.size_m())};
   }
   switch (params.type) {
     case FeatureType::kCrater:
@@ -29,6 +30,26 @@ Result<std::unique_ptr<Feature>> MakeFeature(FeatureId id, const FeatureParams& 
       return MakeBridge(id, params, ground);
   }
   std::abort();  // ValidateFeatureParams accepted an unknown type
+}
+
+Result<Material> CheckPlacementBasics(FeatureId id, const FeatureParams& params,
+                                      FeatureType expected, const HeightGrid& ground) {
+  if (params.type != expected) {
+    return Error{fmt::format("feature {}: a {} maker given a {}", id.ToString(),
+                             FeatureTypeName(expected), FeatureTypeName(params.type))};
+  }
+  if (auto s = ValidateFeatureParams(params); !s) {
+    return Error{
+        fmt::format("{} {}: {}", FeatureTypeName(expected), id.ToString(), s.error().message)};
+  }
+  if (!ground.Contains(params.x_m, params.z_m)) {
+    return Error{fmt::format("{} {}: placement point (x {}, z {}) m is off the terrain [0, {}]^2",
+                             FeatureTypeName(expected), id.ToString(), params.x_m, params.z_m,
+                             ground.size_m())};
+  }
+  if (params.material != Material::kFromGround) return params.material;
+  return ground.soil(ground.SquareAt(params.x_m, params.z_m),
+                     ground.HalfAt(params.x_m, params.z_m));
 }
 
 }  // namespace dt

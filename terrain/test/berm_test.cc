@@ -155,7 +155,7 @@ TEST(Berm, BadParametersAreRefusedWithTheValue) {
   refused(FeatureParams::Berm(50, 50, 0, 10, -3, 1), "-3");
   refused(FeatureParams::Berm(50, 50, 0, 10, 3, 51), "51");
   refused(FeatureParams::Berm(50, -1, 0, 10, 3, 1), "off the terrain");
-  refused(FeatureParams::Crater(50, 50, 3), "MakeBerm given a crater");
+  refused(FeatureParams::Crater(50, 50, 3), "a berm maker given a crater");
 }
 
 TEST(BermBreach, LeavesTwoShorterBermsAndABareGap) {

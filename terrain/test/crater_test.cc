@@ -258,7 +258,7 @@ TEST(Crater, BadParametersAreRefusedWithTheValue) {
   refused(FeatureParams::Crater(50, 50, -3), "-3");
   refused(FeatureParams::Crater(150, 50, 5), "off the terrain");
   refused(FeatureParams::Crater(NAN, 50, 5), "x_m");
-  refused(FeatureParams::Berm(50, 50, 0, 10, 3, 1), "MakeCrater given a berm");
+  refused(FeatureParams::Berm(50, 50, 0, 10, 3, 1), "a crater maker given a berm");
 }
 
 TEST(Crater, WithVertexEditKeepsEditsSortedAndReplaces) {

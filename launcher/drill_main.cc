@@ -1,8 +1,4 @@
 // dt_drill: runs a recovery drill (configs/drills/*.toml) and exits non-zero if a check fails.
-#include <fcntl.h>
-#include <signal.h>
-#include <unistd.h>
-
 #include <cstdio>
 
 #include <fmt/format.h>
@@ -10,18 +6,7 @@
 
 #include "launcher/drill_config.h"
 #include "launcher/drill_runner.h"
-
-namespace {
-
-int g_wake[2] = {-1, -1};
-
-void OnSignal(int) {
-  const char c = 's';
-  ssize_t ignored = write(g_wake[1], &c, 1);
-  (void)ignored;
-}
-
-}  // namespace
+#include "launcher/stop_signal_pipe.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Run a dynterrain recovery drill"};
@@ -60,17 +45,13 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "dt_drill: %s\n", e.what());
     return 2;
   }
-  if (pipe2(g_wake, O_CLOEXEC | O_NONBLOCK) != 0) return 2;
-  struct sigaction sa {};
-  sa.sa_handler = OnSignal;
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-  signal(SIGPIPE, SIG_IGN);
+  const int wake_fd = dt::InstallStopSignalPipe();
+  if (wake_fd < 0) return 2;
 
   dt::DrillOptions options;
   options.programs = {node_bin, server_bin};
   options.transport_override = transport;
-  options.wake_fd = g_wake[0];
+  options.wake_fd = wake_fd;
   options.echo_output = verbose;
   dt::DrillRunner runner(std::move(drill), std::move(exercise), options);
   return runner.Run();

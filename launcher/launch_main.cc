@@ -1,9 +1,5 @@
 // dt_launch: starts a whole exercise (server, standby, nodes), prefixes their output, waits for
 // every READY, and on Ctrl-C or SIGTERM stops them all by PID and reports how each ended.
-#include <fcntl.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <iostream>
@@ -12,18 +8,11 @@
 #include <CLI/CLI.hpp>
 
 #include "launcher/exercise_commands.h"
+#include "launcher/stop_signal_pipe.h"
 #include "launcher/supervisor.h"
 #include "node/exercise_config.h"
 
 namespace {
-
-int g_wake[2] = {-1, -1};
-
-void OnSignal(int) {
-  const char c = 's';
-  ssize_t ignored = write(g_wake[1], &c, 1);
-  (void)ignored;
-}
 
 void Say(const std::string& text) { dt::Supervisor::PrintPrefixed("launch", text); }
 
@@ -62,12 +51,8 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  if (pipe2(g_wake, O_CLOEXEC | O_NONBLOCK) != 0) return 1;
-  struct sigaction sa {};
-  sa.sa_handler = OnSignal;
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-  signal(SIGPIPE, SIG_IGN);
+  const int wake_fd = dt::InstallStopSignalPipe();
+  if (wake_fd < 0) return 1;
 
   // Children get the same overrides.
   std::vector<std::string> extra;
@@ -76,7 +61,7 @@ int main(int argc, char** argv) {
     extra.insert(extra.end(), {"--run-dir", exercise.run_dir.string()});
   }
   dt::Supervisor sup;
-  sup.set_wake_fd(g_wake[0]);
+  sup.set_wake_fd(wake_fd);
   int rc = 0;
   bool interrupted = false;
   try {

@@ -1,5 +1,6 @@
 // dt_launch: starts a whole exercise (server, standby, nodes), prefixes their output, waits for
 // every READY, and on Ctrl-C or SIGTERM stops them all by PID and reports how each ended.
+#include <sys/wait.h>
 
 #include <cstdio>
 #include <iostream>

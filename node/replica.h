@@ -136,6 +136,8 @@ class Replica {
   void SendReport(NodeAddress subject, bool sign_on, bool answer = false);
   void AnswerPlayback(const dtpdu::playback_t& request);
   void RequestMissing();
+  // Sends the playback request the scheduler wants now for this author's log, if any.
+  void RequestFor(NodeAddress author, const ChangeLog& log);
   void ForgetSilentReporters();
   void VoidLostOwnChanges();
   void Commit();

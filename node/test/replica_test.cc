@@ -132,6 +132,32 @@ TEST_F(ReplicaTest, AGapIsDetectedAndPlayedBackByTheAuthor) {
   EXPECT_GE(A().counters().played_back, 40u);
 }
 
+TEST_F(ReplicaTest, ACatchUpAsksForTheNextWindowWhenAnAnswerCompletesOneNotAtTheNextTick) {
+  cluster_.net().faults().Isolate(kB);
+  const int windows = 8;
+  for (int w = 0; w < windows; ++w) {
+    for (int i = 0; i < Defaults().playback_window; ++i) {
+      const int n = w * Defaults().playback_window + i;
+      ASSERT_TRUE(A().Create(FeatureParams::Crater(10 + (n % 25) * 4, 10 + (n / 25) % 25 * 4, 1)));
+    }
+    cluster_.Run(300);  // the server acknowledges: A's window is free again
+  }
+  const int64_t total = A().own_change_seq();
+  cluster_.net().faults().Heal();
+  // Ticks until B has asked for and received its first window.
+  for (int t = 0; t < 100 && (B().log(kA) == nullptr || B().log(kA)->contiguous() == 0); ++t) {
+    cluster_.Run(10);
+  }
+  ASSERT_NE(B().log(kA), nullptr);
+  const int64_t before = B().log(kA)->contiguous();
+  ASSERT_GT(before, 0);
+  ASSERT_LT(before, total);
+  // No tick from here on: every further window is asked for from inside B's handler.
+  cluster_.Deliver(200);
+  EXPECT_EQ(B().log(kA)->contiguous(), total);
+  EXPECT_EQ(B().Digest(), A().Digest());
+}
+
 TEST_F(ReplicaTest, UpdatesAndDestructsAreRecoveredToo) {
   auto id = A().Create(FeatureParams::Crater(40, 40, 5));
   auto other = A().Create(FeatureParams::Crater(80, 80, 5));

@@ -27,6 +27,9 @@ class SimCluster {
   // Moves virtual time by `ms` in steps of step_ms: each step delivers what is due and ticks
   // every replica (in address order).
   void Run(int64_t ms, int64_t step_ms = 10);
+  // Moves virtual time the same way but only delivers: no replica ticks, so only what the
+  // replicas do inside their handlers happens.
+  void Deliver(int64_t ms, int64_t step_ms = 10);
   int64_t now_ms() const { return net_.now_ms(); }
   SimNetwork& net() { return net_; }
   std::vector<NodeAddress> live() const;

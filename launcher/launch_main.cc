@@ -11,7 +11,7 @@
 #include "launcher/exercise_commands.h"
 #include "launcher/stop_signal_pipe.h"
 #include "launcher/supervisor.h"
-#include "node/exercise_config.h"
+#include "node/exercise_flags.h"
 
 namespace {
 
@@ -21,17 +21,13 @@ void Say(const std::string& text) { dt::Supervisor::PrintPrefixed("launch", text
 
 int main(int argc, char** argv) {
   CLI::App app{"Launch a dynterrain exercise: server, standby and nodes"};
-  std::string config_path;
+  dt::ExerciseFlags flags;
   dt::ProgramPaths programs = dt::ProgramPaths::BesideSelf();
   std::string node_bin = programs.node.string();
   std::string server_bin = programs.server.string();
-  std::string transport_override;
-  std::string run_dir_override;
   int ready_timeout_s = 120;
   int grace_ms = 10000;
-  app.add_option("--config", config_path, "exercise TOML (configs/exercises/*.toml)")->required();
-  app.add_option("--transport", transport_override, "override the exercise's transport URL");
-  app.add_option("--run-dir", run_dir_override, "override the exercise's run_dir");
+  flags.AddTo(app);
   app.add_option("--node-bin", node_bin, "the dt_node program")->capture_default_str();
   app.add_option("--server-bin", server_bin, "the dt_server program")->capture_default_str();
   app.add_option("--ready-timeout-s", ready_timeout_s, "give up if not all READY by then")
@@ -45,8 +41,7 @@ int main(int argc, char** argv) {
 
   dt::ExerciseConfig exercise;
   try {
-    exercise = dt::LoadExerciseConfig(config_path);
-    dt::ApplyOverrides(exercise, transport_override, run_dir_override);
+    exercise = flags.Load();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dt_launch: %s\n", e.what());
     return 2;
@@ -57,8 +52,10 @@ int main(int argc, char** argv) {
 
   // Children get the same overrides.
   std::vector<std::string> extra;
-  if (!transport_override.empty()) extra.insert(extra.end(), {"--transport", transport_override});
-  if (!run_dir_override.empty()) {
+  if (!flags.transport_override.empty()) {
+    extra.insert(extra.end(), {"--transport", flags.transport_override});
+  }
+  if (!flags.run_dir_override.empty()) {
     extra.insert(extra.end(), {"--run-dir", exercise.run_dir.string()});
   }
   dt::Supervisor sup;

@@ -7,27 +7,23 @@
 
 #include "log/log.h"
 #include "node/control_server.h"
+#include "node/exercise_flags.h"
 #include "node/node_app.h"
 #include "node/process_runtime.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"A dynterrain node"};
-  std::string config_path;
+  dt::ExerciseFlags flags;
   std::string name;
   std::string level = "info";
-  app.add_option("--config", config_path, "exercise TOML (configs/exercises/*.toml)")->required();
-  std::string transport_override;
-  std::string run_dir_override;
-  app.add_option("--transport", transport_override, "override the exercise's transport URL");
-  app.add_option("--run-dir", run_dir_override, "override the exercise's run_dir");
+  flags.AddTo(app);
   app.add_option("--name", name, "this node's name in the exercise")->required();
   app.add_option("--log-level", level, "debug, info, warn or error")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   try {
     dt::log::Init(name, level);
-    dt::ExerciseConfig exercise = dt::LoadExerciseConfig(config_path);
-    dt::ApplyOverrides(exercise, transport_override, run_dir_override);
+    dt::ExerciseConfig exercise = flags.Load();
     const dt::ProcessConfig* process = exercise.FindProcess(name);
     if (process == nullptr || process == &exercise.server ||
         (exercise.standby && process == &*exercise.standby)) {

@@ -8,6 +8,7 @@
 
 #include "log/log.h"
 #include "node/control_server.h"
+#include "node/exercise_flags.h"
 #include "node/process_runtime.h"
 #include "server/server_replica.h"
 #include "terrain/random_terrain.h"
@@ -48,15 +49,11 @@ dt::ControlReply Handle(std::string_view line, const std::string& name, dt::Node
 
 int main(int argc, char** argv) {
   CLI::App app{"The dynterrain dynamic terrain server"};
-  std::string config_path;
+  dt::ExerciseFlags flags;
   std::string name = "server";
   std::string level = "info";
   bool standby = false;
-  app.add_option("--config", config_path, "exercise TOML (configs/exercises/*.toml)")->required();
-  std::string transport_override;
-  std::string run_dir_override;
-  app.add_option("--transport", transport_override, "override the exercise's transport URL");
-  app.add_option("--run-dir", run_dir_override, "override the exercise's run_dir");
+  flags.AddTo(app);
   app.add_option("--name", name, "the server's name in the exercise")->capture_default_str();
   app.add_flag("--standby", standby, "run as the standby ([standby] of the exercise)");
   app.add_option("--log-level", level, "debug, info, warn or error")->capture_default_str();
@@ -64,8 +61,7 @@ int main(int argc, char** argv) {
 
   try {
     dt::log::Init(name, level);
-    dt::ExerciseConfig exercise = dt::LoadExerciseConfig(config_path);
-    dt::ApplyOverrides(exercise, transport_override, run_dir_override);
+    dt::ExerciseConfig exercise = flags.Load();
     const dt::ProcessConfig* process =
         standby ? (exercise.standby ? &*exercise.standby : nullptr) : &exercise.server;
     if (process == nullptr || process->name != name) {

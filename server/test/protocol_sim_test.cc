@@ -57,6 +57,8 @@ class SimRun {
   Status StartServer(NodeAddress address, NodeRole role);
   void StartNode(NodeAddress address);
   void Crash(NodeAddress address);
+  // Restarts every crashed replica whose downtime is over.
+  Status RestartDue();
   FeatureParams RandomParams(FeatureType type);
   std::string Command(NodeAddress who);
   void RecordIssued(NodeAddress who, int64_t seq_before);
@@ -149,6 +151,25 @@ void SimRun::Crash(NodeAddress address) {
   cluster_->Crash(address);
   if (use_sqlite_) stores_.erase(address);
   restart_at_ms_[address] = cluster_->now_ms() + 200 + static_cast<int64_t>(Next(1500));
+}
+
+Status SimRun::RestartDue() {
+  for (auto it = restart_at_ms_.begin(); it != restart_at_ms_.end();) {
+    if (it->second > cluster_->now_ms()) {
+      ++it;
+      continue;
+    }
+    const NodeAddress a = it->first;
+    it = restart_at_ms_.erase(it);
+    if (a == kServer || a == kStandby) {
+      if (Status s = StartServer(a, a == kServer ? NodeRole::kServer : NodeRole::kStandby); !s) {
+        return s;
+      }
+    } else {
+      StartNode(a);
+    }
+  }
+  return Status::Ok();
 }
 
 FeatureParams SimRun::RandomParams(FeatureType type) {
@@ -275,21 +296,7 @@ std::string SimRun::Run() {
     cluster_->Run(10 + 10 * static_cast<int64_t>(Next(10)));
     ObserveAcks();
     // Restarts that are due.
-    for (auto it = restart_at_ms_.begin(); it != restart_at_ms_.end();) {
-      if (it->second > cluster_->now_ms()) {
-        ++it;
-        continue;
-      }
-      const NodeAddress a = it->first;
-      it = restart_at_ms_.erase(it);
-      if (a == kServer || a == kStandby) {
-        if (auto s = StartServer(a, a == kServer ? NodeRole::kServer : NodeRole::kStandby); !s) {
-          return s.error().message;
-        }
-      } else {
-        StartNode(a);
-      }
-    }
+    if (Status s = RestartDue(); !s) return s.error().message;
     const uint64_t what = Next(100);
     if (what < 75) {
       const NodeAddress who = nodes[Next(nodes.size())];
@@ -328,21 +335,7 @@ std::string SimRun::Run() {
   while (!restart_at_ms_.empty()) {
     cluster_->Run(10);
     ObserveAcks();
-    for (auto it = restart_at_ms_.begin(); it != restart_at_ms_.end();) {
-      if (it->second > cluster_->now_ms()) {
-        ++it;
-        continue;
-      }
-      const NodeAddress a = it->first;
-      it = restart_at_ms_.erase(it);
-      if (a == kServer || a == kStandby) {
-        if (auto s = StartServer(a, a == kServer ? NodeRole::kServer : NodeRole::kStandby); !s) {
-          return s.error().message;
-        }
-      } else {
-        StartNode(a);
-      }
-    }
+    if (Status s = RestartDue(); !s) return s.error().message;
   }
   cluster_->Run(kHealMs);
   ObserveAcks();

@@ -26,6 +26,13 @@ bool Notable(std::string_view line) {
          line.find(" critical ") != std::string_view::npos || line.rfind("dt_", 0) == 0;
 }
 
+// A sanitizer's report in a child's output (asan-ubsan build, docs/testing.md).
+bool SanitizerReport(std::string_view line) {
+  return line.find("runtime error:") != std::string_view::npos ||
+         line.find("ERROR: AddressSanitizer") != std::string_view::npos ||
+         line.find("ERROR: LeakSanitizer") != std::string_view::npos;
+}
+
 double Uniform(std::mt19937_64& rng, double lo, double hi) {
   return lo + (hi - lo) * static_cast<double>(rng() >> 11) * (1.0 / 9007199254740992.0);
 }
@@ -45,7 +52,9 @@ DrillRunner::DrillRunner(DrillConfig drill, ExerciseConfig exercise, DrillOption
           std::fprintf(f, "%.*s\n", static_cast<int>(line.size()), line.data());
           std::fflush(f);
         }
-        if (options_.echo_output || Notable(line)) Supervisor::PrintPrefixed(name, line);
+        const bool report = SanitizerReport(line);
+        if (report) sanitizer_reports_.push_back(fmt::format("{}: {}", name, line));
+        if (options_.echo_output || report || Notable(line)) Supervisor::PrintPrefixed(name, line);
       }) {
   std::error_code ec;
   std::filesystem::remove_all(exercise_.run_dir, ec);
@@ -142,13 +151,24 @@ void DrillRunner::RunAction(const DrillAction& a) {
     }
     case DrillActionKind::kKill:
       for (const std::string& n : a.targets) {
+        const bool was_running = sup_.running(n);
         sup_.Signal(n, SIGKILL);
-        if (!sup_.WaitExit(n, 10000)) Check("kill " + n, false, "still running");
+        if (!sup_.WaitExit(n, 10000)) {
+          Check("kill " + n, false, "still running");
+        } else if (was_running) {
+          // Only this kill may end it: an earlier exit is a crash the kill would hide.
+          const int st = sup_.last_wait_status(n);
+          if (!WIFSIGNALED(st) || WTERMSIG(st) != SIGKILL) {
+            Check("kill " + n, false, "it had already " + DescribeWaitStatus(st));
+          }
+        }
+        stopped_.insert(n);
       }
       return;
     case DrillActionKind::kStop:
       for (const std::string& n : a.targets) {
         sup_.Signal(n, SIGTERM);
+        stopped_.insert(n);
         const bool ended = sup_.WaitExit(n, 15000);
         const int st = sup_.last_wait_status(n);
         Check("stop " + n, ended && WIFEXITED(st) && WEXITSTATUS(st) == 0,
@@ -156,7 +176,10 @@ void DrillRunner::RunAction(const DrillAction& a) {
       }
       return;
     case DrillActionKind::kRestart: {
-      for (const std::string& n : a.targets) sup_.Start(n, Command(n));
+      for (const std::string& n : a.targets) {
+        sup_.Start(n, Command(n));
+        stopped_.erase(n);
+      }
       dt::Status st = sup_.WaitReady(a.targets, static_cast<int>(drill_.ready_timeout_s * 1000));
       Check(fmt::format("restart {} READY", fmt::join(a.targets, ", ")), st.ok(),
             st ? "" : st.error().message);
@@ -439,11 +462,22 @@ int DrillRunner::Run() {
     Check("drill ran", false, e.what());
   }
   const std::vector<std::string> still = Live();
+  // A child that ended by itself (a crash, a sanitizer's abort) is a failure even when the
+  // others converged without it.
+  for (const std::string& n : sup_.names()) {
+    if (sup_.running(n) || stopped_.count(n) != 0) continue;
+    Check(n + " runs until the drill stops it", false,
+          DescribeWaitStatus(sup_.last_wait_status(n)));
+  }
   sup_.StopAll(15000);
   for (const std::string& n : still) {
     const int st = sup_.last_wait_status(n);
     Check(n + " stops cleanly", WIFEXITED(st) && WEXITSTATUS(st) == 0, DescribeWaitStatus(st));
   }
+  Check("no sanitizer report in any process's output", sanitizer_reports_.empty(),
+        sanitizer_reports_.empty() ? ""
+                                   : fmt::format("{} reports, first {}", sanitizer_reports_.size(),
+                                                 sanitizer_reports_.front()));
   for (auto& [n, f] : logs_) {
     if (f != nullptr) std::fclose(f);
   }

@@ -80,6 +80,8 @@ class DrillRunner {
   std::set<FeatureId> alive_;                // the drill's model
   std::map<std::string, uint64_t> dropped_;  // fault_dropped per process, last seen
   std::map<std::string, int64_t> acked_;     // highest acknowledged_change_seq seen per node
+  std::set<std::string> stopped_;  // killed or stopped by the drill and not restarted since
+  std::vector<std::string> sanitizer_reports_;  // "name: line" of every ASan/UBSan/LSan report
   std::vector<Burst> bursts_;
   std::vector<std::string> failures_;
   std::vector<std::string> report_;

@@ -27,9 +27,11 @@ function(dt_sanitizer_test_environment)
   if(NOT DT_SANITIZE)
     return()
   endif()
-  set(asan "halt_on_error=1:detect_leaks=1:check_initialization_order=1")
+  # exitcode 86 (also on a leak report): a report is told apart from a program's own failure
+  # (tests expect exit 1 or 2 from bad input).
+  set(asan "halt_on_error=1:exitcode=86:detect_leaks=1:check_initialization_order=1")
   set(asan "${asan}:detect_stack_use_after_return=1")
-  set(ubsan "halt_on_error=1:print_stacktrace=1")
+  set(ubsan "halt_on_error=1:exitcode=86:print_stacktrace=1")
   set(lsan "suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp")
   set(file ${PROJECT_BINARY_DIR}/sanitizer_env.cmake)
   file(WRITE ${file} "# Written by dt_sanitizer_test_environment (cmake/DynterrainTargets.cmake).\n")

@@ -56,6 +56,7 @@ class Bridge final : public Feature {
   void OnGroundChanged(const HeightGrid& ground) override;
   // Another bridge whose deck overlaps this deck (touching edges do not count).
   bool ConflictsWith(const Feature& other) const override;
+  bool CanConflict() const override { return true; }
 
   double direction_rad() const { return params_.direction_rad; }
   double width_m() const { return params_.width_m; }

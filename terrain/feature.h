@@ -56,8 +56,10 @@ class Feature {
 
   // Called after a post under the feature changed, for features that cache ground elevations.
   virtual void OnGroundChanged(const HeightGrid& /*ground*/) {}
-  // True if this feature may not coexist with `other` (bridges may not overlap).
+  // True if this feature may not coexist with `other` (bridges may not overlap). Only ever true
+  // between two features that both CanConflict(), so placing the others checks nothing.
   virtual bool ConflictsWith(const Feature& /*other*/) const { return false; }
+  virtual bool CanConflict() const { return false; }
 
  protected:
   explicit Feature(FeatureId id) : id_(id) {}

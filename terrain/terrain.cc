@@ -36,12 +36,13 @@ Status Terrain::CheckPlacement(const Feature& candidate, const Feature* replacin
                     FeatureTypeName(candidate.type()), candidate.id().ToString(), b.min_x, b.max_x,
                     b.min_z, b.max_z, ground_.size_m())};
   }
+  if (!candidate.CanConflict()) return Status::Ok();
   SquareIndex lo, hi;
   SquareRange(b, lo, hi);
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i) {
       for (const Feature* other : squares_[SquareSlot({i, j})]) {
-        if (other == replacing) continue;
+        if (other == replacing || !other->CanConflict()) continue;
         if (candidate.ConflictsWith(*other) || other->ConflictsWith(candidate)) {
           return Error{fmt::format("{} {} overlaps {} {}", FeatureTypeName(candidate.type()),
                                    candidate.id().ToString(), FeatureTypeName(other->type()),
@@ -59,7 +60,7 @@ void Terrain::Index(const Feature* feature) {
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i) {
       squares_[SquareSlot({i, j})].push_back(feature);
-      RecomputeBits({i, j});
+      bits_[SquareSlot({i, j})] |= CellsMaybeCovered(*feature, {i, j});
     }
   }
 }
@@ -77,21 +78,38 @@ void Terrain::Unindex(const Feature* feature) {
   }
 }
 
-void Terrain::RecomputeBits(SquareIndex square) {
+uint16_t Terrain::CellsMaybeCovered(const Feature& feature, SquareIndex square) const {
   const double s = ground_.spacing_m();
   const double cell = s / kBitgridCellsPerSide;
+  const double square_x0 = square.i * s, square_z0 = square.j * s;
+  // Only the cells the feature's bounds reach are asked (the bounds may end inside the square).
+  // Cells are closed rectangles, so a bound on a cell edge reaches the cells on both sides.
+  const Rect b = feature.Bounds();
+  constexpr double kLastCell = kBitgridCellsPerSide - 1;
+  auto lowest_cell = [&](double v, double origin) {
+    return static_cast<int>(std::clamp(std::ceil((v - origin) / cell) - 1.0, 0.0, kLastCell));
+  };
+  auto highest_cell = [&](double v, double origin) {
+    return static_cast<int>(std::clamp(std::floor((v - origin) / cell), 0.0, kLastCell));
+  };
+  const int cx_lo = lowest_cell(b.min_x, square_x0), cx_hi = highest_cell(b.max_x, square_x0);
+  const int cz_lo = lowest_cell(b.min_z, square_z0), cz_hi = highest_cell(b.max_z, square_z0);
   uint16_t mask = 0;
-  for (const Feature* f : squares_[SquareSlot(square)]) {
-    for (int cz = 0; cz < kBitgridCellsPerSide; ++cz) {
-      for (int cx = 0; cx < kBitgridCellsPerSide; ++cx) {
-        const double x0 = square.i * s + cx * cell;
-        const double z0 = square.j * s + cz * cell;
-        if (f->MayCover({x0, z0, x0 + cell, z0 + cell})) {
-          mask = static_cast<uint16_t>(mask | (1u << (cz * kBitgridCellsPerSide + cx)));
-        }
+  for (int cz = cz_lo; cz <= cz_hi; ++cz) {
+    for (int cx = cx_lo; cx <= cx_hi; ++cx) {
+      const double x0 = square_x0 + cx * cell;
+      const double z0 = square_z0 + cz * cell;
+      if (feature.MayCover({x0, z0, x0 + cell, z0 + cell})) {
+        mask = static_cast<uint16_t>(mask | (1u << (cz * kBitgridCellsPerSide + cx)));
       }
     }
   }
+  return mask;
+}
+
+void Terrain::RecomputeBits(SquareIndex square) {
+  uint16_t mask = 0;
+  for (const Feature* f : squares_[SquareSlot(square)]) mask |= CellsMaybeCovered(*f, square);
   bits_[SquareSlot(square)] = mask;
 }
 

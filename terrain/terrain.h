@@ -77,6 +77,8 @@ class Terrain {
   Status CheckPlacement(const Feature& candidate, const Feature* replacing) const;
   void Index(const Feature* feature);
   void Unindex(const Feature* feature);
+  // The bitgrid cells of `square` the feature may cover.
+  uint16_t CellsMaybeCovered(const Feature& feature, SquareIndex square) const;
   void RecomputeBits(SquareIndex square);
 
   HeightGrid ground_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -367,6 +368,43 @@ TEST(TerrainFeatures, DiagonalBermSetsBitsAlongItsFootprintOnly) {
   // The box of a diagonal strip is mostly empty.
   EXPECT_GT(bits_set, 0);
   EXPECT_LT(bits_set, cells / 3);
+}
+
+// Adding ORs a feature's cells in, removing recomputes the square: after any sequence both must
+// give what a terrain built afresh from the survivors gives.
+TEST(TerrainFeatures, BitsAfterAddsAndRemovesEqualBitsOfAFreshTerrain) {
+  Terrain t(SlopedGround());
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> pos(20.0, 180.0), radius(0.3, 6.0), unit(0.0, 1.0);
+  std::vector<uint32_t> live;
+  uint32_t next = 1;
+  for (int step = 0; step < 400; ++step) {
+    if (live.empty() || unit(rng) < 0.6) {
+      // Crater edges on cell edges (multiples of 0.5 m) test the closed-cell rule.
+      const double x = unit(rng) < 0.3 ? std::round(pos(rng)) + 0.5 : pos(rng);
+      const double r = unit(rng) < 0.3 ? std::round(radius(rng)) + 0.5 : radius(rng);
+      const FeatureParams p =
+          unit(rng) < 0.8 ? FeatureParams::Crater(x, pos(rng), r)
+                          : FeatureParams::Berm(x, pos(rng), 6.0 * unit(rng), 10.0 * r, 3.0, 1.0);
+      if (t.Add(Id(next), p).ok()) live.push_back(next++);  // a long berm may leave the terrain
+    } else {
+      const size_t k = static_cast<size_t>(unit(rng) * static_cast<double>(live.size()));
+      ASSERT_TRUE(t.Remove(Id(live[k])).ok());
+      live.erase(live.begin() + static_cast<std::ptrdiff_t>(k));
+    }
+  }
+  Terrain fresh(SlopedGround());
+  for (const Feature* f : t.FeaturesById()) ExpectAdded(fresh, f->id(), f->params());
+  const int m = t.ground().squares_per_side();
+  int differing = 0, nonzero = 0;
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < m; ++i) {
+      differing += t.SquareBits({i, j}) != fresh.SquareBits({i, j});
+      nonzero += t.SquareBits({i, j}) != 0;
+    }
+  }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(nonzero, 500);  // the check compared real masks, not empty squares
 }
 
 TEST(TerrainFeatures, SetPostElevationMovesACraterWithTheGround) {

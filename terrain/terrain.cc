@@ -114,15 +114,17 @@ void Terrain::RecomputeBits(SquareIndex square) {
 }
 
 Status Terrain::Add(FeatureId id, const FeatureParams& params) {
-  if (features_.contains(id)) {
-    return Error{fmt::format("feature {} already exists", id.ToString())};
-  }
+  // One lookup: the slot is claimed first and given back if the feature is refused.
+  auto [it, fresh] = features_.try_emplace(id);
+  if (!fresh) return Error{fmt::format("feature {} already exists", id.ToString())};
   auto made = MakeFeature(id, params, ground_);
-  if (!made) return made.error();
-  if (auto s = CheckPlacement(*made.value(), nullptr); !s) return s;
-  const Feature* raw = made.value().get();
-  features_.emplace(id, std::move(made).value());
-  Index(raw);
+  Status placed = made ? CheckPlacement(*made.value(), nullptr) : Status{made.error()};
+  if (!placed) {
+    features_.erase(it);
+    return placed;
+  }
+  it->second = std::move(made).value();
+  Index(it->second.get());
   return Status::Ok();
 }
 

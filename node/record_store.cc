@@ -38,12 +38,11 @@ RecordStore::Outcome RecordStore::Apply(const Change& change) {
   if (was_bridge) live_bridges_.erase(change.id);
   const bool is_bridge = is_live && r.params.type == FeatureType::kBridge;
   if (is_bridge) live_bridges_.insert(change.id);
-  Materialise(change.id, was_bridge || is_bridge);
+  Materialise(change.id, r, was_bridge || is_bridge);
   return Outcome::kApplied;
 }
 
-void RecordStore::Materialise(FeatureId id, bool bridge_involved) {
-  Record& r = records_.at(id);
+void RecordStore::Materialise(FeatureId id, Record& r, bool bridge_involved) {
   if (r.placed) {
     if (!terrain_.Remove(id)) std::abort();  // placed means the terrain holds it
     r.placed = false;

@@ -38,7 +38,8 @@ class RecordStore {
   Status CheckPlaceable(FeatureId id, const FeatureParams& params) const;
 
  private:
-  void Materialise(FeatureId id, bool bridge_involved);
+  // `r` is the record of `id` (passed so it is not looked up again).
+  void Materialise(FeatureId id, Record& r, bool bridge_involved);
   void RematerialiseBridges();
 
   Terrain terrain_;

@@ -1,14 +1,22 @@
 #include "node/change_log.h"
 
 #include <algorithm>
+#include <tuple>
 
 namespace dt {
 
 bool ChangeLog::Insert(const Change& change) {
   const int64_t seq = change.stamp.change_seq;
-  if (!changes_.emplace(seq, change).second) return false;
+  std::map<int64_t, Change>::iterator it;
+  if (changes_.empty() || seq > changes_.rbegin()->first) {
+    // The usual case, the author's next change: appended without a search.
+    it = changes_.emplace_hint(changes_.end(), seq, change);
+  } else {
+    bool fresh = false;
+    std::tie(it, fresh) = changes_.emplace(seq, change);
+    if (!fresh) return false;
+  }
   if (seq == contiguous_ + 1) {
-    auto it = changes_.find(seq);
     while (it != changes_.end() && it->first == contiguous_ + 1) {
       ++contiguous_;
       ++it;

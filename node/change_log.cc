@@ -1,39 +1,55 @@
 #include "node/change_log.h"
 
 #include <algorithm>
-#include <tuple>
 
 namespace dt {
 
 bool ChangeLog::Insert(const Change& change) {
   const int64_t seq = change.stamp.change_seq;
-  std::map<int64_t, Change>::iterator it;
-  if (changes_.empty() || seq > changes_.rbegin()->first) {
-    // The usual case, the author's next change: appended without a search.
-    it = changes_.emplace_hint(changes_.end(), seq, change);
+  const auto slots = static_cast<int64_t>(slots_.size());
+  if (Find(seq) != nullptr) return false;
+  if (seq >= 1 && seq <= slots) {
+    slots_[static_cast<size_t>(seq - 1)] = change;
+  } else if (seq > slots && seq - slots <= kMaxSlotJump) {
+    slots_.resize(static_cast<size_t>(seq - 1));
+    slots_.emplace_back(change);
   } else {
-    bool fresh = false;
-    std::tie(it, fresh) = changes_.emplace(seq, change);
-    if (!fresh) return false;
+    aside_.emplace(seq, change);
   }
-  if (seq == contiguous_ + 1) {
-    while (it != changes_.end() && it->first == contiguous_ + 1) {
-      ++contiguous_;
-      ++it;
-    }
-  }
+  ++held_;
+  max_held_ = std::max(max_held_, seq);
+  while (Find(contiguous_ + 1) != nullptr) ++contiguous_;
   return true;
 }
 
 const Change* ChangeLog::Find(int64_t seq) const {
-  auto it = changes_.find(seq);
-  return it == changes_.end() ? nullptr : &it->second;
+  if (seq >= 1 && seq <= static_cast<int64_t>(slots_.size())) {
+    const auto& slot = slots_[static_cast<size_t>(seq - 1)];
+    if (slot) return &*slot;
+  }
+  if (aside_.empty()) return nullptr;
+  auto it = aside_.find(seq);
+  return it == aside_.end() ? nullptr : &it->second;
 }
 
 std::vector<const Change*> ChangeLog::Range(int64_t start, int64_t end) const {
   std::vector<const Change*> out;
-  for (auto it = changes_.lower_bound(start); it != changes_.end() && it->first <= end; ++it) {
-    out.push_back(&it->second);
+  const int64_t first = std::max<int64_t>(start, 1);
+  const int64_t last = std::min<int64_t>(end, static_cast<int64_t>(slots_.size()));
+  for (int64_t seq = first; seq <= last; ++seq) {
+    const auto& slot = slots_[static_cast<size_t>(seq - 1)];
+    if (slot) out.push_back(&*slot);
+  }
+  if (!aside_.empty()) {
+    const size_t from_slots = out.size();
+    for (auto it = aside_.lower_bound(start); it != aside_.end() && it->first <= end; ++it) {
+      out.push_back(&it->second);
+    }
+    if (out.size() != from_slots) {
+      std::sort(out.begin(), out.end(), [](const Change* a, const Change* b) {
+        return a->stamp.change_seq < b->stamp.change_seq;
+      });
+    }
   }
   return out;
 }
@@ -48,9 +64,18 @@ std::pair<int64_t, int64_t> ChangeLog::FirstGap() const {
   if (!has_gap()) return {0, -1};
   const int64_t known = max_known();
   const int64_t start = contiguous_ + 1;
-  auto next = changes_.upper_bound(contiguous_);
-  const int64_t end = next == changes_.end() ? known : next->first - 1;
-  return {start, end};
+  // The next held sequence: a slot is at most kMaxSlotJump past a held one, so this scan is short.
+  int64_t next = known + 1;
+  for (int64_t seq = start + 1; seq <= static_cast<int64_t>(slots_.size()); ++seq) {
+    if (slots_[static_cast<size_t>(seq - 1)]) {
+      next = seq;
+      break;
+    }
+  }
+  if (auto it = aside_.upper_bound(contiguous_); it != aside_.end()) {
+    next = std::min(next, it->first);
+  }
+  return {start, std::min(known, next - 1)};
 }
 
 }  // namespace dt

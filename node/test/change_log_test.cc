@@ -46,6 +46,33 @@ TEST(ChangeLogTest, GapFreePointFollowsArrivalsInAnyOrder) {
   EXPECT_FALSE(log.has_gap());
 }
 
+TEST(ChangeLogTest, ChangesFarAheadAreHeldAsideAndStillCountInOrder) {
+  ChangeLog log;
+  const auto far = static_cast<uint32_t>(1 + 4 * ChangeLog::kMaxSlotJump);
+  EXPECT_TRUE(log.Insert(Numbered(1)));
+  EXPECT_TRUE(log.Insert(Numbered(far)));      // a rejoining node hears a live change first
+  EXPECT_TRUE(log.Insert(Numbered(far + 2)));  // and another, past a gap
+  EXPECT_FALSE(log.Insert(Numbered(far)));
+  EXPECT_EQ(log.max_held(), far + 2);
+  EXPECT_EQ(log.FirstGap(), std::make_pair(int64_t{2}, int64_t{far - 1}));
+  const Change* held = log.Find(far);
+  ASSERT_NE(held, nullptr);
+  for (uint32_t s = 2; s < far; ++s) ASSERT_TRUE(log.Insert(Numbered(s)));
+  EXPECT_EQ(log.Find(far), held);  // held changes never move
+  EXPECT_FALSE(log.Insert(Numbered(far)));
+  EXPECT_EQ(log.contiguous(), far);
+  EXPECT_EQ(log.FirstGap(), std::make_pair(int64_t{far + 1}, int64_t{far + 1}));
+  EXPECT_TRUE(log.Insert(Numbered(far + 1)));
+  EXPECT_EQ(log.contiguous(), far + 2);
+  EXPECT_EQ(log.size(), size_t{far + 2});
+  const auto range = log.Range(far - 1, far + 5);
+  ASSERT_EQ(range.size(), 4u);
+  for (size_t i = 0; i < range.size(); ++i) {
+    EXPECT_EQ(range[i]->stamp.change_seq, far - 1 + i);
+  }
+  EXPECT_EQ(log.Range(1, far + 2).size(), size_t{far + 2});
+}
+
 TEST(PlaybackSchedulerTest, PacesRetriesAndMovesToTheNextCandidate) {
   ChangeLog log;
   log.Report({1, 1}, 1000);

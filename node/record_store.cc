@@ -1,5 +1,8 @@
 #include "node/record_store.h"
 
+#include <iterator>
+#include <tuple>
+
 #include <fmt/format.h>
 
 #include "terrain/feature.h"
@@ -13,8 +16,23 @@ const Record* RecordStore::Find(FeatureId id) const {
   return it == records_.end() ? nullptr : &it->second;
 }
 
+std::pair<std::map<FeatureId, Record>::iterator, bool> RecordStore::Claim(FeatureId id) {
+  auto newest = newest_.find(OriginOf(id));
+  if (newest != newest_.end() && newest->second->first < id) {
+    // Past every number of its origin: the record goes right after that origin's newest one,
+    // which the hint makes an insertion without a search of the tree.
+    auto it = records_.emplace_hint(std::next(newest->second), std::piecewise_construct,
+                                    std::forward_as_tuple(id), std::forward_as_tuple());
+    newest->second = it;
+    return {it, true};
+  }
+  auto claimed = records_.try_emplace(id);
+  if (claimed.second && newest == newest_.end()) newest_.emplace(OriginOf(id), claimed.first);
+  return claimed;
+}
+
 RecordStore::Outcome RecordStore::Apply(const Change& change) {
-  auto [it, fresh] = records_.try_emplace(change.id);
+  auto [it, fresh] = Claim(change.id);
   Record& r = it->second;
   const bool was_bridge = !fresh && !r.destroyed && r.params.type == FeatureType::kBridge;
   if (!fresh) {

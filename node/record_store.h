@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <map>
 #include <set>
+#include <utility>
 
 #include "node/change.h"
 #include "terrain/result.h"
@@ -40,11 +41,16 @@ class RecordStore {
  private:
   // `r` is the record of `id` (passed so it is not looked up again).
   void Materialise(FeatureId id, Record& r, bool bridge_involved);
+  // The record of `id`, made empty if new (`second` true then).
+  std::pair<std::map<FeatureId, Record>::iterator, bool> Claim(FeatureId id);
   void RematerialiseBridges();
 
   Terrain terrain_;
   std::map<FeatureId, Record> records_;
   std::set<FeatureId> live_bridges_;
+  // Per origin, its record with the highest number. Records are never erased, so these stay
+  // valid; a node's next feature is inserted after its newest without searching.
+  std::map<NodeAddress, std::map<FeatureId, Record>::iterator> newest_;
   size_t live_ = 0;
 };
 

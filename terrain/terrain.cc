@@ -114,45 +114,40 @@ void Terrain::RecomputeBits(SquareIndex square) {
 }
 
 Status Terrain::Add(FeatureId id, const FeatureParams& params) {
-  // One lookup: the slot is claimed first and given back if the feature is refused.
-  auto [it, fresh] = features_.try_emplace(id);
-  if (!fresh) return Error{fmt::format("feature {} already exists", id.ToString())};
-  auto made = MakeFeature(id, params, ground_);
-  Status placed = made ? CheckPlacement(*made.value(), nullptr) : Status{made.error()};
-  if (!placed) {
-    features_.erase(it);
-    return placed;
+  if (features_.Find(id) != nullptr) {
+    return Error{fmt::format("feature {} already exists", id.ToString())};
   }
-  it->second = std::move(made).value();
-  Index(it->second.get());
+  auto made = MakeFeature(id, params, ground_);
+  if (!made) return made.error();
+  if (auto s = CheckPlacement(*made.value(), nullptr); !s) return s;
+  Index(features_.Insert(id, std::move(made).value()));
   return Status::Ok();
 }
 
 Status Terrain::Update(FeatureId id, const FeatureParams& params) {
-  auto it = features_.find(id);
-  if (it == features_.end()) {
+  const Feature* old = features_.Find(id);
+  if (old == nullptr) {
     return Error{fmt::format("feature {} does not exist", id.ToString())};
   }
-  if (it->second->type() != params.type) {
+  if (old->type() != params.type) {
     return Error{fmt::format("feature {} is a {}; an update cannot make it a {}", id.ToString(),
-                             FeatureTypeName(it->second->type()), FeatureTypeName(params.type))};
+                             FeatureTypeName(old->type()), FeatureTypeName(params.type))};
   }
   auto made = MakeFeature(id, params, ground_);
   if (!made) return made.error();
-  if (auto s = CheckPlacement(*made.value(), it->second.get()); !s) return s;
-  Unindex(it->second.get());
-  it->second = std::move(made).value();
-  Index(it->second.get());
+  if (auto s = CheckPlacement(*made.value(), old); !s) return s;
+  Unindex(old);
+  Index(features_.Replace(id, std::move(made).value()));
   return Status::Ok();
 }
 
 Status Terrain::Remove(FeatureId id) {
-  auto it = features_.find(id);
-  if (it == features_.end()) {
+  const Feature* f = features_.Find(id);
+  if (f == nullptr) {
     return Error{fmt::format("feature {} does not exist", id.ToString())};
   }
-  Unindex(it->second.get());
-  features_.erase(it);
+  Unindex(f);
+  features_.Erase(id);
   return Status::Ok();
 }
 
@@ -170,7 +165,7 @@ std::vector<FeatureId> Terrain::RemoveAt(double x_m, double z_m) {
 }
 
 void Terrain::RemoveAll() {
-  features_.clear();
+  features_.Clear();
   for (auto& list : squares_) std::vector<const Feature*>().swap(list);
   std::fill(bits_.begin(), bits_.end(), uint16_t{0});
 }
@@ -214,15 +209,12 @@ Status Terrain::SetSoil(SquareIndex square, TriangleHalf half, Material soil) {
   return Status::Ok();
 }
 
-const Feature* Terrain::Find(FeatureId id) const {
-  auto it = features_.find(id);
-  return it == features_.end() ? nullptr : it->second.get();
-}
+const Feature* Terrain::Find(FeatureId id) const { return features_.Find(id); }
 
 std::vector<const Feature*> Terrain::FeaturesById() const {
   std::vector<const Feature*> out;
   out.reserve(features_.size());
-  for (const auto& [id, f] : features_) out.push_back(f.get());
+  features_.ForEach([&](const Feature& f) { out.push_back(&f); });
   std::sort(out.begin(), out.end(),
             [](const Feature* a, const Feature* b) { return a->id() < b->id(); });
   return out;

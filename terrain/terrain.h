@@ -4,12 +4,12 @@
 #include <cstdint>
 #include <memory>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 #include "terrain/feature.h"
 #include "terrain/feature_id.h"
 #include "terrain/feature_params.h"
+#include "terrain/feature_table.h"
 #include "terrain/height_grid.h"
 #include "terrain/result.h"
 
@@ -82,7 +82,7 @@ class Terrain {
   void RecomputeBits(SquareIndex square);
 
   HeightGrid ground_;
-  std::unordered_map<FeatureId, std::unique_ptr<Feature>> features_;
+  FeatureTable features_;
   std::vector<std::vector<const Feature*>> squares_;  // features touching each square
   std::vector<uint16_t> bits_;                        // 4 x 4 presence bits per square
 };

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <map>
 #include <numbers>
 #include <random>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -405,6 +408,46 @@ TEST(TerrainFeatures, BitsAfterAddsAndRemovesEqualBitsOfAFreshTerrain) {
   }
   EXPECT_EQ(differing, 0);
   EXPECT_GT(nonzero, 500);  // the check compared real masks, not empty squares
+}
+
+TEST(TerrainFeatures, FindAgreesWithTheAddedAndRemovedIdsOfManyOrigins) {
+  // Enough adds and removes of interleaved origins, with some numbers far apart, that the ID
+  // table grows several times and removals shift probe runs.
+  Terrain t(SlopedGround());
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> pos(20.0, 180.0), unit(0.0, 1.0);
+  std::set<FeatureId> live;
+  std::map<NodeAddress, uint32_t> next;
+  for (int step = 0; step < 6000; ++step) {
+    if (live.empty() || unit(rng) < 0.65) {
+      const NodeAddress origin{1, static_cast<uint16_t>(1 + static_cast<int>(unit(rng) * 4))};
+      uint32_t& n = next[origin];
+      n += unit(rng) < 0.05 ? 100000 : 1;
+      const FeatureId id{origin.site, origin.host, n};
+      ASSERT_TRUE(t.Add(id, FeatureParams::Crater(pos(rng), pos(rng), 1.0)).ok());
+      live.insert(id);
+      EXPECT_FALSE(t.Add(id, FeatureParams::Crater(100, 100, 1.0)).ok());  // already held
+    } else {
+      auto it = live.begin();
+      std::advance(it, static_cast<std::ptrdiff_t>(unit(rng) * static_cast<double>(live.size())));
+      ASSERT_TRUE(t.Remove(*it).ok());
+      EXPECT_EQ(t.Find(*it), nullptr);
+      EXPECT_FALSE(t.Remove(*it).ok());
+      live.erase(it);
+    }
+  }
+  ASSERT_EQ(t.feature_count(), live.size());
+  ASSERT_GT(live.size(), 1000u);
+  for (const FeatureId& id : live) {
+    const Feature* f = t.Find(id);
+    ASSERT_NE(f, nullptr) << id.ToString();
+    EXPECT_EQ(f->id(), id);
+  }
+  const auto by_id = t.FeaturesById();
+  ASSERT_EQ(by_id.size(), live.size());
+  auto expected = live.begin();
+  for (const Feature* f : by_id) EXPECT_EQ(f->id(), *expected++);
+  EXPECT_EQ(t.Find({1, 9, 1}), nullptr);
 }
 
 TEST(TerrainFeatures, SetPostElevationMovesACraterWithTheGround) {

@@ -7,12 +7,20 @@ namespace dt {
 std::optional<PlaybackScheduler::Request> PlaybackScheduler::Poll(
     NodeAddress author, const ChangeLog& log, const std::vector<NodeAddress>& candidates,
     int64_t now_ms) {
+  return Poll(
+      author, log, [&] { return candidates; }, now_ms);
+}
+
+std::optional<PlaybackScheduler::Request> PlaybackScheduler::Poll(
+    NodeAddress author, const ChangeLog& log,
+    const std::function<std::vector<NodeAddress>()>& list_candidates, int64_t now_ms) {
   auto it = outstanding_.find(author);
   if (!log.has_gap()) {
     if (it != outstanding_.end()) outstanding_.erase(it);
     return std::nullopt;
   }
-  if (candidates.empty()) return std::nullopt;
+  // Every return before the candidates are needed changes nothing, so asking for them only then
+  // gives the same requests as asking first.
   uint64_t attempts = 0;
   if (it != outstanding_.end()) {
     Outstanding& o = it->second;
@@ -25,6 +33,8 @@ std::optional<PlaybackScheduler::Request> PlaybackScheduler::Poll(
     }
     attempts = progressed ? 0 : o.attempts + 1;
   }
+  const std::vector<NodeAddress> candidates = list_candidates();
+  if (candidates.empty()) return std::nullopt;
   auto [start, end] = log.FirstGap();
   end = std::min(end, start + window_ - 1);
   Outstanding o;

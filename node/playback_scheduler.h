@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <vector>
@@ -29,6 +30,11 @@ class PlaybackScheduler {
   // The request to send now for this author's log, if any.
   std::optional<Request> Poll(NodeAddress author, const ChangeLog& log,
                               const std::vector<NodeAddress>& candidates, int64_t now_ms);
+  // The same, calling `candidates` only when a request may be sent: they cost a scan of the
+  // peers, and a replica polls every author on every tick while most polls send nothing.
+  std::optional<Request> Poll(NodeAddress author, const ChangeLog& log,
+                              const std::function<std::vector<NodeAddress>()>& candidates,
+                              int64_t now_ms);
   // A response marker for the author's range arrived: the next Poll may ask again at once.
   void OnResponse(NodeAddress author, int64_t start, int64_t end);
   // Forget everything outstanding (a restart of the protocol).

@@ -567,7 +567,8 @@ void Replica::RequestMissing() {
 }
 
 void Replica::RequestFor(NodeAddress author, const ChangeLog& log) {
-  auto req = scheduler_.Poll(author, log, Candidates(author), now_ms_);
+  auto req = scheduler_.Poll(
+      author, log, [this, author] { return Candidates(author); }, now_ms_);
   if (!req) return;
   dtpdu::playback_t pdu{};
   pdu.requesting = ToPdu(config_.address);

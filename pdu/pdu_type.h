@@ -42,6 +42,7 @@ inline constexpr size_t kMaxPduBytes = 1400;
 
 // Role carried by MaxFeature PDUs.
 enum class NodeRole : uint8_t { kNode = 0, kServer = 1, kStandby = 2 };
+inline bool IsServerRole(NodeRole r) { return r == NodeRole::kServer || r == NodeRole::kStandby; }
 inline bool IsValidNodeRole(uint8_t raw) { return raw <= 2; }
 
 // What a Playback PDU's start and end count.

@@ -35,15 +35,12 @@ class SimCluster {
   std::vector<NodeAddress> live() const;
 
  private:
+  // Members are destroyed in reverse order: the replica before the bus it subscribed to, the bus
+  // before its transport.
   struct Member {
     std::unique_ptr<Transport> transport;
     std::unique_ptr<PduBus> bus;
     std::unique_ptr<Replica> replica;
-    ~Member() {
-      replica.reset();
-      bus.reset();
-      transport.reset();
-    }
   };
 
   SimNetwork net_;

@@ -64,15 +64,12 @@ class LcmCluster {
 
  private:
   class MemqHub;
+  // Members are destroyed in reverse order: the replica before the bus it subscribed to, the bus
+  // before its transport.
   struct Member {
     std::unique_ptr<Transport> transport;  // for memq a MemqHub endpoint
     std::unique_ptr<PduBus> bus;
     std::unique_ptr<Replica> replica;
-    ~Member() {
-      replica.reset();
-      bus.reset();
-      transport.reset();
-    }
   };
 
   std::string url_;

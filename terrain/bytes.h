@@ -21,7 +21,9 @@ class ByteWriter {
   void I32(int32_t v) { U32(static_cast<uint32_t>(v)); }
   void F32(float v) { U32(std::bit_cast<uint32_t>(v)); }
   void F64(double v) { U64(std::bit_cast<uint64_t>(v)); }
-  void Bytes(std::span<const uint8_t> data) { bytes_.insert(bytes_.end(), data.begin(), data.end()); }
+  void Bytes(std::span<const uint8_t> data) {
+    bytes_.insert(bytes_.end(), data.begin(), data.end());
+  }
   void String(const std::string& s) {
     U32(static_cast<uint32_t>(s.size()));
     bytes_.insert(bytes_.end(), s.begin(), s.end());

@@ -1,18 +1,19 @@
 #include "terrain/feature_params.h"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 namespace dt {
 namespace {
 
-Status CheckRange(std::string_view field, double value, double min_exclusive, double max_inclusive) {
+Status CheckRange(std::string_view field, double value, double min_exclusive,
+                  double max_inclusive) {
   if (!std::isfinite(value)) {
     return Error{fmt::format("{} is not finite ({})", field, value)};
   }
   if (!(value > min_exclusive) || value > max_inclusive) {
-    return Error{fmt::format("{} = {} is outside ({}, {}]", field, value, min_exclusive,
-                             max_inclusive)};
+    return Error{
+        fmt::format("{} = {} is outside ({}, {}]", field, value, min_exclusive, max_inclusive)};
   }
   return Status::Ok();
 }
@@ -83,10 +84,15 @@ Status ValidateFeatureParams(const FeatureParams& p) {
   if (!IsValidMaterial(static_cast<uint16_t>(p.material))) {
     return Error{fmt::format("unknown material {}", static_cast<uint16_t>(p.material))};
   }
-  for (auto [name, v] : {std::pair{"x_m", p.x_m}, {"z_m", p.z_m}, {"direction_rad", p.direction_rad},
-                         {"height_m[0]", p.height_m[0]}, {"height_m[1]", p.height_m[1]},
-                         {"length_m[0]", p.length_m[0]}, {"length_m[1]", p.length_m[1]},
-                         {"length_m[2]", p.length_m[2]}, {"width_m", p.width_m}}) {
+  for (auto [name, v] : {std::pair{"x_m", p.x_m},
+                         {"z_m", p.z_m},
+                         {"direction_rad", p.direction_rad},
+                         {"height_m[0]", p.height_m[0]},
+                         {"height_m[1]", p.height_m[1]},
+                         {"length_m[0]", p.length_m[0]},
+                         {"length_m[1]", p.length_m[1]},
+                         {"length_m[2]", p.length_m[2]},
+                         {"width_m", p.width_m}}) {
     if (auto s = CheckFinite(name, v); !s) return s;
   }
   if (p.type != FeatureType::kCrater && !p.vertex_edits.empty()) {
@@ -98,7 +104,8 @@ Status ValidateFeatureParams(const FeatureParams& p) {
   }
   switch (p.type) {
     case FeatureType::kCrater: {
-      if (auto s = CheckRange("crater radius_m", p.length_m[0], 0.0, kMaxCraterRadiusM); !s) return s;
+      if (auto s = CheckRange("crater radius_m", p.length_m[0], 0.0, kMaxCraterRadiusM); !s)
+        return s;
       const CraterVertexEdit* previous = nullptr;
       for (const auto& e : p.vertex_edits) {
         if (e.spoke >= kCraterSpokes || e.ring >= kCraterRings) {

@@ -73,8 +73,8 @@ struct FeatureParams {
                             double width_m, double height_m,
                             Material material = Material::kFromGround);
   static FeatureParams Bridge(double x_m, double z_m, double direction_rad, double width_m,
-                              double ramp1_length_m, double span_length_m,
-                              double ramp2_length_m, double height1_m, double height2_m,
+                              double ramp1_length_m, double span_length_m, double ramp2_length_m,
+                              double height1_m, double height2_m,
                               Material material = Material::kConcrete);
 };
 

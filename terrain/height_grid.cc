@@ -60,8 +60,8 @@ void HeightGrid::set_post(int i, int j, float elevation_m) {
     throw std::out_of_range(fmt::format("post ({}, {}) is outside the {} x {} grid", i, j, n_, n_));
   }
   if (!std::isfinite(elevation_m)) {
-    throw std::invalid_argument(fmt::format("post ({}, {}) elevation {} is not finite", i, j,
-                                            elevation_m));
+    throw std::invalid_argument(
+        fmt::format("post ({}, {}) elevation {} is not finite", i, j, elevation_m));
   }
   posts_[Index(i, j)] = elevation_m;
 }
@@ -125,9 +125,8 @@ Eigen::Vector3d HeightGrid::NormalAt(double x_m, double z_m) const {
 
 void HeightGrid::set_soil(SquareIndex square, TriangleHalf half, Material soil) {
   if (square.i < 0 || square.j < 0 || square.i >= n_ - 1 || square.j >= n_ - 1) {
-    throw std::out_of_range(
-        fmt::format("square ({}, {}) is outside the {} x {} squares", square.i, square.j, n_ - 1,
-                    n_ - 1));
+    throw std::out_of_range(fmt::format("square ({}, {}) is outside the {} x {} squares", square.i,
+                                        square.j, n_ - 1, n_ - 1));
   }
   if (!IsValidMaterial(static_cast<uint16_t>(soil)) || soil == Material::kFromGround) {
     throw std::invalid_argument(fmt::format("{} is not a soil", static_cast<uint16_t>(soil)));

@@ -5,7 +5,8 @@
 namespace dt {
 namespace {
 constexpr std::array<std::string_view, kMaterialCount> kNames = {
-    "from_ground", "grass", "dirt", "sand", "rock", "mud", "gravel", "concrete", "asphalt", "steel"};
+    "from_ground", "grass",  "dirt",     "sand",    "rock",
+    "mud",         "gravel", "concrete", "asphalt", "steel"};
 }  // namespace
 
 std::string_view MaterialName(Material material) {

@@ -14,6 +14,7 @@
 #include "render/camera.h"
 #include "render/png_io.h"
 #include "render/renderer.h"
+#include "render/vehicle_sprite.h"
 
 namespace dt {
 namespace {
@@ -115,18 +116,7 @@ Status RenderMapPng(const Terrain& terrain, const std::vector<Vehicle>& vehicles
     const double size_m = terrain.ground().size_m();
     const Camera camera = Camera::MapOf(Rect{0.0, 0.0, size_m, size_m}, 512);
     std::vector<VehicleSprite> sprites;
-    for (const Vehicle& v : vehicles) {
-      VehicleSprite s;
-      s.x_m = v.x_m();
-      s.z_m = v.z_m();
-      s.y_m = v.elevation_m();
-      s.heading_rad = v.heading_rad();
-      s.pitch_rad = v.pitch_rad();
-      s.roll_rad = v.roll_rad();
-      s.length_m = v.type().length_m;
-      s.width_m = v.type().width_m;
-      sprites.push_back(s);
-    }
+    for (const Vehicle& v : vehicles) sprites.push_back(SpriteOf(v));
     RenderOptions options;
     options.grid_spacing_m = 0.0;
     return WritePng(renderer->Render(terrain, sprites, camera, options), path);

@@ -6,6 +6,9 @@
 #include <chrono>
 #include <cstdlib>
 
+#include "node/change.h"
+#include "pdu/pdu_traits.h"
+
 namespace dt::bench {
 namespace {
 
@@ -25,6 +28,17 @@ size_t TypeIndex(PduType type) {
 }
 
 }  // namespace
+
+std::vector<uint8_t> BenchConstructBytes(NodeAddress origin) {
+  Change c;
+  c.kind = ChangeKind::kConstruct;
+  c.id = {origin.site, origin.host, 1};
+  c.params = BenchCrater(0);
+  c.stamp.changed_by = origin;
+  c.stamp.change_seq = 1;
+  c.stamp.lamport = 1;
+  return EncodePdu(ToConstruct(ToFeaturePdu(c)));
+}
 
 // One LcmTransport("memq://"); each endpoint is a Transport whose handlers see every message.
 class LcmCluster::MemqHub {

@@ -25,6 +25,10 @@ inline FeatureParams BenchCrater(int64_t n) {
                                100 + static_cast<double>((n / 980) % 980) * 10.0, 2);
 }
 
+// The bytes of a Construct of BenchCrater(0) from `origin`, as its replica publishes it: every
+// field but the vertex edits has a fixed size, so this is the size of every bench crater's.
+std::vector<uint8_t> BenchConstructBytes(NodeAddress origin);
+
 // memq:// is one LCM queue per lcm_t, so every member's PduBus sits on an endpoint of one shared
 // LcmTransport that hands each message to every live member (as multicast would); a member can
 // leave without the others. udpm://... gives each member its own LcmTransport (its own socket).

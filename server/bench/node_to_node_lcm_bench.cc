@@ -9,7 +9,6 @@
 #include <benchmark/benchmark.h>
 
 #include "log/log.h"
-#include "node/change.h"
 #include "node/memory_change_store.h"
 #include "pdu/bench/raw_lcm_link.h"
 #include "pdu/pdu_traits.h"
@@ -45,17 +44,6 @@ ReplicaConfig FastAcks() {
   rc.playback_retry_ms = 100;
   rc.playback_window = 4096;
   return rc;
-}
-
-std::vector<uint8_t> ConstructBytes() {
-  Change c;
-  c.kind = ChangeKind::kConstruct;
-  c.id = {kA.site, kA.host, 1};
-  c.params = bench::BenchCrater(0);
-  c.stamp.changed_by = kA;
-  c.stamp.change_seq = 1;
-  c.stamp.lamport = 1;
-  return EncodePdu(ToConstruct(ToFeaturePdu(c)));
 }
 
 double Percentile(std::vector<double> v, double p) {
@@ -160,7 +148,8 @@ void BM_NodeToNodeVsRawLcm(benchmark::State& state, std::string url, bool fast_a
   const auto sample = r.cluster().TakeRecorded();  // memq only
   // A Construct of the same crater encoded here is the same size (every field but the vertex
   // edits has a fixed size); over memq the captured message itself is used.
-  const std::vector<uint8_t> bytes = sample.empty() ? ConstructBytes() : sample.front();
+  const std::vector<uint8_t> bytes =
+      sample.empty() ? bench::BenchConstructBytes(kA) : sample.front();
   bench::RawLcmLink raw(url == kMemq ? kMemq : kUdpmRaw, ChannelName(1, PduType::kConstruct));
   r.latencies_us().clear();
   const int64_t create0 = r.create_ns(), a0 = r.cluster().ReceiveNs(kA),

@@ -1,0 +1,284 @@
+// The protocol benchmarks with every replica on its own thread and its own udpm socket, as an
+// exercise runs them (one process per node): node A to node B throughput and a rejoin catch-up,
+// each against raw LCM over udpm with the receiver on its own thread, in the same run.
+#include <cstdio>
+#include <future>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "log/log.h"
+#include "node/memory_change_store.h"
+#include "pdu/bench/raw_lcm_link.h"
+#include "pdu/test/private_netns.h"
+#include "server/bench/lcm_cluster.h"
+#include "server/bench/replica_thread.h"
+
+namespace dt {
+namespace {
+
+using bench::ReplicaThread;
+using bench::SteadyNowNs;
+
+constexpr const char* kUdpm = "udpm://239.255.76.67:7667?ttl=0";
+// The raw baselines' own ports: their datagrams never queue on the replicas' sockets or on each
+// other's.
+constexpr const char* kUdpmRaw = "udpm://239.255.76.67:7668?ttl=0";
+constexpr const char* kUdpmRawGroup = "udpm://239.255.76.67:7669?ttl=0";
+const NodeAddress kA{1, 1}, kB{1, 2}, kServer{1, 100};
+constexpr int kBurst = 500;
+constexpr size_t kRawWindow = 256;  // the raw rejoin baseline's batch: the playback window
+
+ReplicaConfig Config(ReplicaConfig base, NodeAddress address, NodeRole role) {
+  base.address = address;
+  base.role = role;
+  return base;
+}
+
+// As node_to_node_lcm_bench: acknowledgements every 10 ms and a window of 4096, so the engine's
+// cost, not the protocol's pacing, is measured.
+ReplicaConfig FastAcks() {
+  ReplicaConfig rc;
+  rc.max_feature_period_ms = 10;
+  rc.silence_ms = 200;
+  rc.playback_retry_ms = 100;
+  rc.playback_window = 4096;
+  return rc;
+}
+
+std::unique_ptr<ReplicaThread> Start(const ReplicaConfig& base, NodeAddress address, NodeRole role,
+                                     ChangeStore* store, int64_t epoch_ns) {
+  return std::make_unique<ReplicaThread>(kUdpm, bench::BenchGround(), Config(base, address, role),
+                                         store, epoch_ns);
+}
+
+// Waits for a step's future; false after timeout_s.
+bool WaitFor(std::future<int64_t>& done, int timeout_s) {
+  return done.wait_for(std::chrono::seconds(timeout_s)) == std::future_status::ready;
+}
+
+// A step creating craters first..first+count-1; a full window (the server has not acknowledged
+// yet) returns to the loop, which dispatches the acknowledgement.
+ReplicaThread::Step CreateCraters(int64_t first, int64_t count, std::string* error) {
+  auto next = std::make_shared<int64_t>(first);
+  return [next, end = first + count, error](Replica& r) {
+    while (*next < end) {
+      auto id = r.Create(bench::BenchCrater(*next));
+      if (!id) {
+        if (id.error().message.find("not acknowledged") == std::string::npos) {
+          *error = id.error().message;
+          return true;  // refused for another reason: stop, the caller reports it
+        }
+        return false;
+      }
+      ++*next;
+    }
+    return true;
+  };
+}
+
+std::vector<std::vector<uint8_t>> Copies(const std::vector<uint8_t>& bytes, size_t n) {
+  return std::vector<std::vector<uint8_t>>(n, bytes);
+}
+
+// Per iteration: kBurst raw messages of a Construct's size from this thread to the receiver
+// thread, then kBurst craters created on A's thread until B's thread has applied them all (the
+// server's thread stores and acknowledges them meanwhile). Wall time (manual) is the engine's.
+void BM_NodeToNodeThreads(benchmark::State& state) {
+  if (auto reason = testing::NetnsSkipReason()) {
+    state.SkipWithError(("udpm runs only in a private network namespace: " + *reason).c_str());
+    return;
+  }
+  const int64_t epoch = SteadyNowNs();
+  const ReplicaConfig rc = FastAcks();
+  // Before the threads: a step that outlives a timed-out wait may still write it.
+  std::string error;
+  MemoryChangeStore store;
+  auto server = Start(rc, kServer, NodeRole::kServer, &store, epoch);
+  auto a = Start(rc, kA, NodeRole::kNode, nullptr, epoch);
+  auto b = Start(rc, kB, NodeRole::kNode, nullptr, epoch);
+  auto a_on = a->Post([](Replica& r) { return r.signed_on(); });
+  auto b_on = b->Post([](Replica& r) { return r.signed_on(); });
+  if (!WaitFor(a_on, 20) || !WaitFor(b_on, 20)) {
+    state.SkipWithError("A and B did not sign on");
+    return;
+  }
+  // One receiver (the raw LCM), and three: every message of A's reaches A's own socket,
+  // B's and the server's, so raw LCM with the same deliveries.
+  bench::ThreadedRawLcmLink raw(kUdpmRaw, ChannelName(1, PduType::kConstruct));
+  bench::ThreadedRawLcmLink raw_group(kUdpmRawGroup, ChannelName(1, PduType::kConstruct), 3);
+  const auto messages = Copies(bench::BenchConstructBytes(kA), kBurst);
+
+  int64_t raw_ns = 0, group_ns = 0, engine_ns = 0, raw_lost = 0, n = 0;
+  for (auto _ : state) {
+    int64_t t = SteadyNowNs();
+    raw_lost += raw.Transfer(messages, kBurst);
+    raw_ns += SteadyNowNs() - t;
+    t = SteadyNowNs();
+    raw_lost += raw_group.Transfer(messages, kBurst);
+    group_ns += SteadyNowNs() - t;
+
+    const auto target = static_cast<size_t>(n + kBurst);
+    t = SteadyNowNs();
+    auto created = a->Post(CreateCraters(n, kBurst, &error));
+    auto applied = b->Post([target](Replica& r) { return r.live_feature_count() >= target; });
+    if (!WaitFor(created, 10) || !error.empty()) {
+      state.SkipWithError(("A did not create its burst: " + error).c_str());
+      return;
+    }
+    if (!WaitFor(applied, 10)) {
+      state.SkipWithError("B did not apply every feature within 10 s");
+      return;
+    }
+    const int64_t dt_ns = applied.get() - t;
+    n += kBurst;
+    engine_ns += dt_ns;
+    state.SetIterationTime(static_cast<double>(dt_ns) / 1e9);
+  }
+  const double features = static_cast<double>(n);
+  const double engine_rate = features / (static_cast<double>(engine_ns) / 1e9);
+  const double raw_rate = features / (static_cast<double>(raw_ns) / 1e9);
+  const double group_rate = features / (static_cast<double>(group_ns) / 1e9);
+  state.SetItemsProcessed(n);
+  state.counters["features_per_s"] = engine_rate;
+  state.counters["raw_lcm_per_s"] = raw_rate;
+  state.counters["ratio"] = engine_rate / raw_rate;
+  state.counters["raw3_lcm_per_s"] = group_rate;
+  state.counters["ratio3"] = engine_rate / group_rate;
+  state.counters["raw_lost"] = static_cast<double>(raw_lost);
+  // Zero final loss: B holds every feature A created and knows of no gap.
+  size_t a_live = 0, b_live = 0;
+  bool b_caught_up = false;
+  a->Run([&](Replica& r) { a_live = r.live_feature_count(); });
+  b->Run([&](Replica& r) {
+    b_live = r.live_feature_count();
+    b_caught_up = r.caught_up();
+  });
+  state.counters["final_lost"] = static_cast<double>(a_live) - static_cast<double>(b_live);
+  if (!b_caught_up || a_live != b_live) state.SkipWithError("B does not hold every feature");
+}
+
+// range(0) features; range(1) = 0: origin A alive (asked first), 1: A gone, the server answers.
+// Protocol defaults (playback window 256) but for A's window of unacknowledged changes, raised
+// so the setup is quick. Setup (not timed): server, A and B sign on, B crashes, A creates the
+// features and the server stores them. Timed: from B's restart with no state until B holds all
+// of A's changes. Then as many Construct-sized messages go from this thread to one raw receiver
+// thread in batches of 256 (the window): ratio = catch-up time / raw time; and to as many
+// receivers as the playback reaches (the answerer's own socket, B's, and the server's when A
+// answers): ratio_same = catch-up time / that raw time.
+void BM_RejoinThreads(benchmark::State& state) {
+  if (auto reason = testing::NetnsSkipReason()) {
+    state.SkipWithError(("udpm runs only in a private network namespace: " + *reason).c_str());
+    return;
+  }
+  const int64_t n = state.range(0);
+  const bool from_server = state.range(1) == 1;
+  const ReplicaConfig defaults;
+  ReplicaConfig origin = defaults;
+  origin.playback_window = static_cast<int>(kMaxPlaybackSpan);
+  double catch_up_s = 0, raw_s = 0, same_s = 0, raw_lost = 0;
+  for (auto _ : state) {
+    const int64_t epoch = SteadyNowNs();
+    std::string error;  // before the threads, as above
+    MemoryChangeStore store;
+    auto server = Start(defaults, kServer, NodeRole::kServer, &store, epoch);
+    auto a = Start(origin, kA, NodeRole::kNode, nullptr, epoch);
+    auto b = Start(defaults, kB, NodeRole::kNode, nullptr, epoch);
+    auto a_on = a->Post([](Replica& r) { return r.signed_on(); });
+    auto b_on = b->Post([](Replica& r) { return r.signed_on(); });
+    if (!WaitFor(a_on, 20) || !WaitFor(b_on, 20)) {
+      state.SkipWithError("A and B did not sign on");
+      return;
+    }
+    b.reset();  // B crashes
+    auto created = a->Post(CreateCraters(0, n, &error));
+    auto stored = server->Post([n](Replica& r) {
+      const auto d = r.durable_change_seq();
+      return d.count(kA) != 0 && d.at(kA) >= n;
+    });
+    if (!WaitFor(created, 60) || !error.empty() || !WaitFor(stored, 60)) {
+      state.SkipWithError(("the server did not store every change: " + error).c_str());
+      return;
+    }
+    if (from_server) a.reset();
+
+    const int64_t t0 = SteadyNowNs();
+    b = Start(defaults, kB, NodeRole::kNode, nullptr, epoch);
+    auto caught_up = b->Post([n](Replica& r) {
+      const ChangeLog* log = r.log(kA);
+      return log != nullptr && log->contiguous() >= n;
+    });
+    if (!WaitFor(caught_up, 120)) {
+      state.SkipWithError("B did not catch up within 120 s");
+      return;
+    }
+    const int64_t catch_up_ns = caught_up.get() - t0;
+
+    // The raw link is made after the replicas are gone, so only its two threads run.
+    b.reset();
+    a.reset();
+    server.reset();
+    const auto messages = Copies(bench::BenchConstructBytes(kA), static_cast<size_t>(n));
+    int64_t raw_ns = 0;
+    {
+      bench::ThreadedRawLcmLink raw(kUdpmRaw, ChannelName(1, PduType::kConstruct));
+      const int64_t t1 = SteadyNowNs();
+      raw_lost += static_cast<double>(raw.Transfer(messages, kRawWindow));
+      raw_ns = SteadyNowNs() - t1;
+    }
+    {
+      bench::ThreadedRawLcmLink same(kUdpmRawGroup, ChannelName(1, PduType::kConstruct),
+                                     from_server ? 2 : 3);
+      const int64_t t1 = SteadyNowNs();
+      raw_lost += static_cast<double>(same.Transfer(messages, kRawWindow));
+      same_s += static_cast<double>(SteadyNowNs() - t1) / 1e9;
+    }
+
+    state.SetIterationTime(static_cast<double>(catch_up_ns) / 1e9);
+    catch_up_s += static_cast<double>(catch_up_ns) / 1e9;
+    raw_s += static_cast<double>(raw_ns) / 1e9;
+  }
+  const auto iterations = static_cast<double>(state.iterations());
+  state.counters["catch_up_ms"] = catch_up_s / iterations * 1000.0;
+  state.counters["raw_ms"] = raw_s / iterations * 1000.0;
+  state.counters["ratio"] = catch_up_s / raw_s;
+  state.counters["raw_same_ms"] = same_s / iterations * 1000.0;
+  state.counters["ratio_same"] = catch_up_s / same_s;
+  state.counters["raw_lost"] = raw_lost;
+  state.counters["features_per_s"] = static_cast<double>(n) / (catch_up_s / iterations);
+}
+
+BENCHMARK(BM_NodeToNodeThreads)->UseManualTime()->Iterations(200)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RejoinThreads)
+    ->ArgNames({"features", "from_server"})
+    ->Args({10000, 0})
+    ->Args({10000, 1})
+    ->UseManualTime()
+    ->Iterations(3)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RejoinThreads)
+    ->ArgNames({"features", "from_server"})
+    ->Args({100000, 0})
+    ->Args({100000, 1})
+    ->UseManualTime()
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace dt
+
+int main(int argc, char** argv) {
+  // udpm only ever runs in a private network namespace this program makes (docs/pdu.md).
+  dt::testing::EnterPrivateNetns(argc, argv);
+  if (auto reason = dt::testing::NetnsSkipReason()) {
+    std::fprintf(stderr, "no private network namespace (%s): every run is skipped\n",
+                 reason->c_str());
+  }
+  dt::log::Init("threads-bench", "error");
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -83,9 +83,10 @@ std::vector<std::vector<uint8_t>> Copies(const std::vector<uint8_t>& bytes, size
   return std::vector<std::vector<uint8_t>>(n, bytes);
 }
 
-// Per iteration: kBurst raw messages of a Construct's size from this thread to the receiver
-// thread, then kBurst craters created on A's thread until B's thread has applied them all (the
-// server's thread stores and acknowledges them meanwhile). Wall time (manual) is the engine's.
+// Per iteration: kBurst raw messages of a Construct's size from this thread to one receiver
+// thread, the same to three, then kBurst craters created on A's thread until B's thread has applied
+// them all (the server's thread stores and acknowledges them meanwhile). Wall time (manual) is the
+// engine's.
 void BM_NodeToNodeThreads(benchmark::State& state) {
   if (auto reason = testing::NetnsSkipReason()) {
     state.SkipWithError(("udpm runs only in a private network namespace: " + *reason).c_str());
@@ -124,8 +125,12 @@ void BM_NodeToNodeThreads(benchmark::State& state) {
     t = SteadyNowNs();
     auto created = a->Post(CreateCraters(n, kBurst, &error));
     auto applied = b->Post([target](Replica& r) { return r.live_feature_count() >= target; });
-    if (!WaitFor(created, 10) || !error.empty()) {
-      state.SkipWithError(("A did not create its burst: " + error).c_str());
+    if (!WaitFor(created, 10)) {
+      state.SkipWithError("A did not create its burst within 10 s");
+      return;
+    }
+    if (!error.empty()) {  // written on A's thread before `created` became ready
+      state.SkipWithError(("A's create refused: " + error).c_str());
       return;
     }
     if (!WaitFor(applied, 10)) {
@@ -198,8 +203,16 @@ void BM_RejoinThreads(benchmark::State& state) {
       const auto d = r.durable_change_seq();
       return d.count(kA) != 0 && d.at(kA) >= n;
     });
-    if (!WaitFor(created, 60) || !error.empty() || !WaitFor(stored, 60)) {
-      state.SkipWithError(("the server did not store every change: " + error).c_str());
+    if (!WaitFor(created, 60)) {
+      state.SkipWithError("A did not create the features within 60 s");
+      return;
+    }
+    if (!error.empty()) {  // written on A's thread before `created` became ready
+      state.SkipWithError(("A's create refused: " + error).c_str());
+      return;
+    }
+    if (!WaitFor(stored, 60)) {
+      state.SkipWithError("the server did not store every change within 60 s");
       return;
     }
     if (from_server) a.reset();

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <mutex>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -97,6 +98,10 @@ class ThreadedRawLcmLink {
  public:
   ThreadedRawLcmLink(const std::string& udpm_url, std::string channel, int receivers = 1)
       : channel_(std::move(channel)) {
+    if (receivers < 1) {
+      throw std::invalid_argument("ThreadedRawLcmLink needs at least one receiver, got " +
+                                  std::to_string(receivers));
+    }
     const std::string lcm_url = udpm_url + "&recv_buf_size=2097152";
     tx_ = lcm_create(lcm_url.c_str());
     receivers_.resize(static_cast<size_t>(receivers));

@@ -2,12 +2,11 @@
 // udpm and DDS against raw LCM publish/receive of same-size messages in the same run.
 // Runs inside a private network namespace it makes itself, like the network tests.
 #include <chrono>
-#include <cstdio>
 
 #include <benchmark/benchmark.h>
 #include <lcm/lcm.h>
 
-#include "log/log.h"
+#include "pdu/bench/bench_main.h"
 #include "pdu/bench/raw_lcm_link.h"
 #include "pdu/dds_transport.h"
 #include "pdu/lcm_transport.h"
@@ -127,14 +126,6 @@ BENCHMARK_CAPTURE(BM_PduBusThroughput, dds,
 }  // namespace dt
 
 int main(int argc, char** argv) {
-  dt::testing::EnterPrivateNetns(argc, argv);
-  if (auto reason = dt::testing::NetnsSkipReason()) {
-    std::fprintf(stderr, "no private network namespace (%s): udpm/DDS numbers use the host\n",
-                 reason->c_str());
-  }
-  dt::log::Init("pdu-bench", "warn");
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return dt::bench::RunBenchmarks(argc, argv, "pdu-bench", "warn", true,
+                                  "udpm/DDS numbers use the host");
 }

@@ -12,14 +12,6 @@
 namespace dt::bench {
 namespace {
 
-constexpr uint8_t kExercise = 1;
-
-int64_t SteadyNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
 size_t TypeIndex(PduType type) {
   for (size_t i = 0; i < kAllPduTypes.size(); ++i) {
     if (kAllPduTypes[i] == type) return i;
@@ -28,6 +20,29 @@ size_t TypeIndex(PduType type) {
 }
 
 }  // namespace
+
+int64_t SteadyNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+ReplicaConfig FastAckConfig() {
+  ReplicaConfig rc;
+  rc.max_feature_period_ms = 10;
+  rc.silence_ms = 200;
+  rc.playback_retry_ms = 100;
+  rc.playback_window = 4096;
+  return rc;
+}
+
+PduBusConfig BenchBusConfig(NodeAddress address, const HeightGrid& ground) {
+  PduBusConfig bc;
+  bc.exercise_id = kBenchExercise;
+  bc.local = address;
+  bc.terrain_size_m = ground.size_m();
+  return bc;
+}
 
 std::vector<uint8_t> BenchConstructBytes(NodeAddress origin) {
   Change c;
@@ -60,9 +75,9 @@ class LcmCluster::MemqHub {
     std::string Url() const override { return "memq://"; }
 
     void Dispatch(size_t type_index, std::span<const uint8_t> bytes) {
-      const int64_t t = SteadyNs();
+      const int64_t t = SteadyNowNs();
       for (const Handler& h : handlers_[type_index]) h(bytes);
-      busy_ns += SteadyNs() - t;
+      busy_ns += SteadyNowNs() - t;
     }
     int64_t busy_ns = 0;
 
@@ -71,7 +86,7 @@ class LcmCluster::MemqHub {
     std::array<std::vector<Handler>, kAllPduTypes.size()> handlers_;
   };
 
-  MemqHub() : lcm_("memq://", kExercise) {
+  MemqHub() : lcm_("memq://", kBenchExercise) {
     for (PduType t : kAllPduTypes) {
       lcm_.Subscribe(t, [this, t](std::span<const uint8_t> bytes) { Deliver(t, bytes); });
     }
@@ -94,7 +109,10 @@ class LcmCluster::MemqHub {
 };
 
 LcmCluster::LcmCluster(std::string url, HeightGrid ground, ReplicaConfig defaults)
-    : url_(std::move(url)), ground_(std::move(ground)), defaults_(defaults), start_ns_(SteadyNs()) {
+    : url_(std::move(url)),
+      ground_(std::move(ground)),
+      defaults_(defaults),
+      start_ns_(SteadyNowNs()) {
   if (url_ == "memq://") hub_ = std::make_unique<MemqHub>();
 }
 
@@ -110,13 +128,9 @@ Replica& LcmCluster::Start(NodeAddress address, NodeRole role, ChangeStore* stor
   if (hub_) {
     m->transport = std::make_unique<MemqHub::Endpoint>(*hub_);
   } else {
-    m->transport = MakeTransport(url_, kExercise);
+    m->transport = MakeTransport(url_, kBenchExercise);
   }
-  PduBusConfig bc;
-  bc.exercise_id = kExercise;
-  bc.local = address;
-  bc.terrain_size_m = ground_.size_m();
-  m->bus = std::make_unique<PduBus>(*m->transport, bc);
+  m->bus = std::make_unique<PduBus>(*m->transport, BenchBusConfig(address, ground_));
   config.address = address;
   config.role = role;
   config.store = store;
@@ -149,7 +163,7 @@ int64_t LcmCluster::ReceiveNs(NodeAddress address) const {
   return e == nullptr ? 0 : e->busy_ns;
 }
 
-int64_t LcmCluster::now_ms() const { return (SteadyNs() - start_ns_) / 1000000; }
+int64_t LcmCluster::now_ms() const { return (SteadyNowNs() - start_ns_) / 1000000; }
 
 void LcmCluster::RecordConstructs(bool on) {
   if (hub_) hub_->recording = on;

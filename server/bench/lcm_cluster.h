@@ -14,6 +14,19 @@
 
 namespace dt::bench {
 
+// The benchmarks' exercise ID.
+inline constexpr uint8_t kBenchExercise = 1;
+
+// Nanoseconds of the steady clock.
+int64_t SteadyNowNs();
+
+// Acknowledgements every 10 ms and a window of 4096: at most 409 600 features/s from the
+// protocol, so the engine's own cost is what a throughput benchmark measures.
+ReplicaConfig FastAckConfig();
+
+// The bus of the member at `address` on `ground`, in the benchmarks' exercise.
+PduBusConfig BenchBusConfig(NodeAddress address, const HeightGrid& ground);
+
 // The benchmarks' terrain: 10 km x 10 km, 1001 x 1001 posts at 10 m (render_bench's size).
 inline HeightGrid BenchGround() { return HeightGrid(1001, 10.0, 5.0f); }
 

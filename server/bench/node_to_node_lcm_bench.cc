@@ -1,15 +1,13 @@
 // Benchmarks of the protocol engine over real LCM: features/s from node A to node B against raw
 // LCM of same-size messages in the same run, and the latency from create on A to applied on B.
 #include <algorithm>
-#include <chrono>
-#include <cstdio>
 #include <string>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 
-#include "log/log.h"
 #include "node/memory_change_store.h"
+#include "pdu/bench/bench_main.h"
 #include "pdu/bench/raw_lcm_link.h"
 #include "pdu/pdu_traits.h"
 #include "pdu/test/private_netns.h"
@@ -25,26 +23,9 @@ constexpr const char* kUdpm = "udpm://239.255.76.67:7667?ttl=0";
 constexpr const char* kUdpmRaw = "udpm://239.255.76.67:7668?ttl=0";
 const NodeAddress kA{1, 1}, kB{1, 2}, kServer{1, 100};
 
-int64_t NowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
 // Protocol defaults (docs/protocol.md): A may have 256 unacknowledged changes and the server
 // acknowledges every 500 ms, so the sustained rate is at most 256 / 0.5 s = 512 features/s.
 ReplicaConfig Defaults() { return ReplicaConfig{}; }
-
-// Acknowledgements every 10 ms and a window of 4096: at most 409 600 features/s from the
-// protocol, so the engine's own cost is what is measured.
-ReplicaConfig FastAcks() {
-  ReplicaConfig rc;
-  rc.max_feature_period_ms = 10;
-  rc.silence_ms = 200;
-  rc.playback_retry_ms = 100;
-  rc.playback_window = 4096;
-  return rc;
-}
 
 double Percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
@@ -69,7 +50,7 @@ class ThreeReplicas {
       if (b.records().Find(FeatureId{kA.site, kA.host, static_cast<uint32_t>(n)}) == nullptr) {
         return;
       }
-      latencies_us_.push_back(static_cast<double>(NowNs() - created_ns_[n]) / 1000.0);
+      latencies_us_.push_back(static_cast<double>(bench::SteadyNowNs() - created_ns_[n]) / 1000.0);
       created_ns_[n] = -1;
       ++applied_on_b_;
     });
@@ -86,9 +67,9 @@ class ThreeReplicas {
 
   // Creates one crater on A, timed from before the call. False if the command was refused.
   bool Create(int64_t n, std::string* error) {
-    const int64_t t = NowNs();
+    const int64_t t = bench::SteadyNowNs();
     auto id = a().Create(bench::BenchCrater(n));
-    create_ns_ += NowNs() - t;
+    create_ns_ += bench::SteadyNowNs() - t;
     if (!id) {
       *error = id.error().message;
       return false;
@@ -132,7 +113,7 @@ void BM_NodeToNodeVsRawLcm(benchmark::State& state, std::string url, bool fast_a
     state.SkipWithError("udpm runs only inside a private network namespace");
     return;
   }
-  ThreeReplicas r(url, fast_acks ? FastAcks() : Defaults());
+  ThreeReplicas r(url, fast_acks ? bench::FastAckConfig() : Defaults());
   if (!r.ready()) {
     state.SkipWithError("A and B did not sign on");
     return;
@@ -157,11 +138,11 @@ void BM_NodeToNodeVsRawLcm(benchmark::State& state, std::string url, bool fast_a
 
   int64_t raw_ns = 0, engine_ns = 0, raw_lost = 0, window_waits = 0, n = 1;
   for (auto _ : state) {
-    int64_t t = NowNs();
+    int64_t t = bench::SteadyNowNs();
     raw_lost += raw.Send(bytes, kBatch);
-    raw_ns += NowNs() - t;
+    raw_ns += bench::SteadyNowNs() - t;
 
-    t = NowNs();
+    t = bench::SteadyNowNs();
     const int64_t target = r.applied_on_b() + kBatch;
     for (int created = 0; created < kBatch;) {
       if (r.Create(n, &error)) {
@@ -179,7 +160,7 @@ void BM_NodeToNodeVsRawLcm(benchmark::State& state, std::string url, bool fast_a
       state.SkipWithError("B did not apply every feature within 10 s");
       return;
     }
-    const int64_t dt_ns = NowNs() - t;
+    const int64_t dt_ns = bench::SteadyNowNs() - t;
     engine_ns += dt_ns;
     state.SetIterationTime(static_cast<double>(dt_ns) / 1e9);
   }
@@ -217,7 +198,7 @@ void BM_CreateToAppliedLatency(benchmark::State& state, std::string url) {
     state.SkipWithError("udpm runs only inside a private network namespace");
     return;
   }
-  ThreeReplicas r(url, FastAcks());
+  ThreeReplicas r(url, bench::FastAckConfig());
   if (!r.ready()) {
     state.SkipWithError("A and B did not sign on");
     return;
@@ -225,12 +206,12 @@ void BM_CreateToAppliedLatency(benchmark::State& state, std::string url) {
   std::string error;
   int64_t n = 0;
   for (auto _ : state) {
-    const int64_t t = NowNs();
+    const int64_t t = bench::SteadyNowNs();
     while (!r.Create(n, &error)) r.cluster().Pump(1);  // a full window: wait for the server
     ++n;
     const int64_t target = r.applied_on_b() + 1;
     while (r.applied_on_b() < target) r.cluster().Pump(0);
-    state.SetIterationTime(static_cast<double>(NowNs() - t) / 1e9);
+    state.SetIterationTime(static_cast<double>(bench::SteadyNowNs() - t) / 1e9);
   }
   state.counters["lat_p50_us"] = Percentile(r.latencies_us(), 0.50);
   state.counters["lat_p99_us"] = Percentile(r.latencies_us(), 0.99);
@@ -263,15 +244,6 @@ BENCHMARK_CAPTURE(BM_CreateToAppliedLatency, udpm, std::string(kUdpm))
 }  // namespace dt
 
 int main(int argc, char** argv) {
-  // udpm only ever runs in a private network namespace this program makes (docs/pdu.md).
-  dt::testing::EnterPrivateNetns(argc, argv);
-  if (auto reason = dt::testing::NetnsSkipReason()) {
-    std::fprintf(stderr, "no private network namespace (%s): the udpm runs are skipped\n",
-                 reason->c_str());
-  }
-  dt::log::Init("protocol-bench", "error");
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return dt::bench::RunBenchmarks(argc, argv, "protocol-bench", "error", true,
+                                  "the udpm runs are skipped");
 }

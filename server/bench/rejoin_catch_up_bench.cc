@@ -1,13 +1,12 @@
 // Benchmark of a rejoin: a node with no local state catches up 10^4 or 10^5 features by Playback
 // from the origin or the server, against a raw LCM transfer of the same messages in the same run.
-#include <chrono>
 #include <string>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 
-#include "log/log.h"
 #include "node/memory_change_store.h"
+#include "pdu/bench/bench_main.h"
 #include "pdu/bench/raw_lcm_link.h"
 #include "server/bench/lcm_cluster.h"
 
@@ -15,12 +14,6 @@ namespace dt {
 namespace {
 
 const NodeAddress kA{1, 1}, kB{1, 2}, kServer{1, 100};
-
-int64_t NowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 
 // Pumps until done() or timeout_ms passed; false on timeout.
 template <typename Done>
@@ -83,7 +76,7 @@ void BM_RejoinCatchUp(benchmark::State& state) {
 
     cluster.RecordConstructs(true);
     cluster.set_tick_period_ms(tick_ms);
-    const int64_t t0 = NowNs();
+    const int64_t t0 = bench::SteadyNowNs();
     Replica& b = cluster.Start(kB, NodeRole::kNode);
     if (!PumpUntil(
             cluster, 120000, [&] { return b.log(kA) != nullptr && b.log(kA)->contiguous() >= n; },
@@ -91,7 +84,7 @@ void BM_RejoinCatchUp(benchmark::State& state) {
       state.SkipWithError("B did not catch up within 120 s");
       return;
     }
-    const int64_t catch_up_ns = NowNs() - t0;
+    const int64_t catch_up_ns = bench::SteadyNowNs() - t0;
     // Time in each replica's handlers during the catch-up (one thread runs them all): B's
     // decode and apply; the answering replica's playback (encode, publish) and echo decoding.
     b_ns += static_cast<double>(cluster.ReceiveNs(kB));
@@ -103,9 +96,9 @@ void BM_RejoinCatchUp(benchmark::State& state) {
     by_server += static_cast<double>(server.counters().played_back - server_played);
 
     bench::RawLcmLink raw("memq://", ChannelName(1, PduType::kConstruct));
-    const int64_t t1 = NowNs();
+    const int64_t t1 = bench::SteadyNowNs();
     raw_lost += static_cast<double>(raw.Transfer(recorded, 256));
-    const int64_t raw_ns = NowNs() - t1;
+    const int64_t raw_ns = bench::SteadyNowNs() - t1;
 
     state.SetIterationTime(static_cast<double>(catch_up_ns) / 1e9);
     catch_up_s += static_cast<double>(catch_up_ns) / 1e9;
@@ -149,9 +142,5 @@ BENCHMARK(BM_RejoinCatchUp)
 }  // namespace dt
 
 int main(int argc, char** argv) {
-  dt::log::Init("rejoin-bench", "error");
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return dt::bench::RunBenchmarks(argc, argv, "rejoin-bench", "error", false);
 }

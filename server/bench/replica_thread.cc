@@ -4,34 +4,17 @@
 #include <sys/eventfd.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdlib>
 #include <list>
 
 #include "pdu/transport.h"
 
 namespace dt::bench {
-namespace {
-
-constexpr uint8_t kExercise = 1;  // LcmCluster's too
-
-}  // namespace
-
-int64_t SteadyNowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
 ReplicaThread::ReplicaThread(const std::string& url, const HeightGrid& ground, ReplicaConfig config,
                              ChangeStore* store, int64_t epoch_ns)
     : epoch_ns_(epoch_ns) {
-  transport_ = MakeTransport(url, kExercise);
-  PduBusConfig bc;
-  bc.exercise_id = kExercise;
-  bc.local = config.address;
-  bc.terrain_size_m = ground.size_m();
-  bus_ = std::make_unique<PduBus>(*transport_, bc);
+  transport_ = MakeTransport(url, kBenchExercise);
+  bus_ = std::make_unique<PduBus>(*transport_, BenchBusConfig(config.address, ground));
   config.store = store;
   replica_ = std::make_unique<Replica>(config, ground, *bus_);
   wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);

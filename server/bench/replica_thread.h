@@ -16,11 +16,9 @@
 #include "node/replica.h"
 #include "pdu/pdu_bus.h"
 #include "pdu/transport.h"
+#include "server/bench/lcm_cluster.h"
 
 namespace dt::bench {
-
-// Nanoseconds of the steady clock.
-int64_t SteadyNowNs();
 
 class ReplicaThread {
  public:

@@ -1,7 +1,6 @@
 // The protocol benchmarks with every replica on its own thread and its own udpm socket, as an
 // exercise runs them (one process per node): node A to node B throughput and a rejoin catch-up,
 // each against raw LCM over udpm with the receiver on its own thread, in the same run.
-#include <cstdio>
 #include <future>
 #include <memory>
 #include <string>
@@ -9,8 +8,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "log/log.h"
 #include "node/memory_change_store.h"
+#include "pdu/bench/bench_main.h"
 #include "pdu/bench/raw_lcm_link.h"
 #include "pdu/test/private_netns.h"
 #include "server/bench/lcm_cluster.h"
@@ -35,17 +34,6 @@ ReplicaConfig Config(ReplicaConfig base, NodeAddress address, NodeRole role) {
   base.address = address;
   base.role = role;
   return base;
-}
-
-// As node_to_node_lcm_bench: acknowledgements every 10 ms and a window of 4096, so the engine's
-// cost, not the protocol's pacing, is measured.
-ReplicaConfig FastAcks() {
-  ReplicaConfig rc;
-  rc.max_feature_period_ms = 10;
-  rc.silence_ms = 200;
-  rc.playback_retry_ms = 100;
-  rc.playback_window = 4096;
-  return rc;
 }
 
 std::unique_ptr<ReplicaThread> Start(const ReplicaConfig& base, NodeAddress address, NodeRole role,
@@ -93,7 +81,7 @@ void BM_NodeToNodeThreads(benchmark::State& state) {
     return;
   }
   const int64_t epoch = SteadyNowNs();
-  const ReplicaConfig rc = FastAcks();
+  const ReplicaConfig rc = bench::FastAckConfig();
   // Before the threads: a step that outlives a timed-out wait may still write it.
   std::string error;
   MemoryChangeStore store;
@@ -283,15 +271,6 @@ BENCHMARK(BM_RejoinThreads)
 }  // namespace dt
 
 int main(int argc, char** argv) {
-  // udpm only ever runs in a private network namespace this program makes (docs/pdu.md).
-  dt::testing::EnterPrivateNetns(argc, argv);
-  if (auto reason = dt::testing::NetnsSkipReason()) {
-    std::fprintf(stderr, "no private network namespace (%s): every run is skipped\n",
-                 reason->c_str());
-  }
-  dt::log::Init("threads-bench", "error");
-  benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return dt::bench::RunBenchmarks(argc, argv, "threads-bench", "error", true,
+                                  "every run is skipped");
 }

@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "node/toml_reader.h"
+#include "runtime/toml_reader.h"
 
 namespace dt {
 

@@ -11,8 +11,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "node/control_client.h"
-#include "node/control_command.h"
+#include "runtime/control_client.h"
+#include "runtime/control_command.h"
 #include "render/montage.h"
 #include "render/png_io.h"
 

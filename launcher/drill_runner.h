@@ -12,8 +12,8 @@
 #include "launcher/drill_config.h"
 #include "launcher/exercise_commands.h"
 #include "launcher/supervisor.h"
-#include "node/control_protocol.h"
-#include "node/exercise_config.h"
+#include "runtime/control_protocol.h"
+#include "runtime/exercise_config.h"
 #include "terrain/feature_id.h"
 #include "terrain/result.h"
 

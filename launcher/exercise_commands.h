@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "node/exercise_config.h"
+#include "runtime/exercise_config.h"
 
 namespace dt {
 

@@ -11,7 +11,7 @@
 #include "launcher/exercise_commands.h"
 #include "launcher/stop_signal_pipe.h"
 #include "launcher/supervisor.h"
-#include "node/exercise_flags.h"
+#include "runtime/exercise_flags.h"
 
 namespace {
 

@@ -6,9 +6,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "node/control_client.h"
-#include "node/control_command.h"
-#include "node/exercise_config.h"
+#include "runtime/control_client.h"
+#include "runtime/control_command.h"
+#include "runtime/exercise_config.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Send a command to a running dynterrain process.\nCommands:\n" + dt::ControlUsage()};

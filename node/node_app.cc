@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include "log/log.h"
-#include "node/control_command.h"
+#include "runtime/control_command.h"
 #include "terrain/random_terrain.h"
 #include "terrain/vehicle_traversal.h"
 

@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "node/control_protocol.h"
-#include "node/exercise_config.h"
-#include "node/node_actions.h"
-#include "node/process_runtime.h"
-#include "node/replica.h"
+#include "runtime/control_protocol.h"
+#include "runtime/exercise_config.h"
+#include "runtime/node_actions.h"
+#include "runtime/process_runtime.h"
+#include "engine/replica.h"
 #include "node/scenario_runner.h"
 #include "terrain/vehicle.h"
 

@@ -6,10 +6,10 @@
 #include <CLI/CLI.hpp>
 
 #include "log/log.h"
-#include "node/control_server.h"
-#include "node/exercise_flags.h"
+#include "runtime/control_server.h"
+#include "runtime/exercise_flags.h"
 #include "node/node_app.h"
-#include "node/process_runtime.h"
+#include "runtime/process_runtime.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"A dynterrain node"};

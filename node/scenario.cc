@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "node/toml_reader.h"
+#include "runtime/toml_reader.h"
 #include "terrain/berm_operations.h"
 
 namespace dt {

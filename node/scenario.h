@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-#include "node/feature_edit.h"
+#include "runtime/feature_edit.h"
 #include "terrain/feature_params.h"
 
 namespace dt {

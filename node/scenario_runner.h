@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "node/node_actions.h"
+#include "runtime/node_actions.h"
 #include "node/scenario.h"
 
 namespace dt {

@@ -7,9 +7,9 @@
 #include <CLI/CLI.hpp>
 
 #include "log/log.h"
-#include "node/control_server.h"
-#include "node/exercise_flags.h"
-#include "node/process_runtime.h"
+#include "runtime/control_server.h"
+#include "runtime/exercise_flags.h"
+#include "runtime/process_runtime.h"
 #include "server/server_replica.h"
 #include "terrain/random_terrain.h"
 

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <memory>
 
-#include "node/replica.h"
+#include "engine/replica.h"
 #include "server/sqlite_change_store.h"
 
 namespace dt {

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <memory>
 
-#include "node/change_store.h"
+#include "engine/change_store.h"
 
 struct sqlite3;
 struct sqlite3_stmt;

@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "node/exercise_config.h"
+#include "runtime/exercise_config.h"
 
 namespace dt {
 namespace {

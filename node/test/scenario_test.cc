@@ -8,7 +8,7 @@
 #include <string>
 
 #include "node/scenario_runner.h"
-#include "node/test/map_actions.h"
+#include "runtime/test/map_actions.h"
 
 namespace dt {
 namespace {

@@ -6,7 +6,7 @@
 #include <chrono>
 #include <cstdlib>
 
-#include "node/change.h"
+#include "engine/change.h"
 #include "pdu/pdu_traits.h"
 
 namespace dt::bench {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "node/replica.h"
+#include "engine/replica.h"
 #include "pdu/lcm_transport.h"
 #include "pdu/pdu_bus.h"
 

@@ -9,10 +9,10 @@
 #include <fmt/format.h>
 
 #include "log/log.h"
-#include "node/change_log.h"
-#include "node/memory_change_store.h"
-#include "node/record_store.h"
-#include "node/test/sim_cluster.h"
+#include "engine/change_log.h"
+#include "engine/memory_change_store.h"
+#include "engine/record_store.h"
+#include "engine/test/sim_cluster.h"
 #include "server/sqlite_change_store.h"
 
 namespace dt {

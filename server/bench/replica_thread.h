@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "node/replica.h"
+#include "engine/replica.h"
 #include "pdu/pdu_bus.h"
 #include "pdu/transport.h"
 #include "server/bench/lcm_cluster.h"

@@ -8,7 +8,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "node/memory_change_store.h"
+#include "engine/memory_change_store.h"
 #include "pdu/bench/bench_main.h"
 #include "pdu/bench/raw_lcm_link.h"
 #include "pdu/test/private_netns.h"

@@ -17,9 +17,9 @@
 #include <gtest/gtest.h>
 
 #include "log/log.h"
-#include "node/memory_change_store.h"
-#include "node/record_store.h"
-#include "node/test/sim_cluster.h"
+#include "engine/memory_change_store.h"
+#include "engine/record_store.h"
+#include "engine/test/sim_cluster.h"
 #include "server/sqlite_change_store.h"
 #include "terrain/terrain_digest.h"
 

@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "node/test/sim_cluster.h"
+#include "engine/test/sim_cluster.h"
 #include "pdu/sim_network.h"
 #include "terrain/terrain_file.h"
 

@@ -1,0 +1,81 @@
+#include "engine/change_log.h"
+
+#include <algorithm>
+
+namespace dt {
+
+bool ChangeLog::Insert(const Change& change) {
+  const int64_t seq = change.stamp.change_seq;
+  const auto slots = static_cast<int64_t>(slots_.size());
+  if (Find(seq) != nullptr) return false;
+  if (seq >= 1 && seq <= slots) {
+    slots_[static_cast<size_t>(seq - 1)] = change;
+  } else if (seq > slots && seq - slots <= kMaxSlotJump) {
+    slots_.resize(static_cast<size_t>(seq - 1));
+    slots_.emplace_back(change);
+  } else {
+    aside_.emplace(seq, change);
+  }
+  ++held_;
+  max_held_ = std::max(max_held_, seq);
+  while (Find(contiguous_ + 1) != nullptr) ++contiguous_;
+  return true;
+}
+
+const Change* ChangeLog::Find(int64_t seq) const {
+  if (seq >= 1 && seq <= static_cast<int64_t>(slots_.size())) {
+    const auto& slot = slots_[static_cast<size_t>(seq - 1)];
+    if (slot) return &*slot;
+  }
+  if (aside_.empty()) return nullptr;
+  auto it = aside_.find(seq);
+  return it == aside_.end() ? nullptr : &it->second;
+}
+
+std::vector<const Change*> ChangeLog::Range(int64_t start, int64_t end) const {
+  std::vector<const Change*> out;
+  const int64_t first = std::max<int64_t>(start, 1);
+  const int64_t last = std::min<int64_t>(end, static_cast<int64_t>(slots_.size()));
+  for (int64_t seq = first; seq <= last; ++seq) {
+    const auto& slot = slots_[static_cast<size_t>(seq - 1)];
+    if (slot) out.push_back(&*slot);
+  }
+  if (!aside_.empty()) {
+    const size_t from_slots = out.size();
+    for (auto it = aside_.lower_bound(start); it != aside_.end() && it->first <= end; ++it) {
+      out.push_back(&it->second);
+    }
+    if (out.size() != from_slots) {
+      std::sort(out.begin(), out.end(), [](const Change* a, const Change* b) {
+        return a->stamp.change_seq < b->stamp.change_seq;
+      });
+    }
+  }
+  return out;
+}
+
+int64_t ChangeLog::max_known() const {
+  int64_t m = max_held();
+  for (const auto& [reporter, seq] : reports_) m = std::max(m, seq);
+  return m;
+}
+
+std::pair<int64_t, int64_t> ChangeLog::FirstGap() const {
+  if (!has_gap()) return {0, -1};
+  const int64_t known = max_known();
+  const int64_t start = contiguous_ + 1;
+  // The next held sequence: a slot is at most kMaxSlotJump past a held one, so this scan is short.
+  int64_t next = known + 1;
+  for (int64_t seq = start + 1; seq <= static_cast<int64_t>(slots_.size()); ++seq) {
+    if (slots_[static_cast<size_t>(seq - 1)]) {
+      next = seq;
+      break;
+    }
+  }
+  if (auto it = aside_.upper_bound(contiguous_); it != aside_.end()) {
+    next = std::min(next, it->first);
+  }
+  return {start, std::min(known, next - 1)};
+}
+
+}  // namespace dt

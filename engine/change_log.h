@@ -1,0 +1,60 @@
+// ChangeLog: the changes one author made, as a replica holds them, and the gap-free point.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "engine/change.h"
+#include "terrain/feature_id.h"
+
+namespace dt {
+
+// Keyed by the author's change sequence. The gap-free point is the highest s such that 1..s are
+// all held; max_known is the highest sequence held here or claimed by a live reporter.
+//
+// An author's sequences arrive almost in order, so they are held in slots indexed by sequence
+// (no allocation or tree search per change); a change too far past the last slot (a rejoining
+// node hearing live changes before its catch-up, or bad input) is kept aside in a map instead of
+// opening a long run of empty slots. A held change never moves: pointers from Find and Range stay
+// valid while more changes arrive.
+class ChangeLog {
+ public:
+  // False (and nothing changes) if the sequence is already held.
+  bool Insert(const Change& change);
+  const Change* Find(int64_t seq) const;
+  // Held changes with start <= seq <= end, in sequence order.
+  std::vector<const Change*> Range(int64_t start, int64_t end) const;
+
+  // A live replica (the author itself, a server, a peer answering a sign-on) says it holds the
+  // author's changes up to `seq`. The latest report of each reporter counts, so an author that
+  // restarted after losing changes nobody else held takes its claim back.
+  void Report(NodeAddress reporter, int64_t seq) { reports_[reporter] = seq; }
+  // A reporter that fell silent no longer vouches for anything.
+  void ForgetReporter(NodeAddress reporter) { reports_.erase(reporter); }
+  const std::map<NodeAddress, int64_t>& reports() const { return reports_; }
+  int64_t contiguous() const { return contiguous_; }
+  int64_t max_known() const;
+  int64_t max_held() const { return max_held_; }
+  bool has_gap() const { return max_known() > contiguous_; }
+  // The first missing sequence after the gap-free point and the end of that missing run (capped
+  // at max_known); {0, -1} when there is no gap.
+  std::pair<int64_t, int64_t> FirstGap() const;
+  size_t size() const { return held_; }
+
+  // A change at most this far past the last slot gets a slot (and the empty ones before it).
+  static constexpr int64_t kMaxSlotJump = 256;
+
+ private:
+  // Slot i holds sequence i + 1. A deque, so adding slots never moves a held change.
+  std::deque<std::optional<Change>> slots_;
+  std::map<int64_t, Change> aside_;  // held changes that got no slot
+  size_t held_ = 0;
+  int64_t max_held_ = 0;
+  int64_t contiguous_ = 0;
+  std::map<NodeAddress, int64_t> reports_;
+};
+
+}  // namespace dt

@@ -1,0 +1,117 @@
+#include "engine/record_store.h"
+
+#include <iterator>
+#include <tuple>
+
+#include <fmt/format.h>
+
+#include "terrain/feature.h"
+
+namespace dt {
+
+RecordStore::RecordStore(HeightGrid ground) : terrain_(std::move(ground)) {}
+
+const Record* RecordStore::Find(FeatureId id) const {
+  auto it = records_.find(id);
+  return it == records_.end() ? nullptr : &it->second;
+}
+
+std::pair<std::map<FeatureId, Record>::iterator, bool> RecordStore::Claim(FeatureId id) {
+  auto newest = newest_.find(OriginOf(id));
+  if (newest != newest_.end() && newest->second->first < id) {
+    // Past every number of its origin: the record goes right after that origin's newest one,
+    // which the hint makes an insertion without a search of the tree.
+    auto it = records_.emplace_hint(std::next(newest->second), std::piecewise_construct,
+                                    std::forward_as_tuple(id), std::forward_as_tuple());
+    newest->second = it;
+    return {it, true};
+  }
+  auto claimed = records_.try_emplace(id);
+  if (claimed.second && newest == newest_.end()) newest_.emplace(OriginOf(id), claimed.first);
+  return claimed;
+}
+
+RecordStore::Outcome RecordStore::Apply(const Change& change) {
+  auto [it, fresh] = Claim(change.id);
+  Record& r = it->second;
+  const bool was_bridge = !fresh && !r.destroyed && r.params.type == FeatureType::kBridge;
+  if (!fresh) {
+    if (r.destroyed) return Outcome::kStale;
+    if (change.kind != ChangeKind::kDestruct && change.version() <= r.version) {
+      return Outcome::kStale;
+    }
+  }
+  const bool was_live = !fresh && !r.destroyed;
+  r.version = std::max(r.version, change.version());
+  if (change.kind == ChangeKind::kDestruct) {
+    r.destroyed = true;
+    r.params = FeatureParams{};
+    r.params.type = change.params.type;
+  } else {
+    r.params = change.params;
+  }
+  const bool is_live = !r.destroyed;
+  if (was_live && !is_live) --live_;
+  if (!was_live && is_live) ++live_;
+  if (was_bridge) live_bridges_.erase(change.id);
+  const bool is_bridge = is_live && r.params.type == FeatureType::kBridge;
+  if (is_bridge) live_bridges_.insert(change.id);
+  Materialise(change.id, r, was_bridge || is_bridge);
+  return Outcome::kApplied;
+}
+
+void RecordStore::Materialise(FeatureId id, Record& r, bool bridge_involved) {
+  if (r.placed) {
+    if (!terrain_.Remove(id)) std::abort();  // placed means the terrain holds it
+    r.placed = false;
+  }
+  if (bridge_involved) {
+    RematerialiseBridges();
+    return;
+  }
+  if (!r.destroyed) r.placed = terrain_.Add(id, r.params).ok();
+}
+
+void RecordStore::RematerialiseBridges() {
+  // Only bridges conflict with each other, so placing every live bridge again in ID order gives
+  // the same terrain as placing every record in ID order.
+  for (FeatureId b : live_bridges_) {
+    Record& r = records_.at(b);
+    if (r.placed) {
+      if (!terrain_.Remove(b)) std::abort();
+      r.placed = false;
+    }
+  }
+  for (FeatureId b : live_bridges_) {
+    Record& r = records_.at(b);
+    r.placed = terrain_.Add(b, r.params).ok();
+  }
+}
+
+Status RecordStore::CheckPlaceable(FeatureId id, const FeatureParams& params) const {
+  auto made = MakeFeature(id, params, terrain_.ground());
+  if (!made) return made.error();
+  const Feature& candidate = *made.value();
+  const Rect bounds = candidate.Bounds();
+  const HeightGrid& g = terrain_.ground();
+  if (!g.Contains(bounds.min_x, bounds.min_z) || !g.Contains(bounds.max_x, bounds.max_z)) {
+    return Error{
+        fmt::format("{} {} covers x [{}, {}] z [{}, {}] m, which leaves the terrain "
+                    "[0, {}]^2",
+                    FeatureTypeName(params.type), id.ToString(), bounds.min_x, bounds.max_x,
+                    bounds.min_z, bounds.max_z, g.size_m())};
+  }
+  for (FeatureId b : live_bridges_) {
+    if (b == id) continue;
+    const Record& r = records_.at(b);
+    if (!r.placed) continue;
+    const Feature* other = terrain_.Find(b);
+    if (other != nullptr && (candidate.ConflictsWith(*other) || other->ConflictsWith(candidate))) {
+      return Error{fmt::format("{} {} would overlap bridge {}", FeatureTypeName(params.type),
+                               id.ToString(), b.ToString())};
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace dt

@@ -1,0 +1,57 @@
+// RecordStore: one record per feature ID (last writer wins, tombstones) and the terrain they
+// materialise.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <set>
+#include <utility>
+
+#include "engine/change.h"
+#include "terrain/result.h"
+#include "terrain/terrain.h"
+
+namespace dt {
+
+struct Record {
+  FeatureParams params;
+  Version version;
+  bool destroyed = false;
+  bool placed = false;  // live but not placeable (a bridge overlapping a lower-ID bridge): false
+};
+
+// The terrain is a function of the records alone: every live record placed in feature-ID order,
+// a record that cannot be placed kept but left out (docs/protocol.md, "Materialisation").
+class RecordStore {
+ public:
+  explicit RecordStore(HeightGrid ground);
+
+  enum class Outcome { kApplied, kStale };
+  // Last writer wins by Version; a Destruct always wins and is final.
+  Outcome Apply(const Change& change);
+
+  const Record* Find(FeatureId id) const;
+  const Terrain& terrain() const { return terrain_; }
+  size_t live_count() const { return live_; }
+  const std::map<FeatureId, Record>& all() const { return records_; }
+
+  // Would a live record with these parameters be placed now? (Commands are refused otherwise.)
+  Status CheckPlaceable(FeatureId id, const FeatureParams& params) const;
+
+ private:
+  // `r` is the record of `id` (passed so it is not looked up again).
+  void Materialise(FeatureId id, Record& r, bool bridge_involved);
+  // The record of `id`, made empty if new (`second` true then).
+  std::pair<std::map<FeatureId, Record>::iterator, bool> Claim(FeatureId id);
+  void RematerialiseBridges();
+
+  Terrain terrain_;
+  std::map<FeatureId, Record> records_;
+  std::set<FeatureId> live_bridges_;
+  // Per origin, its record with the highest number. Records are never erased, so these stay
+  // valid; a node's next feature is inserted after its newest without searching.
+  std::map<NodeAddress, std::map<FeatureId, Record>::iterator> newest_;
+  size_t live_ = 0;
+};
+
+}  // namespace dt

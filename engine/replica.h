@@ -1,0 +1,178 @@
+// Replica: one participant's copy of the exercise's terrain and the protocol that keeps it equal
+// to everyone else's (docs/protocol.md).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "dtpdu/max_feature_t.hpp"
+#include "dtpdu/playback_t.hpp"
+#include "engine/change.h"
+#include "engine/change_log.h"
+#include "engine/change_store.h"
+#include "engine/playback_scheduler.h"
+#include "engine/record_store.h"
+#include "pdu/pdu_bus.h"
+#include "pdu/pdu_type.h"
+#include "terrain/feature_id.h"
+#include "terrain/feature_params.h"
+#include "terrain/height_grid.h"
+#include "terrain/result.h"
+#include "terrain/terrain.h"
+
+namespace dt {
+
+// NodeRole (kNode, kServer, kStandby) is pdu/pdu_type.h's: it travels in MaxFeature.
+
+struct ReplicaConfig {
+  NodeAddress address;
+  NodeRole role = NodeRole::kNode;
+  int max_feature_period_ms = 500;
+  int silence_ms = 2000;  // no PDU from a node for this long: it is gone
+  int playback_retry_ms =
+      1000;                   // a request unanswered this long is sent again (then to the server)
+  int playback_window = 256;  // changes outstanding per author
+  // A node signs on only once a server (or standby) has told it its own last numbers. False: an
+  // exercise without a server; the node signs on after silence_ms with whatever it heard.
+  bool require_server = true;
+  // A server or standby: every accepted change goes here, one batch per Tick. Not owned; must
+  // outlive the replica. Null for nodes.
+  ChangeStore* store = nullptr;
+};
+
+class Replica {
+ public:
+  // Subscribes to all PDU types on `bus`. A replica with a store first loads every stored change
+  // (Load() reports a failure). Throws std::invalid_argument for a bad config (values named).
+  Replica(ReplicaConfig config, HeightGrid ground, PduBus& bus);
+  ~Replica();
+  Replica(const Replica&) = delete;
+  Replica& operator=(const Replica&) = delete;
+
+  // Commands. A bad command (unknown ID, invalid parameters, destroyed feature, a feature that
+  // cannot be placed, not signed on yet) returns an Error and changes nothing.
+  Result<FeatureId> Create(const FeatureParams& params);     // next own number; Construct
+  Status Modify(FeatureId id, const FeatureParams& params);  // Update
+  Status Destroy(FeatureId id);                              // Destruct
+  // Destruct of the berm plus a Construct per remaining piece; returns the pieces' IDs.
+  Result<std::vector<FeatureId>> Breach(FeatureId berm, double gap_start_m, double gap_width_m);
+  // Issues an Update of every feature of `terrain` under its own ID (server import of a terrain
+  // file). The ground must equal this replica's. Refused as a whole if any feature is refused.
+  Status Import(const Terrain& terrain);
+
+  // Starts (or restarts) the protocol: asks the server for this node's own last feature number
+  // and change sequence, and everyone for their maxima.
+  void SignOn(int64_t now_ms);
+  // MaxFeature period, playback pacing and retries, silence detection, and for a store the batch
+  // commit of what was accepted since the last Tick.
+  void Tick(int64_t now_ms);
+  // For a store: commits what was accepted since the last Tick now (shutdown). Ok without one.
+  Status Flush();
+
+  const Terrain& terrain() const { return records_.terrain(); }
+  std::string Digest() const;  // terrain digest (terrain_digest.h), hex
+  bool signed_on() const { return signed_on_; }
+  bool caught_up() const;  // no known gap for any author, nothing outstanding
+  const ReplicaConfig& config() const { return config_; }
+
+  struct Counters {
+    uint64_t sent = 0, received = 0, rejected = 0, played_back = 0, applied = 0, ignored_stale = 0,
+             voided = 0;
+  };
+  Counters counters() const;
+  // Highest feature number known per origin (own included).
+  std::map<NodeAddress, int64_t> max_feature_known() const;
+  // What the server last reported durable for this node's change log.
+  int64_t acknowledged_change_seq() const { return acknowledged_change_seq_; }
+  // This node's last issued change sequence and feature number.
+  int64_t own_change_seq() const { return own_change_seq_; }
+  int64_t own_feature_number() const { return own_feature_number_; }
+  // Live features (records not destroyed), placed or not.
+  size_t live_feature_count() const { return records_.live_count(); }
+  const RecordStore& records() const { return records_; }
+  // The changes this replica holds from one author; null if none.
+  const ChangeLog* log(NodeAddress author) const {
+    auto it = logs_.find(author);
+    return it == logs_.end() ? nullptr : &it->second;
+  }
+  // Gap-free point of each author's log as this replica holds it.
+  std::map<NodeAddress, int64_t> contiguous_change_seq() const;
+  // For a store: the gap-free point per author that the store holds (committed).
+  std::map<NodeAddress, int64_t> durable_change_seq() const { return durable_; }
+  // Result of loading the store at construction (Ok without a store).
+  const Status& load_status() const { return load_status_; }
+  // Result of the last store commit (Ok without a store).
+  const Status& store_status() const { return store_status_; }
+
+ private:
+  struct Peer {
+    NodeRole role = NodeRole::kNode;
+    int64_t last_heard_ms = -1;
+    int64_t reported_max_change_seq = 0;
+    int64_t reported_max_feature = 0;
+  };
+
+  Status CheckSignedOn(int64_t changes) const;
+  Change NewChange(ChangeKind kind, FeatureId id, const FeatureParams& params);
+  void Issue(const Change& change);
+  // Logs and applies a change from anywhere; false if already held.
+  bool Accept(const Change& change, bool from_store);
+  void Publish(const Change& change, std::optional<NodeAddress> playback_for);
+  void HeardFrom(NodeAddress sender, std::optional<NodeRole> role);
+  void ObserveLamport(uint64_t lamport);
+
+  void OnConstruct(const dtpdu::construct_t& pdu);
+  void OnUpdate(const dtpdu::update_t& pdu);
+  void OnDestruct(const dtpdu::destruct_t& pdu);
+  void OnMaxFeature(const dtpdu::max_feature_t& pdu);
+  void OnPlayback(const dtpdu::playback_t& pdu);
+
+  void SendReports();
+  void SendReport(NodeAddress subject, bool sign_on, bool answer = false);
+  void AnswerPlayback(const dtpdu::playback_t& request);
+  void RequestMissing();
+  // Sends the playback request the scheduler wants now for this author's log, if any.
+  void RequestFor(NodeAddress author, const ChangeLog& log);
+  void ForgetSilentReporters();
+  void VoidLostOwnChanges();
+  void Commit();
+  // Whom to ask for an author's changes, in order of preference.
+  std::vector<NodeAddress> Candidates(NodeAddress author) const;
+  bool IsSilent(NodeAddress node) const;
+  bool AnswersForServer() const;
+  void NoteOwn(const Change& change);
+
+  ReplicaConfig config_;
+  PduBus& bus_;
+  RecordStore records_;
+  std::map<NodeAddress, ChangeLog> logs_;
+  PlaybackScheduler scheduler_;
+  std::map<NodeAddress, Peer> peers_;
+  std::map<NodeAddress, int64_t> max_feature_;  // per origin
+  std::map<NodeAddress, int64_t> durable_;      // store only
+  std::vector<Change> pending_store_;
+  Status load_status_;
+  Status store_status_;
+  uint64_t lamport_ = 0;
+  int64_t own_change_seq_ = 0;
+  int64_t own_feature_number_ = 0;
+  int64_t acknowledged_change_seq_ = 0;
+  bool signed_on_ = false;
+  bool signing_on_ = false;
+  bool server_answered_ = false;
+  int64_t sign_on_started_ms_ = 0;
+  int64_t sign_on_sent_ms_ = 0;
+  std::set<NodeAddress> sign_on_requests_;
+  std::set<NodeAddress> sign_on_answered_by_;
+  std::set<NodeAddress> sign_on_expected_;  // answered in the next Tick, after the commit
+  int64_t now_ms_ = 0;
+  int64_t last_report_ms_ = -1;
+  Counters counters_;
+};
+
+}  // namespace dt

@@ -1,0 +1,168 @@
+// Tests RecordStore: last writer wins, final tombstones, idempotence, order independence, and
+// materialisation of overlapping bridges in feature-ID order.
+#include "engine/record_store.h"
+
+#include <algorithm>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "terrain/terrain_digest.h"
+
+namespace dt {
+namespace {
+
+HeightGrid Ground() { return HeightGrid(33, 4.0, 10.0f); }
+
+Change Make(ChangeKind kind, FeatureId id, FeatureParams params, NodeAddress by, uint32_t seq,
+            uint64_t lamport) {
+  Change c;
+  c.kind = kind;
+  c.id = id;
+  c.params = std::move(params);
+  c.stamp.changed_by = by;
+  c.stamp.change_seq = seq;
+  c.stamp.lamport = lamport;
+  return c;
+}
+
+Change Destruct(FeatureId id, NodeAddress by, uint32_t seq, uint64_t lamport) {
+  FeatureParams p;
+  p.type = FeatureType::kCrater;
+  return Make(ChangeKind::kDestruct, id, p, by, seq, lamport);
+}
+
+const FeatureId kId{1, 1, 1};
+const NodeAddress kA{1, 1};
+const NodeAddress kB{1, 2};
+
+TEST(RecordStoreTest, StaleUpdateIsIgnored) {
+  RecordStore s(Ground());
+  const auto newer = FeatureParams::Crater(50, 50, 6);
+  const auto older = FeatureParams::Crater(60, 60, 3);
+  EXPECT_EQ(s.Apply(Make(ChangeKind::kUpdate, kId, newer, kA, 2, 5)),
+            RecordStore::Outcome::kApplied);
+  EXPECT_EQ(s.Apply(Make(ChangeKind::kConstruct, kId, older, kA, 1, 3)),
+            RecordStore::Outcome::kStale);
+  ASSERT_NE(s.Find(kId), nullptr);
+  EXPECT_EQ(s.Find(kId)->params, newer);
+  ASSERT_NE(s.terrain().Find(kId), nullptr);
+  EXPECT_EQ(s.terrain().Find(kId)->params(), newer);
+}
+
+TEST(RecordStoreTest, EqualClocksAreOrderedByTheChangingNode) {
+  const auto by_a = FeatureParams::Crater(50, 50, 6);
+  const auto by_b = FeatureParams::Crater(70, 70, 4);
+  RecordStore one(Ground()), two(Ground());
+  ASSERT_EQ(one.Apply(Make(ChangeKind::kUpdate, kId, by_a, kA, 1, 7)),
+            RecordStore::Outcome::kApplied);
+  ASSERT_EQ(one.Apply(Make(ChangeKind::kUpdate, kId, by_b, kB, 1, 7)),
+            RecordStore::Outcome::kApplied);
+  ASSERT_EQ(two.Apply(Make(ChangeKind::kUpdate, kId, by_b, kB, 1, 7)),
+            RecordStore::Outcome::kApplied);
+  ASSERT_EQ(two.Apply(Make(ChangeKind::kUpdate, kId, by_a, kA, 1, 7)),
+            RecordStore::Outcome::kStale);
+  EXPECT_EQ(one.Find(kId)->params, by_b);  // kB > kA
+  EXPECT_EQ(ComputeDigest(one.terrain()), ComputeDigest(two.terrain()));
+}
+
+TEST(RecordStoreTest, DestroyBeatsAnUpdateWithALaterClock) {
+  RecordStore s(Ground());
+  ASSERT_EQ(s.Apply(Make(ChangeKind::kConstruct, kId, FeatureParams::Crater(50, 50, 6), kA, 1, 1)),
+            RecordStore::Outcome::kApplied);
+  ASSERT_EQ(s.Apply(Destruct(kId, kB, 1, 2)), RecordStore::Outcome::kApplied);
+  EXPECT_EQ(s.Apply(Make(ChangeKind::kUpdate, kId, FeatureParams::Crater(40, 40, 5), kA, 2, 99)),
+            RecordStore::Outcome::kStale);
+  EXPECT_TRUE(s.Find(kId)->destroyed);
+  EXPECT_EQ(s.terrain().Find(kId), nullptr);
+  EXPECT_EQ(s.live_count(), 0u);
+  EXPECT_EQ(ComputeDigest(s.terrain()), ComputeDigest(Ground()));
+}
+
+TEST(RecordStoreTest, DestroyArrivingBeforeTheConstructLeavesATombstone) {
+  RecordStore s(Ground());
+  ASSERT_EQ(s.Apply(Destruct(kId, kB, 1, 2)), RecordStore::Outcome::kApplied);
+  EXPECT_EQ(s.Apply(Make(ChangeKind::kConstruct, kId, FeatureParams::Crater(50, 50, 6), kA, 1, 1)),
+            RecordStore::Outcome::kStale);
+  EXPECT_EQ(s.terrain().feature_count(), 0u);
+}
+
+TEST(RecordStoreTest, DuplicatesAreIdempotent) {
+  RecordStore s(Ground());
+  const Change c = Make(ChangeKind::kConstruct, kId, FeatureParams::Crater(50, 50, 6), kA, 1, 1);
+  ASSERT_EQ(s.Apply(c), RecordStore::Outcome::kApplied);
+  const auto digest = ComputeDigest(s.terrain());
+  EXPECT_EQ(s.Apply(c), RecordStore::Outcome::kStale);
+  EXPECT_EQ(ComputeDigest(s.terrain()), digest);
+  EXPECT_EQ(s.live_count(), 1u);
+}
+
+TEST(RecordStoreTest, EveryOrderOfTheSameChangesGivesTheSameTerrain) {
+  const FeatureId other{1, 2, 1};
+  std::vector<Change> changes = {
+      Make(ChangeKind::kConstruct, kId, FeatureParams::Crater(50, 50, 6), kA, 1, 1),
+      Make(ChangeKind::kUpdate, kId, FeatureParams::Crater(52, 50, 7), kB, 1, 3),
+      Make(ChangeKind::kConstruct, other, FeatureParams::Berm(30, 30, 0.5, 20, 4, 2), kB, 2, 4),
+      Make(ChangeKind::kUpdate, kId, FeatureParams::Crater(58, 50, 5), kA, 2, 5),
+      Destruct(other, kA, 3, 6),
+  };
+  std::vector<size_t> order(changes.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::optional<TerrainDigest> first;
+  int permutations = 0;
+  do {
+    RecordStore s(Ground());
+    for (size_t i : order) (void)s.Apply(changes[i]);
+    const auto d = ComputeDigest(s.terrain());
+    if (!first) first = d;
+    EXPECT_EQ(d, *first);
+    ++permutations;
+  } while (std::next_permutation(order.begin(), order.end()));
+  EXPECT_EQ(permutations, 120);
+  RecordStore s(Ground());
+  for (const Change& c : changes) (void)s.Apply(c);
+  EXPECT_EQ(s.Find(kId)->params, FeatureParams::Crater(58, 50, 5));
+  EXPECT_TRUE(s.Find(other)->destroyed);
+}
+
+TEST(RecordStoreTest, OverlappingBridgesKeepTheLowerIdPlacedWhateverTheOrder) {
+  const FeatureId low{1, 1, 5};
+  const FeatureId high{1, 2, 1};
+  const auto b1 = FeatureParams::Bridge(40, 60, 0.0, 6, 8, 30, 8, 3, 3);
+  const auto b2 = FeatureParams::Bridge(50, 60, 0.0, 6, 8, 30, 8, 3, 3);
+  const Change c_low = Make(ChangeKind::kConstruct, low, b1, kA, 1, 1);
+  const Change c_high = Make(ChangeKind::kConstruct, high, b2, kB, 1, 1);
+  RecordStore one(Ground()), two(Ground());
+  (void)one.Apply(c_low);
+  (void)one.Apply(c_high);
+  (void)two.Apply(c_high);
+  (void)two.Apply(c_low);
+  for (RecordStore* s : {&one, &two}) {
+    EXPECT_TRUE(s->Find(low)->placed);
+    EXPECT_FALSE(s->Find(high)->placed);
+    EXPECT_EQ(s->live_count(), 2u);
+    EXPECT_NE(s->terrain().Find(low), nullptr);
+    EXPECT_EQ(s->terrain().Find(high), nullptr);
+  }
+  EXPECT_EQ(ComputeDigest(one.terrain()), ComputeDigest(two.terrain()));
+  // Once the lower one is gone, the kept-but-not-placed one is placed.
+  (void)one.Apply(Destruct(low, kB, 2, 9));
+  EXPECT_TRUE(one.Find(high)->placed);
+  EXPECT_NE(one.terrain().Find(high), nullptr);
+  // A command that would overlap a placed bridge is refused.
+  EXPECT_FALSE(two.CheckPlaceable({1, 3, 1}, b2).ok());
+  EXPECT_TRUE(two.CheckPlaceable({1, 3, 1}, FeatureParams::Crater(20, 20, 3)).ok());
+}
+
+TEST(RecordStoreTest, AFeatureOffTheTerrainIsKeptButNotPlaced) {
+  RecordStore s(Ground());
+  const auto off = FeatureParams::Crater(126, 126, 10);  // the terrain is [0, 128]^2
+  ASSERT_EQ(s.Apply(Make(ChangeKind::kConstruct, kId, off, kA, 1, 1)),
+            RecordStore::Outcome::kApplied);
+  EXPECT_FALSE(s.Find(kId)->placed);
+  EXPECT_EQ(s.live_count(), 1u);
+  EXPECT_EQ(ComputeDigest(s.terrain()), ComputeDigest(Ground()));
+}
+
+}  // namespace
+}  // namespace dt

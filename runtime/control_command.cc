@@ -1,0 +1,274 @@
+#include "runtime/control_command.h"
+
+#include <charconv>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+namespace dt {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+std::vector<std::string_view> Split(std::string_view line) {
+  std::vector<std::string_view> out;
+  size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    size_t j = i;
+    while (j < line.size() && line[j] != ' ' && line[j] != '\t') ++j;
+    if (j > i) out.push_back(line.substr(i, j - i));
+    i = j;
+  }
+  return out;
+}
+
+Result<double> Number(std::string_view name, std::string_view text) {
+  double v = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(v)) {
+    return Error{fmt::format("{} \"{}\" is not a finite number", name, text)};
+  }
+  return v;
+}
+
+Result<uint64_t> Unsigned(std::string_view name, std::string_view text, uint64_t max) {
+  uint64_t v = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || v > max) {
+    return Error{fmt::format("{} \"{}\" is not a whole number in [0, {}]", name, text, max)};
+  }
+  return v;
+}
+
+// Checks the count, then reads every argument after the verb as a number.
+Result<std::vector<double>> Numbers(const std::vector<std::string_view>& words,
+                                    const std::vector<std::string_view>& names) {
+  if (words.size() != names.size() + 1) {
+    std::string usage(words[0]);
+    for (std::string_view n : names) usage += fmt::format(" <{}>", n);
+    return Error{fmt::format("{} takes {} arguments, got {}: {}", words[0], names.size(),
+                             words.size() - 1, usage)};
+  }
+  std::vector<double> out;
+  for (size_t i = 0; i < names.size(); ++i) {
+    Result<double> v = Number(names[i], words[i + 1]);
+    if (!v) return v.error();
+    out.push_back(v.value());
+  }
+  return out;
+}
+
+std::string IdLines(const std::vector<FeatureId>& ids) {
+  std::string out;
+  for (const FeatureId& id : ids) {
+    if (!out.empty()) out += '\n';
+    out += id.ToString();
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string ControlUsage() {
+  return "crater <x_m> <z_m> <radius_m>\n"
+         "berm <x_m> <z_m> <direction_deg> <length_m> <width_m> <height_m>\n"
+         "bridge <x_m> <z_m> <direction_deg> <width_m> <ramp1_m> <span_m> <ramp2_m> "
+         "<height1_m> <height2_m>\n"
+         "update <site:host:number> <key>=<value> ...\n"
+         "destroy <site:host:number>\n"
+         "breach <site:host:number> <gap_start_m> <gap_width_m>\n"
+         "drive <vehicle> <speed_mps> <heading_rate_deg_s>\n"
+         "status | digest | features | ping | quit\n"
+         "render <file.png>\n"
+         "export <file.dtt> | import <file.dtt> (server)\n"
+         "loss <drop_probability>\n"
+         "partition <site:host> ... | heal";
+}
+
+Result<FeatureId> ParseFeatureId(std::string_view text) {
+  const size_t a = text.find(':');
+  const size_t b = a == std::string_view::npos ? a : text.find(':', a + 1);
+  if (b == std::string_view::npos) {
+    return Error{fmt::format("feature ID \"{}\" is not site:host:number", text)};
+  }
+  Result<uint64_t> site = Unsigned("site", text.substr(0, a), 65535);
+  Result<uint64_t> host = Unsigned("host", text.substr(a + 1, b - a - 1), 65535);
+  Result<uint64_t> number = Unsigned("number", text.substr(b + 1), 0xFFFFFFFFull);
+  if (!site) return site.error();
+  if (!host) return host.error();
+  if (!number) return number.error();
+  if (number.value() == 0) return Error{fmt::format("feature ID \"{}\": number 0 is none", text)};
+  return FeatureId{static_cast<uint16_t>(site.value()), static_cast<uint16_t>(host.value()),
+                   static_cast<uint32_t>(number.value())};
+}
+
+Result<NodeAddress> ParseNodeAddress(std::string_view text) {
+  const size_t a = text.find(':');
+  if (a == std::string_view::npos) {
+    return Error{fmt::format("node address \"{}\" is not site:host", text)};
+  }
+  Result<uint64_t> site = Unsigned("site", text.substr(0, a), 65535);
+  Result<uint64_t> host = Unsigned("host", text.substr(a + 1), 65535);
+  if (!site) return site.error();
+  if (!host) return host.error();
+  return NodeAddress{static_cast<uint16_t>(site.value()), static_cast<uint16_t>(host.value())};
+}
+
+Result<ControlCommand> ParseControlCommand(std::string_view line) {
+  const std::vector<std::string_view> w = Split(line);
+  if (w.empty()) return Error{"empty command; commands:\n" + ControlUsage()};
+  const std::string_view verb = w[0];
+  ControlCommand c;
+  auto no_args = [&](ControlVerb v) -> Result<ControlCommand> {
+    if (w.size() != 1) return Error{fmt::format("{} takes no arguments", verb)};
+    c.verb = v;
+    return c;
+  };
+  if (verb == "crater" || verb == "berm" || verb == "bridge") {
+    c.verb = ControlVerb::kCreate;
+    const FeatureType type = ParseFeatureType(verb).value();
+    std::vector<std::string_view> keys = RequiredFeatureKeys(type);
+    Result<std::vector<double>> v = Numbers(w, keys);
+    if (!v) return v.error();
+    FeatureEdit edit;
+    for (size_t i = 0; i < keys.size(); ++i) edit.values.emplace_back(keys[i], v.value()[i]);
+    Result<FeatureParams> p = MakeFeature(type, edit);
+    if (!p) return p.error();
+    c.params = p.value();
+    return c;
+  }
+  if (verb == "update") {
+    if (w.size() < 3) return Error{"update takes <site:host:number> <key>=<value> ..."};
+    Result<FeatureId> id = ParseFeatureId(w[1]);
+    if (!id) return id.error();
+    c.verb = ControlVerb::kUpdate;
+    c.target = id.value();
+    for (size_t i = 2; i < w.size(); ++i) {
+      const size_t eq = w[i].find('=');
+      if (eq == std::string_view::npos || eq == 0) {
+        return Error{fmt::format("update argument \"{}\" is not key=value", w[i])};
+      }
+      const std::string_view key = w[i].substr(0, eq);
+      Result<double> v = Number(key, w[i].substr(eq + 1));
+      if (!v) return v.error();
+      c.edit.values.emplace_back(std::string(key), v.value());
+    }
+    return c;
+  }
+  if (verb == "destroy") {
+    if (w.size() != 2) return Error{"destroy takes <site:host:number>"};
+    Result<FeatureId> id = ParseFeatureId(w[1]);
+    if (!id) return id.error();
+    c.verb = ControlVerb::kDestroy;
+    c.target = id.value();
+    return c;
+  }
+  if (verb == "breach") {
+    if (w.size() != 4) return Error{"breach takes <site:host:number> <gap_start_m> <gap_width_m>"};
+    Result<FeatureId> id = ParseFeatureId(w[1]);
+    if (!id) return id.error();
+    Result<double> start = Number("gap_start_m", w[2]);
+    Result<double> width = Number("gap_width_m", w[3]);
+    if (!start) return start.error();
+    if (!width) return width.error();
+    if (start.value() < 0.0 || width.value() <= 0.0) {
+      return Error{fmt::format("breach needs gap_start_m >= 0 and gap_width_m > 0, got {} and {}",
+                               start.value(), width.value())};
+    }
+    c.verb = ControlVerb::kBreach;
+    c.target = id.value();
+    c.gap_start_m = start.value();
+    c.gap_width_m = width.value();
+    return c;
+  }
+  if (verb == "drive") {
+    Result<std::vector<double>> v = Numbers(w, {"vehicle", "speed_mps", "heading_rate_deg_s"});
+    if (!v) return v.error();
+    const double index = v.value()[0];
+    if (index < 0.0 || index != std::floor(index) || index > 1e6) {
+      return Error{fmt::format("vehicle \"{}\" is not an index", w[1])};
+    }
+    c.verb = ControlVerb::kDrive;
+    c.vehicle = static_cast<int>(index);
+    c.speed_mps = v.value()[1];
+    c.heading_rate_rad_s = v.value()[2] * kDegToRad;
+    return c;
+  }
+  if (verb == "render" || verb == "export" || verb == "import") {
+    if (w.size() != 2) return Error{fmt::format("{} takes <file>", verb)};
+    c.verb = verb == "render" ? ControlVerb::kRender
+                              : (verb == "export" ? ControlVerb::kExport : ControlVerb::kImport);
+    c.path = std::string(w[1]);
+    return c;
+  }
+  if (verb == "loss") {
+    Result<std::vector<double>> v = Numbers(w, {"drop_probability"});
+    if (!v) return v.error();
+    if (v.value()[0] < 0.0 || v.value()[0] > 1.0) {
+      return Error{fmt::format("drop_probability {} is outside [0, 1]", v.value()[0])};
+    }
+    c.verb = ControlVerb::kLoss;
+    c.drop_probability = v.value()[0];
+    return c;
+  }
+  if (verb == "partition") {
+    if (w.size() < 2) return Error{"partition takes <site:host> ..."};
+    for (size_t i = 1; i < w.size(); ++i) {
+      Result<NodeAddress> a = ParseNodeAddress(w[i]);
+      if (!a) return a.error();
+      c.nodes.push_back(a.value());
+    }
+    c.verb = ControlVerb::kPartition;
+    return c;
+  }
+  if (verb == "status") return no_args(ControlVerb::kStatus);
+  if (verb == "digest") return no_args(ControlVerb::kDigest);
+  if (verb == "features") return no_args(ControlVerb::kFeatures);
+  if (verb == "heal") return no_args(ControlVerb::kHeal);
+  if (verb == "ping") return no_args(ControlVerb::kPing);
+  if (verb == "quit") return no_args(ControlVerb::kQuit);
+  return Error{fmt::format("unknown command \"{}\"; commands:\n{}", verb, ControlUsage())};
+}
+
+ControlReply RunFeatureCommand(const ControlCommand& c, NodeActions& actions) {
+  switch (c.verb) {
+    case ControlVerb::kCreate: {
+      Result<FeatureId> id = actions.Create(c.params);
+      if (!id) return ControlReply::Fail(id.error().message);
+      return ControlReply::Ok(id.value().ToString());
+    }
+    case ControlVerb::kUpdate: {
+      std::optional<FeatureParams> old = actions.Params(c.target);
+      if (!old) return ControlReply::Fail(fmt::format("no live feature {}", c.target.ToString()));
+      Result<FeatureParams> p = ApplyFeatureEdit(*old, c.edit);
+      if (!p) return ControlReply::Fail(p.error().message);
+      if (Status s = actions.Modify(c.target, p.value()); !s) {
+        return ControlReply::Fail(s.error().message);
+      }
+      return ControlReply::Ok(c.target.ToString());
+    }
+    case ControlVerb::kDestroy:
+      if (Status s = actions.Destroy(c.target); !s) return ControlReply::Fail(s.error().message);
+      return ControlReply::Ok(c.target.ToString());
+    case ControlVerb::kBreach: {
+      Result<std::vector<FeatureId>> ids = actions.Breach(c.target, c.gap_start_m, c.gap_width_m);
+      if (!ids) return ControlReply::Fail(ids.error().message);
+      return ControlReply::Ok(IdLines(ids.value()));
+    }
+    case ControlVerb::kDrive:
+      if (c.vehicle >= actions.vehicle_count()) {
+        return ControlReply::Fail(fmt::format("vehicle {} does not exist (this node has {})",
+                                              c.vehicle, actions.vehicle_count()));
+      }
+      if (Status s = actions.Drive(c.vehicle, c.speed_mps, c.heading_rate_rad_s); !s) {
+        return ControlReply::Fail(s.error().message);
+      }
+      return ControlReply::Ok();
+    default:
+      return ControlReply::Fail("not a feature command");
+  }
+}
+
+}  // namespace dt

@@ -1,0 +1,174 @@
+#include "runtime/exercise_config.h"
+
+#include <fstream>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "runtime/toml_reader.h"
+#include "pdu/transport.h"
+#include "terrain/vehicle_type.h"
+
+namespace dt {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+VehicleConfig ReadVehicle(const TomlReader& r) {
+  VehicleConfig v;
+  v.type = r.String("type", "tank");
+  if (!BuiltInVehicleType(v.type)) r.Fail("type", "unknown vehicle type (tank, truck, jeep)");
+  v.x_m = r.Double("x_m", 0.0, 1e9);
+  v.z_m = r.Double("z_m", 0.0, 1e9);
+  v.heading_rad = r.Double("heading_deg", 0.0, -360.0, 360.0) * kDegToRad;
+  r.Finish();
+  return v;
+}
+
+ProcessConfig ReadProcess(const TomlReader& r, const std::filesystem::path& base_dir, bool is_node,
+                          double terrain_size_m) {
+  ProcessConfig p;
+  p.name = r.String("name");
+  if (p.name.empty() || p.name.find_first_of("/ \t") != std::string::npos) {
+    r.Fail("name", "must be non-empty with no '/' or spaces");
+  }
+  p.address.site = static_cast<uint16_t>(r.Int("site", 1, 65535));
+  p.address.host = static_cast<uint16_t>(r.Int("host", 1, 65535));
+  if (is_node) {
+    const std::string scenario = r.String("scenario", "");
+    if (!scenario.empty()) p.scenario = std::filesystem::absolute(base_dir / scenario);
+    for (const TomlReader& v : r.TableArray("vehicle")) {
+      VehicleConfig vc = ReadVehicle(v);
+      if (vc.x_m > terrain_size_m || vc.z_m > terrain_size_m) {
+        v.Fail("x_m", fmt::format("vehicle at ({}, {}) is off the {} m terrain", vc.x_m, vc.z_m,
+                                  terrain_size_m));
+      }
+      p.vehicles.push_back(vc);
+    }
+  }
+  r.Finish();
+  return p;
+}
+
+bool KnownTransport(std::string_view url) {
+  return url.rfind("udpm://", 0) == 0 || url.rfind("dds://", 0) == 0 ||
+         url.rfind("memq://", 0) == 0;
+}
+
+}  // namespace
+
+void ApplyOverrides(ExerciseConfig& exercise, const std::string& transport_url,
+                    const std::string& run_dir) {
+  if (!transport_url.empty()) {
+    if (!KnownTransport(transport_url)) {
+      throw std::invalid_argument(fmt::format(
+          "--transport \"{}\": expected a udpm://, dds:// or memq:// URL", transport_url));
+    }
+    exercise.transport_url = transport_url;
+  }
+  if (!run_dir.empty()) exercise.run_dir = std::filesystem::absolute(run_dir);
+}
+
+std::vector<const ProcessConfig*> ExerciseConfig::Processes() const {
+  std::vector<const ProcessConfig*> out{&server};
+  if (standby) out.push_back(&*standby);
+  for (const ProcessConfig& n : nodes) out.push_back(&n);
+  return out;
+}
+
+const ProcessConfig* ExerciseConfig::FindProcess(std::string_view process_name) const {
+  for (const ProcessConfig* p : Processes()) {
+    if (p->name == process_name) return p;
+  }
+  return nullptr;
+}
+
+std::filesystem::path ExerciseConfig::SocketPath(std::string_view process_name) const {
+  return run_dir / (std::string(process_name) + ".sock");
+}
+
+ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,
+                                   const std::filesystem::path& base_dir) {
+  const toml::table root = TomlReader::ParseText(toml_text, source_name);
+  const TomlReader top(root, std::string(source_name), "");
+  ExerciseConfig c;
+  c.source = std::string(source_name);
+
+  const TomlReader ex = top.Table("exercise");
+  c.name = ex.String("name");
+  c.exercise_id = static_cast<uint8_t>(ex.Int("id", 1, 0, 255));
+  c.transport_url = ex.String("transport", std::string(kDefaultTransportUrl));
+  if (!KnownTransport(c.transport_url)) {
+    ex.Fail("transport", "expected a udpm://, dds:// or memq:// URL");
+  }
+  c.run_dir = std::filesystem::absolute(ex.String("run_dir", "run/" + c.name));
+  c.tick_hz = static_cast<int>(ex.Int("tick_hz", 30, 1, 1000));
+  ex.Finish();
+
+  const TomlReader t = top.Table("terrain");
+  c.terrain.posts_per_side = static_cast<int>(t.Int("posts_per_side", 129, 2, 65536));
+  c.terrain.spacing_m = t.Double("spacing_m", 10.0, 0.01, 10000.0);
+  c.terrain.relief_m = t.Double("relief_m", 50.0, 0.0, 10000.0);
+  c.terrain.seed = static_cast<uint64_t>(t.Int("seed", 1, 0, INT64_MAX));
+  t.Finish();
+
+  if (auto p = top.OptionalTable("protocol")) {
+    c.protocol.max_feature_period_ms =
+        static_cast<int>(p->Int("max_feature_period_ms", 500, 10, 600000));
+    c.protocol.silence_ms = static_cast<int>(p->Int("silence_ms", 2000, 10, 3600000));
+    c.protocol.playback_retry_ms = static_cast<int>(p->Int("playback_retry_ms", 500, 10, 600000));
+    c.protocol.playback_window = static_cast<int>(p->Int("playback_window", 256, 1, 1000000));
+    if (c.protocol.silence_ms <= c.protocol.max_feature_period_ms) {
+      p->Fail("silence_ms", fmt::format("must exceed max_feature_period_ms ({})",
+                                        c.protocol.max_feature_period_ms));
+    }
+    p->Finish();
+  }
+
+  if (auto f = top.OptionalTable("faults")) {
+    c.faults.drop_probability = f->Double("drop_probability", 0.0, 0.0, 1.0);
+    c.faults.duplicate_probability = f->Double("duplicate_probability", 0.0, 0.0, 1.0);
+    c.faults.reorder_probability = f->Double("reorder_probability", 0.0, 0.0, 1.0);
+    c.faults.reorder_window = f->Int("reorder_window", 0, 0, 1000);
+    c.fault_seed = static_cast<uint64_t>(f->Int("seed", 1, 0, INT64_MAX));
+    f->Finish();
+  }
+
+  const std::filesystem::path base = std::filesystem::absolute(base_dir);
+  c.server = ReadProcess(top.Table("server"), base, false, c.terrain_size_m());
+  if (auto s = top.OptionalTable("standby")) c.standby = ReadProcess(*s, base, false, 0.0);
+  for (const TomlReader& n : top.TableArray("node")) {
+    c.nodes.push_back(ReadProcess(n, base, true, c.terrain_size_m()));
+  }
+  if (c.nodes.empty()) top.Fail("node", "an exercise needs at least one [[node]]");
+  top.Finish();
+
+  std::set<std::string> names;
+  std::set<NodeAddress> addresses;
+  for (const ProcessConfig* p : c.Processes()) {
+    if (!names.insert(p->name).second) {
+      throw std::invalid_argument(
+          fmt::format("{}: process name \"{}\" is used twice", source_name, p->name));
+    }
+    if (!addresses.insert(p->address).second) {
+      throw std::invalid_argument(fmt::format("{}: address {} (of \"{}\") is used twice",
+                                              source_name, p->address.ToString(), p->name));
+    }
+  }
+  return c;
+}
+
+ExerciseConfig LoadExerciseConfig(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw std::invalid_argument(fmt::format("{}: cannot read the exercise config", path.string()));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return ParseExerciseConfig(text.str(), path.string(), path.parent_path());
+}
+
+}  // namespace dt

@@ -1,0 +1,209 @@
+#include "runtime/process_runtime.h"
+
+#include <poll.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "log/log.h"
+#include "render/camera.h"
+#include "render/png_io.h"
+#include "render/renderer.h"
+#include "render/vehicle_sprite.h"
+
+namespace dt {
+namespace {
+
+volatile sig_atomic_t g_stop = 0;
+void OnStop(int) { g_stop = 1; }
+
+std::string_view RoleName(NodeRole role) {
+  switch (role) {
+    case NodeRole::kNode:
+      return "node";
+    case NodeRole::kServer:
+      return "server";
+    case NodeRole::kStandby:
+      return "standby";
+  }
+  return "unknown";
+}
+
+// The seed of a process's fault decisions: the exercise's, mixed with its address, so processes
+// drop different messages.
+uint64_t FaultSeed(const ExerciseConfig& exercise, NodeAddress a) {
+  return exercise.fault_seed * 0x9E3779B97F4A7C15ull + (uint64_t{a.site} << 16) + a.host;
+}
+
+}  // namespace
+
+ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise,
+                                      const ProcessConfig& process) {
+  ProcessTransport t;
+  auto faulty = std::make_unique<FaultyTransport>(
+      MakeTransport(exercise.transport_url, exercise.exercise_id), process.address, exercise.faults,
+      FaultSeed(exercise, process.address));
+  t.faults = faulty.get();
+  t.transport = std::move(faulty);
+  PduBusConfig bus;
+  bus.exercise_id = exercise.exercise_id;
+  bus.local = process.address;
+  bus.terrain_size_m = exercise.terrain_size_m();
+  t.bus = std::make_unique<PduBus>(*t.transport, bus);
+  return t;
+}
+
+void InstallStopSignals() {
+  struct sigaction sa {};
+  sa.sa_handler = OnStop;
+  sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGINT, &sa, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+}
+
+bool StopRequested() { return g_stop != 0; }
+
+void WaitForWork(int transport_fd, bool messages_held, const ControlServer& control,
+                 int timeout_ms) {
+  std::vector<pollfd> fds = {{transport_fd, POLLIN, 0}};
+  control.AddPollFds(fds);
+  poll(fds.data(), fds.size(), messages_held ? std::min(timeout_ms, 1) : timeout_ms);
+}
+
+int64_t MonotonicMs() {
+  static const auto start = std::chrono::steady_clock::now();
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() -
+                                                               start)
+      .count();
+}
+
+std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
+                       const FaultyTransport& faults, const std::vector<Vehicle>& vehicles) {
+  const Replica::Counters c = replica.counters();
+  std::string s = fmt::format(
+      "name {}\naddress {}\nrole {}\nsigned_on {}\ncaught_up {}\nfeatures {}\ndigest {}\n"
+      "own_feature_number {}\nown_change_seq {}\nacknowledged_change_seq {}\n"
+      "sent {}\nreceived {}\nrejected {}\nplayed_back {}\napplied {}\nignored_stale {}\n"
+      "fault_dropped {}\ndrop_probability {}",
+      name, replica.config().address.ToString(), RoleName(role), replica.signed_on() ? 1 : 0,
+      replica.caught_up() ? 1 : 0, replica.live_feature_count(), replica.Digest(),
+      replica.own_feature_number(), replica.own_change_seq(), replica.acknowledged_change_seq(),
+      c.sent, c.received, c.rejected, c.played_back, c.applied, c.ignored_stale, faults.dropped(),
+      const_cast<FaultyTransport&>(faults).faults().config().drop_probability);
+  for (const auto& [origin, max] : replica.max_feature_known()) {
+    s += fmt::format("\nmax_feature {} {}", origin.ToString(), max);
+  }
+  for (size_t i = 0; i < vehicles.size(); ++i) {
+    const Vehicle& v = vehicles[i];
+    s += fmt::format(
+        "\nvehicle {} {} x_m={:.2f} z_m={:.2f} y_m={:.2f} heading_rad={:.3f} "
+        "speed_mps={:.2f} on_bridge={} alive={}",
+        i, v.type().name, v.x_m(), v.z_m(), v.elevation_m(), v.heading_rad(), v.speed_mps(),
+        v.on_bridge() ? v.bridge().ToString() : "-", v.alive() ? 1 : 0);
+  }
+  return s;
+}
+
+Status RenderMapPng(const Terrain& terrain, const std::vector<Vehicle>& vehicles,
+                    const std::string& path) {
+  try {
+    static Renderer* renderer = new Renderer();  // one OSMesa context for the process's life
+    const double size_m = terrain.ground().size_m();
+    const Camera camera = Camera::MapOf(Rect{0.0, 0.0, size_m, size_m}, 512);
+    std::vector<VehicleSprite> sprites;
+    for (const Vehicle& v : vehicles) sprites.push_back(SpriteOf(v));
+    RenderOptions options;
+    options.grid_spacing_m = 0.0;
+    return WritePng(renderer->Render(terrain, sprites, camera, options), path);
+  } catch (const std::exception& e) {
+    return Error{fmt::format("cannot render {}: {}", path, e.what())};
+  }
+}
+
+std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
+                                                const std::string& name, NodeRole role,
+                                                const Replica& replica, FaultyTransport& faults,
+                                                const std::vector<Vehicle>& vehicles) {
+  switch (command.verb) {
+    case ControlVerb::kPing:
+      return ControlReply::Ok("pong");
+    case ControlVerb::kStatus:
+      return ControlReply::Ok(StatusText(name, role, replica, faults, vehicles));
+    case ControlVerb::kDigest:
+      return ControlReply::Ok(replica.Digest());
+    case ControlVerb::kFeatures: {
+      std::string body;
+      for (const auto& [id, record] : replica.records().all()) {
+        if (record.destroyed) continue;
+        if (!body.empty()) body += '\n';
+        body += id.ToString();
+      }
+      return ControlReply::Ok(std::move(body));
+    }
+    case ControlVerb::kRender: {
+      if (Status s = RenderMapPng(replica.terrain(), vehicles, command.path); !s) {
+        return ControlReply::Fail(s.error().message);
+      }
+      return ControlReply::Ok(command.path);
+    }
+    case ControlVerb::kLoss: {
+      FaultConfig f = faults.faults().config();
+      f.drop_probability = command.drop_probability;
+      faults.faults().set_config(f);
+      DT_LOG_INFO("receive drop probability now {}", f.drop_probability);
+      return ControlReply::Ok();
+    }
+    case ControlVerb::kPartition:
+      faults.faults().Partition({replica.config().address}, command.nodes);
+      DT_LOG_INFO("partitioned from {} node(s)", command.nodes.size());
+      return ControlReply::Ok();
+    case ControlVerb::kHeal:
+      faults.faults().Heal();
+      DT_LOG_INFO("partitions healed");
+      return ControlReply::Ok();
+    default:
+      return std::nullopt;
+  }
+}
+
+CatchUpProgress::CatchUpProgress() : tty_(isatty(STDOUT_FILENO) == 1) {}
+
+void CatchUpProgress::Update(int64_t now_ms, const Replica& replica) {
+  if (started_ms_ < 0) started_ms_ = now_ms;
+  // Short catch-ups show nothing; a terminal line refreshes 4 times a second, logs every 5 s.
+  if (now_ms - started_ms_ < 2000) return;
+  const int64_t interval_ms = tty_ ? 250 : 5000;
+  if (last_ms_ >= 0 && now_ms - last_ms_ < interval_ms) return;
+  last_ms_ = now_ms;
+  const Replica::Counters c = replica.counters();
+  const std::string line =
+      fmt::format("catching up: {} features, {} changes applied, {} played back, {:.1f} s",
+                  replica.live_feature_count(), c.applied, c.played_back,
+                  static_cast<double>(now_ms - started_ms_) / 1000.0);
+  if (tty_) {
+    std::fprintf(stdout, "\r%s\033[K", line.c_str());
+    std::fflush(stdout);
+    shown_ = true;
+  } else {
+    DT_LOG_INFO("{}", line);
+  }
+}
+
+void CatchUpProgress::Done(int64_t now_ms, const Replica& replica) {
+  if (shown_) std::fprintf(stdout, "\n");
+  if (started_ms_ >= 0) {
+    DT_LOG_INFO("caught up: {} features, {} changes applied in {:.1f} s",
+                replica.live_feature_count(), replica.counters().applied,
+                static_cast<double>(now_ms - started_ms_) / 1000.0);
+  }
+  started_ms_ = -1;
+  last_ms_ = -1;
+  shown_ = false;
+}
+
+}  // namespace dt

@@ -1,0 +1,199 @@
+#include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "runtime/control_client.h"
+#include "runtime/control_command.h"
+#include "runtime/control_server.h"
+#include "runtime/test/map_actions.h"
+
+namespace dt {
+namespace {
+
+std::filesystem::path TempSocket(const std::string& tag) {
+  return std::filesystem::temp_directory_path() / fmt::format("dt-ctl-{}-{}.sock", tag, ::getpid());
+}
+
+// Runs a server's Poll loop on its own thread until stopped.
+class ServingThread {
+ public:
+  explicit ServingThread(ControlServer& server)
+      : thread_([this, &server] {
+          while (!stop_) server.Poll(20);
+        }) {}
+  ~ServingThread() {
+    stop_ = true;
+    thread_.join();
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+TEST(ControlProtocolTest, EncodesStatusBodyAndEscapesDots) {
+  EXPECT_EQ(EncodeControlReply(ControlReply::Ok()), "ok\n.\n");
+  EXPECT_EQ(EncodeControlReply(ControlReply::Ok("a\n.\nb")), "ok\na\n..\nb\n.\n");
+  EXPECT_EQ(EncodeControlReply(ControlReply::Fail("bad\nthing")), "error: bad thing\n.\n");
+}
+
+TEST(ControlCommandTest, ParsesEveryVerb) {
+  Result<ControlCommand> c = ParseControlCommand("crater 100 200 5");
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_EQ(c.value().verb, ControlVerb::kCreate);
+  EXPECT_EQ(c.value().params, FeatureParams::Crater(100, 200, 5));
+
+  c = ParseControlCommand("  berm 10 20 90 30 4 2 ");
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_NEAR(c.value().params.direction_rad, 1.5707963267948966, 1e-12);
+  EXPECT_DOUBLE_EQ(c.value().params.height_m[0], 2.0);
+
+  c = ParseControlCommand("bridge 100 100 0 8 20 60 20 6 6");
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_DOUBLE_EQ(c.value().params.length_m[0], 60.0);
+  EXPECT_DOUBLE_EQ(c.value().params.length_m[1], 20.0);
+
+  c = ParseControlCommand("update 1:2:3 radius_m=8 x_m=4");
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_EQ(c.value().target, (FeatureId{1, 2, 3}));
+  ASSERT_EQ(c.value().edit.values.size(), 2u);
+
+  c = ParseControlCommand("breach 1:2:3 10 5");
+  ASSERT_TRUE(c);
+  EXPECT_DOUBLE_EQ(c.value().gap_width_m, 5.0);
+  c = ParseControlCommand("drive 0 5 -90");
+  ASSERT_TRUE(c);
+  EXPECT_NEAR(c.value().heading_rate_rad_s, -1.5707963267948966, 1e-12);
+  c = ParseControlCommand("partition 1:1 1:2");
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c.value().nodes.size(), 2u);
+  EXPECT_EQ(ParseControlCommand("loss 0.3").value().drop_probability, 0.3);
+  EXPECT_EQ(ParseControlCommand("render /tmp/x.png").value().path, "/tmp/x.png");
+  for (const char* v : {"status", "digest", "features", "heal", "ping", "quit"}) {
+    EXPECT_TRUE(ParseControlCommand(v)) << v;
+  }
+}
+
+TEST(ControlCommandTest, RefusesBadCommandsWithTheValue) {
+  auto err = [](const char* line) {
+    Result<ControlCommand> c = ParseControlCommand(line);
+    return c ? std::string() : c.error().message;
+  };
+  EXPECT_NE(err("crater 1 2").find("takes 3 arguments, got 2"), std::string::npos);
+  EXPECT_NE(err("crater 1 2 abc").find("radius_m \"abc\""), std::string::npos);
+  EXPECT_NE(err("crater 1 2 nan").find("not a finite number"), std::string::npos);
+  EXPECT_NE(err("crater 1 2 -4").find("radius"), std::string::npos) << err("crater 1 2 -4");
+  EXPECT_NE(err("destroy 1:2").find("\"1:2\""), std::string::npos);
+  EXPECT_NE(err("destroy 1:2:0").find("number 0"), std::string::npos);
+  EXPECT_NE(err("destroy 1:70000:3").find("host \"70000\""), std::string::npos);
+  EXPECT_NE(err("update 1:1:1 radius").find("not key=value"), std::string::npos);
+  EXPECT_NE(err("breach 1:1:1 5 0").find("gap_width_m > 0"), std::string::npos);
+  EXPECT_NE(err("loss 2").find("outside [0, 1]"), std::string::npos);
+  EXPECT_NE(err("status now").find("no arguments"), std::string::npos);
+  EXPECT_NE(err("fly 1 2").find("unknown command \"fly\""), std::string::npos);
+  EXPECT_NE(err("").find("empty"), std::string::npos);
+}
+
+TEST(ControlCommandTest, BadFeatureCommandChangesNothing) {
+  MapActions node;
+  ASSERT_TRUE(RunFeatureCommand(ParseControlCommand("crater 10 10 3").value(), node).ok);
+  const auto before = node.features;
+  const FeatureId id = before.begin()->first;
+  ControlReply r = RunFeatureCommand(
+      ParseControlCommand("update " + id.ToString() + " radius_m=9 height_m=2").value(), node);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("height_m is not a key of a crater"), std::string::npos) << r.error;
+  r = RunFeatureCommand(ParseControlCommand("update 1:1:99 radius_m=9").value(), node);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("1:1:99"), std::string::npos);
+  r = RunFeatureCommand(ParseControlCommand("drive 3 1 0").value(), node);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(node.features, before);
+  EXPECT_TRUE(node.drives.empty());
+
+  r = RunFeatureCommand(ParseControlCommand("update " + id.ToString() + " radius_m=9").value(),
+                        node);
+  EXPECT_TRUE(r.ok) << r.error;
+  EXPECT_DOUBLE_EQ(node.features.at(id).length_m[0], 9.0);
+}
+
+TEST(ControlServerTest, AnswersRequestsOverTheSocket) {
+  const std::filesystem::path path = TempSocket("rt");
+  int calls = 0;
+  ControlServer server(path, [&](std::string_view line) {
+    ++calls;
+    if (line == "multi") return ControlReply::Ok("x\n.\ny");
+    if (line == "bad") return ControlReply::Fail("no good");
+    return ControlReply::Ok(std::string("echo ") + std::string(line));
+  });
+  ASSERT_TRUE(std::filesystem::exists(path));
+  {
+    ServingThread serving(server);
+    Result<ControlReply> r = CallControl(path, "hello there", 5000);
+    ASSERT_TRUE(r) << r.error().message;
+    EXPECT_TRUE(r.value().ok);
+    EXPECT_EQ(r.value().body, "echo hello there");
+    r = CallControl(path, "multi", 5000);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r.value().body, "x\n.\ny");
+    r = CallControl(path, "bad", 5000);
+    ASSERT_TRUE(r);
+    EXPECT_FALSE(r.value().ok);
+    EXPECT_EQ(r.value().error, "no good");
+    r = CallControl(path, std::string(kMaxControlLineBytes + 10, 'a'), 5000);
+    ASSERT_TRUE(r);
+    EXPECT_FALSE(r.value().ok);
+    EXPECT_NE(r.value().error.find("exceeds"), std::string::npos);
+    r = CallControl(path, "two\nlines", 5000);
+    EXPECT_FALSE(r);
+  }
+  EXPECT_EQ(calls, 3);  // the over-long line never reached the handler
+}
+
+TEST(ControlServerTest, ClientTimesOutWhenNobodyAnswers) {
+  const std::filesystem::path path = TempSocket("to");
+  ControlServer server(path, [](std::string_view) { return ControlReply::Ok(); });
+  // Nobody polls: the connection is queued but never answered.
+  Result<ControlReply> r = CallControl(path, "ping", 100);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("no reply"), std::string::npos) << r.error().message;
+}
+
+TEST(ControlServerTest, ReplacesStaleSocketButNotALiveOne) {
+  const std::filesystem::path path = TempSocket("stale");
+  {
+    // A socket file left by a killed process: bound, then closed without unlinking.
+    const int fd = socket(AF_UNIX, SOCK_STREAM, 0);
+    sockaddr_un addr{};
+    addr.sun_family = AF_UNIX;
+    std::strcpy(addr.sun_path, path.c_str());
+    ASSERT_EQ(bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)), 0);
+    close(fd);
+  }
+  ASSERT_TRUE(std::filesystem::exists(path));
+  auto server = std::make_unique<ControlServer>(
+      path, [](std::string_view) { return ControlReply::Ok("fresh"); });
+  EXPECT_THROW(ControlServer(path, [](std::string_view) { return ControlReply::Ok(); }),
+               std::runtime_error);
+  server.reset();
+  EXPECT_FALSE(std::filesystem::exists(path));
+  EXPECT_THROW(
+      ControlServer(std::string(200, 'p'), [](std::string_view) { return ControlReply::Ok(); }),
+      std::invalid_argument);
+  Result<ControlReply> r = CallControl(path, "ping", 100);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("cannot connect"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace dt

@@ -1,0 +1,159 @@
+#include "runtime/toml_reader.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace dt {
+
+TomlReader::TomlReader(const toml::table& table, std::string source, std::string path_prefix)
+    : table_(&table), source_(std::move(source)), prefix_(std::move(path_prefix)) {}
+
+toml::table TomlReader::ParseText(std::string_view text, std::string_view source) {
+  try {
+    return toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    throw std::invalid_argument(fmt::format("{}:{}:{}: TOML syntax error: {}", source,
+                                            e.source().begin.line, e.source().begin.column,
+                                            e.description()));
+  }
+}
+
+std::string TomlValueText(const toml::node& node) {
+  std::ostringstream out;
+  node.visit([&](const auto& v) { out << v; });
+  return out.str();
+}
+
+std::string TomlReader::KeyPath(std::string_view key) const {
+  return prefix_.empty() ? std::string(key) : fmt::format("{}.{}", prefix_, key);
+}
+
+void TomlReader::Fail(std::string_view key, std::string_view problem) const {
+  const toml::node* n = table_->get(key);
+  if (n != nullptr) {
+    throw std::invalid_argument(
+        fmt::format("{}: {}: {} (value {})", source_, KeyPath(key), problem, TomlValueText(*n)));
+  }
+  throw std::invalid_argument(fmt::format("{}: {}: {}", source_, KeyPath(key), problem));
+}
+
+void TomlReader::FailTable(std::string_view problem) const {
+  throw std::invalid_argument(
+      fmt::format("{}: {}: {}", source_, prefix_.empty() ? "top level" : prefix_, problem));
+}
+
+bool TomlReader::Has(std::string_view key) const { return table_->contains(key); }
+
+const toml::node* TomlReader::Get(std::string_view key) const {
+  const toml::node* n = table_->get(key);
+  if (n != nullptr) read_.emplace(key);
+  return n;
+}
+
+const toml::node& TomlReader::Require(std::string_view key) const {
+  const toml::node* n = Get(key);
+  if (n == nullptr) Fail(key, "missing");
+  return *n;
+}
+
+int64_t TomlReader::Int(std::string_view key, int64_t lo, int64_t hi) const {
+  const toml::node& n = Require(key);
+  const auto v = n.value_exact<int64_t>();
+  if (!v) Fail(key, "expected an integer");
+  if (*v < lo || *v > hi) Fail(key, fmt::format("must be in [{}, {}]", lo, hi));
+  return *v;
+}
+
+int64_t TomlReader::Int(std::string_view key, int64_t fallback, int64_t lo, int64_t hi) const {
+  return Has(key) ? Int(key, lo, hi) : fallback;
+}
+
+double TomlReader::Double(std::string_view key, double lo, double hi) const {
+  const toml::node& n = Require(key);
+  double v = 0.0;
+  if (auto d = n.value_exact<double>()) {
+    v = *d;
+  } else if (auto i = n.value_exact<int64_t>()) {
+    v = static_cast<double>(*i);
+  } else {
+    Fail(key, "expected a number");
+  }
+  if (!std::isfinite(v) || v < lo || v > hi) Fail(key, fmt::format("must be in [{}, {}]", lo, hi));
+  return v;
+}
+
+double TomlReader::Double(std::string_view key, double fallback, double lo, double hi) const {
+  return Has(key) ? Double(key, lo, hi) : fallback;
+}
+
+std::string TomlReader::String(std::string_view key) const {
+  const toml::node& n = Require(key);
+  const auto v = n.value_exact<std::string>();
+  if (!v) Fail(key, "expected a string");
+  return *v;
+}
+
+std::string TomlReader::String(std::string_view key, std::string fallback) const {
+  return Has(key) ? String(key) : fallback;
+}
+
+bool TomlReader::Bool(std::string_view key, bool fallback) const {
+  if (!Has(key)) return fallback;
+  const auto v = Require(key).value_exact<bool>();
+  if (!v) Fail(key, "expected true or false");
+  return *v;
+}
+
+std::vector<std::string> TomlReader::StringList(std::string_view key) const {
+  std::vector<std::string> out;
+  const toml::node* n = Get(key);
+  if (n == nullptr) return out;
+  if (auto one = n->value_exact<std::string>()) {
+    out.push_back(*one);
+    return out;
+  }
+  const toml::array* a = n->as_array();
+  if (a == nullptr) Fail(key, "expected a string or an array of strings");
+  for (const toml::node& e : *a) {
+    const auto v = e.value_exact<std::string>();
+    if (!v) Fail(key, "expected a string or an array of strings");
+    out.push_back(*v);
+  }
+  return out;
+}
+
+TomlReader TomlReader::Table(std::string_view key) const {
+  const toml::table* t = Require(key).as_table();
+  if (t == nullptr) Fail(key, "expected a table");
+  return TomlReader(*t, source_, KeyPath(key));
+}
+
+std::optional<TomlReader> TomlReader::OptionalTable(std::string_view key) const {
+  if (!Has(key)) return std::nullopt;
+  return Table(key);
+}
+
+std::vector<TomlReader> TomlReader::TableArray(std::string_view key) const {
+  std::vector<TomlReader> out;
+  const toml::node* n = Get(key);
+  if (n == nullptr) return out;
+  const toml::array* a = n->as_array();
+  if (a == nullptr) Fail(key, "expected an array of tables ([[" + KeyPath(key) + "]])");
+  for (size_t i = 0; i < a->size(); ++i) {
+    const toml::table* t = (*a)[i].as_table();
+    if (t == nullptr) Fail(key, fmt::format("element {} is not a table", i));
+    out.emplace_back(*t, source_, fmt::format("{}[{}]", KeyPath(key), i));
+  }
+  return out;
+}
+
+void TomlReader::Finish() const {
+  for (const auto& [k, v] : *table_) {
+    if (read_.count(k.str()) == 0) Fail(k.str(), "unknown key");
+  }
+}
+
+}  // namespace dt

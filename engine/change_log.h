@@ -1,6 +1,7 @@
 // ChangeLog: the changes one author made, as a replica holds them, and the gap-free point.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -35,6 +36,9 @@ class ChangeLog {
   // A reporter that fell silent no longer vouches for anything.
   void ForgetReporter(NodeAddress reporter) { reports_.erase(reporter); }
   const std::map<NodeAddress, int64_t>& reports() const { return reports_; }
+  // Sequences up to `seq` exist whoever reports them: a node knows how far its own changes went
+  // (its own or a previous incarnation's), even when every reporter of them falls silent.
+  void RaiseFloor(int64_t seq) { floor_ = std::max(floor_, seq); }
   int64_t contiguous() const { return contiguous_; }
   int64_t max_known() const;
   int64_t max_held() const { return max_held_; }
@@ -55,6 +59,7 @@ class ChangeLog {
   int64_t max_held_ = 0;
   int64_t contiguous_ = 0;
   std::map<NodeAddress, int64_t> reports_;
+  int64_t floor_ = 0;
 };
 
 }  // namespace dt

@@ -26,6 +26,14 @@ void CheckConfig(const ReplicaConfig& c) {
     throw std::invalid_argument(fmt::format(
         "replica {}: a node has no store (role server or standby)", c.address.ToString()));
   }
+  if (!c.members.empty()) {
+    auto me = c.members.find(c.address);
+    if (me == c.members.end() || me->second != c.role) {
+      throw std::invalid_argument(
+          fmt::format("replica {}: not in the exercise's members with role {}",
+                      c.address.ToString(), NodeRoleName(c.role)));
+    }
+  }
 }
 
 }  // namespace
@@ -57,6 +65,19 @@ Replica::Replica(ReplicaConfig config, HeightGrid ground, PduBus& bus)
       }
     }
   }
+  if (config_.ids != nullptr && load_status_.ok()) {
+    auto reserved = config_.ids->Load();
+    if (!reserved) {
+      load_status_ = reserved.error();
+      DT_LOG_ERROR("replica {}: loading the feature number reservation failed: {}",
+                   config_.address.ToString(), reserved.error().message);
+    } else if (reserved.value()) {
+      // Every number up to the reservation may have been issued by an earlier incarnation.
+      had_reservation_ = true;
+      reserved_feature_number_ = *reserved.value();
+      own_feature_number_ = std::max(own_feature_number_, reserved_feature_number_);
+    }
+  }
 }
 
 Replica::~Replica() = default;
@@ -68,6 +89,7 @@ void Replica::ObserveLamport(uint64_t lamport) { lamport_ = std::max(lamport_, l
 void Replica::NoteOwn(const Change& change) {
   if (change.author() == config_.address) {
     own_change_seq_ = std::max<int64_t>(own_change_seq_, change.stamp.change_seq);
+    logs_[config_.address].RaiseFloor(own_change_seq_);
   }
   if (OriginOf(change.id) == config_.address) {
     own_feature_number_ = std::max<int64_t>(own_feature_number_, change.id.number);
@@ -135,69 +157,172 @@ void Replica::HeardFrom(NodeAddress sender, std::optional<NodeRole> role) {
   if (role) p.role = *role;
 }
 
+NodeRole Replica::RoleOf(NodeAddress a, NodeRole claimed) const {
+  if (config_.members.empty()) return claimed;
+  auto it = config_.members.find(a);
+  return it == config_.members.end() ? claimed : it->second;
+}
+
+void Replica::Refused(uint64_t& counter, const std::string& what) {
+  ++counter;
+  ++refusals_since_log_;
+  // One line a second at most: a hostile or broken peer must not flood the log.
+  if (last_refusal_log_ms_ < 0 || now_ms_ - last_refusal_log_ms_ >= 1000) {
+    DT_LOG_WARN("replica {}: refused {} ({} refused since the last such line)",
+                config_.address.ToString(), what, refusals_since_log_);
+    last_refusal_log_ms_ = now_ms_;
+    refusals_since_log_ = 0;
+  }
+}
+
+bool Replica::Admits(NodeAddress sender, NodeAddress author, uint64_t lamport) {
+  if (!IsMember(author)) {
+    Refused(
+        counters_.refused_stranger,
+        fmt::format("a change by {}, which is not a member of the exercise", author.ToString()));
+    return false;
+  }
+  return AdmitsClock(sender, lamport);
+}
+
+bool Replica::AdmitsClock(NodeAddress sender, uint64_t lamport) {
+  if (lamport >= kMaxLamport || lamport > lamport_ + kMaxLamportLead) {
+    Refused(counters_.refused_lamport,
+            fmt::format("a PDU from {} with Lamport clock {}, more than {} ahead of {}",
+                        sender.ToString(), lamport, kMaxLamportLead, lamport_));
+    return false;
+  }
+  return true;
+}
+
+bool Replica::AdmitsSender(NodeAddress sender) {
+  if (IsMember(sender)) return true;
+  Refused(counters_.refused_stranger,
+          fmt::format("a PDU from {}, which is not a member of the exercise", sender.ToString()));
+  return false;
+}
+
 void Replica::OnConstruct(const dtpdu::construct_t& pdu) {
   ++counters_.received;
-  HeardFrom(FromPdu(pdu.sender), std::nullopt);
+  const NodeAddress sender = FromPdu(pdu.sender);
+  if (!AdmitsSender(sender)) return;
+  HeardFrom(sender, std::nullopt);
   auto f = FromConstruct(pdu);
   if (!f) {
     ++counters_.rejected;
     return;
   }
-  Accept(ChangeFrom(f.value(), ChangeKind::kConstruct), false);
+  const Change c = ChangeFrom(f.value(), ChangeKind::kConstruct);
+  if (Admits(sender, c.author(), c.stamp.lamport)) Accept(c, false);
 }
 
 void Replica::OnUpdate(const dtpdu::update_t& pdu) {
   ++counters_.received;
-  HeardFrom(FromPdu(pdu.sender), std::nullopt);
+  const NodeAddress sender = FromPdu(pdu.sender);
+  if (!AdmitsSender(sender)) return;
+  HeardFrom(sender, std::nullopt);
   auto f = FromUpdate(pdu);
   if (!f) {
     ++counters_.rejected;
     return;
   }
-  Accept(ChangeFrom(f.value(), ChangeKind::kUpdate), false);
+  const Change c = ChangeFrom(f.value(), ChangeKind::kUpdate);
+  if (Admits(sender, c.author(), c.stamp.lamport)) Accept(c, false);
 }
 
 void Replica::OnDestruct(const dtpdu::destruct_t& pdu) {
   ++counters_.received;
-  HeardFrom(FromPdu(pdu.sender), std::nullopt);
+  const NodeAddress sender = FromPdu(pdu.sender);
+  if (!AdmitsSender(sender)) return;
+  HeardFrom(sender, std::nullopt);
   auto d = FromDestruct(pdu);
   if (!d) {
     ++counters_.rejected;
     return;
   }
-  Accept(ChangeFrom(d.value()), false);
+  const Change c = ChangeFrom(d.value());
+  if (Admits(sender, c.author(), c.stamp.lamport)) Accept(c, false);
 }
 
 void Replica::OnMaxFeature(const dtpdu::max_feature_t& pdu) {
   ++counters_.received;
   const NodeAddress sender = FromPdu(pdu.sender);
+  if (!AdmitsSender(sender)) return;
   const auto role = static_cast<NodeRole>(pdu.role);
+  if (RoleOf(sender, role) != role) {
+    Refused(counters_.refused_role,
+            fmt::format("a MaxFeature from {} claiming role {}; the exercise file says {}",
+                        sender.ToString(), NodeRoleName(role), NodeRoleName(RoleOf(sender, role))));
+    return;
+  }
+  if (!AdmitsClock(sender, static_cast<uint64_t>(pdu.lamport))) return;
   HeardFrom(sender, role);
   ObserveLamport(static_cast<uint64_t>(pdu.lamport));
   const NodeAddress subject = FromPdu(pdu.subject);
-  logs_[subject].Report(sender, pdu.max_change_seq);
-  auto& max = max_feature_[subject];
-  max = std::max(max, pdu.max_feature_number);
-  if (subject == config_.address) {
-    // Never reuse a number anyone has seen, even after losing all local state.
-    own_feature_number_ = std::max(own_feature_number_, pdu.max_feature_number);
-    own_change_seq_ = std::max(own_change_seq_, pdu.max_change_seq);
-    if (IsServerRole(role)) {
-      // A server reports only what it has made durable.
-      acknowledged_change_seq_ = std::max(acknowledged_change_seq_, pdu.max_change_seq);
-      if (signing_on_) server_answered_ = true;
-    }
-    if (signing_on_ && !pdu.sign_on) {
-      sign_on_answered_by_.insert(sender);
-    }
-  }
-  if (signing_on_ && IsServerRole(role) && subject != config_.address && subject != sender) {
-    // A node the server knows: it too may hold a change of this node the server never got.
-    sign_on_expected_.insert(subject);
-  }
   if (pdu.sign_on && sender != config_.address) {
     sign_on_requests_.insert(sender);
   }
+  if (!IsMember(subject)) {
+    Refused(counters_.refused_claim, fmt::format("a claim by {} about {}, which is not a member",
+                                                 sender.ToString(), subject.ToString()));
+    return;
+  }
+  if (subject == config_.address) {
+    ClaimAboutSelf(sender, role, pdu);
+    return;
+  }
+  if (subject != sender && !IsServerRole(role)) {
+    // A node speaks about another node only to answer that node's sign-on: the newcomer's
+    // business, not evidence for anyone else.
+    return;
+  }
+  logs_[subject].Report(sender, pdu.max_change_seq);
+  auto& max = max_feature_[subject];
+  max = std::max(max, pdu.max_feature_number);
+  if (signing_on_ && IsServerRole(role) && subject != sender) {
+    // A node the server knows: it too may hold a change of this node the server never got.
+    sign_on_expected_.insert(subject);
+  }
+}
+
+void Replica::ClaimAboutSelf(NodeAddress sender, NodeRole role, const dtpdu::max_feature_t& pdu) {
+  if (signing_on_ && !pdu.sign_on) sign_on_answered_by_.insert(sender);
+  if (!IsServerRole(role)) {
+    // A peer's answer to this node's sign-on: the highest change of this node it holds. Applied,
+    // bounded, when the sign-on completes; once signed on, this node knows its own counters.
+    if (signing_on_) {
+      auto& claim = sign_on_peer_claims_[sender];
+      claim.change_seq = std::max(claim.change_seq, pdu.max_change_seq);
+      claim.feature_number = std::max(claim.feature_number, pdu.max_feature_number);
+    }
+    return;
+  }
+  // A server reports only what it has made durable. While signing on it is the authority on this
+  // node's counters; afterwards this node issued everything itself, and a previous incarnation
+  // can have left at most a window of changes the server had not acknowledged.
+  int64_t seq = pdu.max_change_seq;
+  int64_t number = pdu.max_feature_number;
+  if (signed_on_) {
+    const int64_t seq_bound = own_change_seq_ + config_.playback_window;
+    const int64_t number_bound = own_feature_number_ + config_.playback_window;
+    if (seq > seq_bound || number > number_bound) {
+      Refused(counters_.refused_claim,
+              fmt::format("{}'s claim that this node made {} changes and {} features (it made "
+                          "{} and {})",
+                          sender.ToString(), seq, number, own_change_seq_, own_feature_number_));
+      return;
+    }
+  }
+  logs_[config_.address].Report(sender, seq);
+  auto& max = max_feature_[config_.address];
+  max = std::max(max, number);
+  // Never reuse a number anyone has seen, even after losing all local state.
+  own_feature_number_ = std::max(own_feature_number_, number);
+  own_change_seq_ = std::max(own_change_seq_, seq);
+  acknowledged_change_seq_ = std::max(acknowledged_change_seq_, seq);
+  // Known to exist even if the server falls silent before this node has fetched them.
+  logs_[config_.address].RaiseFloor(own_change_seq_);
+  if (signing_on_) server_answered_ = true;
 }
 
 void Replica::OnPlayback(const dtpdu::playback_t& pdu) {
@@ -267,6 +392,7 @@ void Replica::SignOn(int64_t now_ms) {
     server_answered_ = false;
     sign_on_answered_by_.clear();
     sign_on_expected_.clear();
+    sign_on_peer_claims_.clear();
   }
   sign_on_started_ms_ = now_ms_;
   sign_on_sent_ms_ = now_ms_;
@@ -388,11 +514,19 @@ void Replica::VoidLostOwnChanges() {
   // lost change. A server's claim is its durable gap-free point, so a gap it claims is held.
   if (candidates.empty() || scheduler_.attempts(config_.address) <= 3 * candidates.size()) return;
   auto [start, end] = it->second.FirstGap();
+  // A server acknowledged it: the change is durable there, however long that server stays
+  // silent (a blocked transport, a restart), so it is never voided.
+  if (start <= acknowledged_change_seq_) return;
   for (const auto& [reporter, seq] : it->second.reports()) {
     auto p = peers_.find(reporter);
     if (p != peers_.end() && IsServerRole(p->second.role) && seq >= start) return;
   }
   end = std::min(end, own_change_seq_);
+  if (Status s = ReserveFeatureNumbers(own_feature_number_ + (end - start + 1)); !s) {
+    DT_LOG_WARN("replica {}: not voiding {}..{} yet: {}", config_.address.ToString(), start, end,
+                s.error().message);
+    return;
+  }
   for (int64_t seq = start; seq <= end; ++seq) {
     if (own_feature_number_ >= kMaxSerial) return;
     Change c;
@@ -466,12 +600,7 @@ void Replica::Tick(int64_t now_ms) {
     }
     if ((server_answered_ && peers_answered && waited >= config_.silence_ms) ||
         (!config_.require_server && waited >= config_.silence_ms)) {
-      signed_on_ = true;
-      signing_on_ = false;
-      // The previous incarnation may have created up to a window of features nobody
-      // acknowledged; skipping a window of numbers means none is ever issued twice.
-      own_feature_number_ =
-          std::min<int64_t>(kMaxSerial, own_feature_number_ + config_.playback_window);
+      CompleteSignOn();
     } else if (now_ms_ - sign_on_sent_ms_ >= config_.playback_retry_ms) {
       sign_on_sent_ms_ = now_ms_;
       SendReport(config_.address, /*sign_on=*/true);
@@ -502,6 +631,53 @@ void Replica::Tick(int64_t now_ms) {
   }
   ForgetSilentReporters();
   RequestMissing();
+}
+
+void Replica::CompleteSignOn() {
+  signed_on_ = true;
+  signing_on_ = false;
+  // Peers may hold changes of the previous incarnation the server never got. That incarnation
+  // left at most a window of changes unacknowledged, so a claim beyond that is not believed.
+  for (const auto& [peer, claim] : sign_on_peer_claims_) {
+    int64_t seq = claim.change_seq;
+    int64_t number = claim.feature_number;
+    if (config_.require_server) {
+      const int64_t seq_bound = acknowledged_change_seq_ + config_.playback_window;
+      const int64_t number_bound = own_feature_number_ + config_.playback_window;
+      if (seq > seq_bound || number > number_bound) {
+        Refused(counters_.refused_claim,
+                fmt::format("{}'s answer that this node made {} changes and {} features; at "
+                            "most {} and {} can be unacknowledged",
+                            peer.ToString(), seq, number, seq_bound, number_bound));
+        seq = std::min(seq, seq_bound);
+        number = std::min(number, number_bound);
+      }
+    }
+    logs_[config_.address].Report(peer, seq);
+    own_change_seq_ = std::max(own_change_seq_, seq);
+    logs_[config_.address].RaiseFloor(own_change_seq_);
+    own_feature_number_ = std::max(own_feature_number_, number);
+  }
+  sign_on_peer_claims_.clear();
+  if (!had_reservation_) {
+    // Without a reservation, the previous incarnation may have created up to a window of
+    // features nobody acknowledged; skipping a window of numbers covers those the rest of the
+    // exercise still holds (docs/protocol.md, "No ID issued twice").
+    own_feature_number_ =
+        std::min<int64_t>(kMaxSerial, own_feature_number_ + config_.playback_window);
+  }
+}
+
+Status Replica::ReserveFeatureNumbers(int64_t number) {
+  if (config_.ids == nullptr || number <= reserved_feature_number_) return Status::Ok();
+  // A window at a time: one write per window of creates, not one per create.
+  const int64_t up_to = std::min<int64_t>(kMaxSerial, number + config_.playback_window);
+  if (Status s = config_.ids->Reserve(up_to); !s) {
+    return Error{fmt::format("node {} cannot reserve feature numbers up to {}: {}",
+                             config_.address.ToString(), up_to, s.error().message)};
+  }
+  reserved_feature_number_ = up_to;
+  return Status::Ok();
 }
 
 // ---- queries ----

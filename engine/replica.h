@@ -15,6 +15,7 @@
 #include "engine/change.h"
 #include "engine/change_log.h"
 #include "engine/change_store.h"
+#include "engine/id_reservation.h"
 #include "engine/playback_scheduler.h"
 #include "engine/record_store.h"
 #include "pdu/pdu_bus.h"
@@ -43,7 +44,22 @@ struct ReplicaConfig {
   // A server or standby: every accepted change goes here, one batch per Tick. Not owned; must
   // outlive the replica. Null for nodes.
   ChangeStore* store = nullptr;
+  // A node: where it reserves feature numbers before issuing them, so a restart never reissues
+  // one (docs/protocol.md, "No ID issued twice"). Not owned; must outlive the replica. Null: the
+  // number is only skipped by a window on sign-on (no guarantee if every other replica is down).
+  IdReservation* ids = nullptr;
+  // The exercise's members and their roles (from the exercise file). PDUs from any other sender,
+  // changes by any other author and role claims that disagree are refused and counted. Empty:
+  // every sender is believed (unit tests and benchmarks only).
+  std::map<NodeAddress, NodeRole> members;
 };
+
+// A received Lamport clock more than this far ahead of the receiver's is refused: a clock that
+// jumped by 2^32 changes is a broken or hostile peer, and accepting it would let one PDU push every
+// clock towards overflow (docs/protocol.md, "Rules for what is believed").
+inline constexpr uint64_t kMaxLamportLead = uint64_t{1} << 32;
+// No clock reaches this: 2^62 leaves room for every lead above without overflow.
+inline constexpr uint64_t kMaxLamport = uint64_t{1} << 62;
 
 class Replica {
  public:
@@ -83,6 +99,11 @@ class Replica {
   struct Counters {
     uint64_t sent = 0, received = 0, rejected = 0, played_back = 0, applied = 0, ignored_stale = 0,
              voided = 0;
+    // Refused by the protocol's rules (docs/protocol.md, "Rules for what is believed"): a sender
+    // or author that is no member, a role claim that disagrees with the exercise file, a claim
+    // about a node's counters from someone who may not make it (or beyond what it can be), a
+    // Lamport clock too far ahead.
+    uint64_t refused_stranger = 0, refused_role = 0, refused_claim = 0, refused_lamport = 0;
   };
   Counters counters() const;
   // Highest feature number known per origin (own included).
@@ -124,6 +145,21 @@ class Replica {
   bool Accept(const Change& change, bool from_store);
   void Publish(const Change& change, std::optional<NodeAddress> playback_for);
   void HeardFrom(NodeAddress sender, std::optional<NodeRole> role);
+  // Membership and clock rules for a received change; false (and counted) if it is refused.
+  bool Admits(NodeAddress sender, NodeAddress author, uint64_t lamport);
+  bool AdmitsSender(NodeAddress sender);
+  bool AdmitsClock(NodeAddress sender, uint64_t lamport);
+  // Counts a refusal and logs it, at most one line a second.
+  void Refused(uint64_t& counter, const std::string& what);
+  void ClaimAboutSelf(NodeAddress sender, NodeRole role, const dtpdu::max_feature_t& pdu);
+  void CompleteSignOn();
+  bool IsMember(NodeAddress a) const {
+    return config_.members.empty() || config_.members.count(a) != 0;
+  }
+  // The configured role of a member (the claimed one when there is no membership list).
+  NodeRole RoleOf(NodeAddress a, NodeRole claimed) const;
+  // Reserves feature numbers up to `number` (and a window beyond) before one is issued.
+  Status ReserveFeatureNumbers(int64_t number);
   void ObserveLamport(uint64_t lamport);
 
   void OnConstruct(const dtpdu::construct_t& pdu);
@@ -162,6 +198,15 @@ class Replica {
   int64_t own_change_seq_ = 0;
   int64_t own_feature_number_ = 0;
   int64_t acknowledged_change_seq_ = 0;
+  int64_t reserved_feature_number_ = 0;  // with config_.ids: numbers up to this are reserved
+  bool had_reservation_ = false;         // an earlier incarnation's reservation was loaded
+  // Peer nodes' answers to this node's sign-on: the highest change of this node each holds;
+  // applied when the sign-on completes, bounded by what the server acknowledged.
+  struct PeerClaim {
+    int64_t change_seq = 0;
+    int64_t feature_number = 0;
+  };
+  std::map<NodeAddress, PeerClaim> sign_on_peer_claims_;
   bool signed_on_ = false;
   bool signing_on_ = false;
   bool server_answered_ = false;
@@ -172,6 +217,8 @@ class Replica {
   std::set<NodeAddress> sign_on_expected_;  // answered in the next Tick, after the commit
   int64_t now_ms_ = 0;
   int64_t last_report_ms_ = -1;
+  int64_t last_refusal_log_ms_ = -1;
+  uint64_t refusals_since_log_ = 0;
   Counters counters_;
 };
 

@@ -53,6 +53,8 @@ Result<FeatureId> Replica::Create(const FeatureParams& params) {
   const FeatureId id{config_.address.site, config_.address.host,
                      static_cast<uint32_t>(own_feature_number_ + 1)};
   if (auto s = records_.CheckPlaceable(id, params); !s) return s.error();
+  // Recorded before the number is handed out, so no later incarnation hands it out again.
+  if (auto s = ReserveFeatureNumbers(id.number); !s) return s.error();
   ++own_feature_number_;
   Issue(NewChange(ChangeKind::kConstruct, id, params));
   return id;
@@ -112,6 +114,7 @@ Result<std::vector<FeatureId>> Replica::Breach(FeatureId berm, double gap_start_
           fmt::format("breach of {}: piece {}: {}", berm.ToString(), i + 1, s.error().message)};
     }
   }
+  if (auto s = ReserveFeatureNumbers(own_feature_number_ + n); !s) return s.error();
   FeatureParams gone;
   gone.type = FeatureType::kBerm;
   Issue(NewChange(ChangeKind::kDestruct, berm, gone));

@@ -22,14 +22,12 @@ NodeApp::NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process)
   DT_LOG_INFO("terrain {} x {} posts ({} m) ready in {} ms", exercise.terrain.posts_per_side,
               exercise.terrain.posts_per_side, exercise.terrain_size_m(), MonotonicMs() - t0);
   transport_ = MakeProcessTransport(exercise, process);
-  ReplicaConfig rc;
-  rc.address = process.address;
-  rc.role = NodeRole::kNode;
-  rc.max_feature_period_ms = exercise.protocol.max_feature_period_ms;
-  rc.silence_ms = exercise.protocol.silence_ms;
-  rc.playback_retry_ms = exercise.protocol.playback_retry_ms;
-  rc.playback_window = exercise.protocol.playback_window;
+  ReplicaConfig rc = MakeReplicaConfig(exercise, process, NodeRole::kNode);
+  ids_ = std::make_unique<IdReservationFile>(exercise.run_dir / (process.name + ".ids"),
+                                             process.address);
+  rc.ids = ids_.get();
   replica_ = std::make_unique<Replica>(rc, std::move(ground), *transport_.bus);
+  if (!replica_->load_status()) throw std::runtime_error(replica_->load_status().error().message);
   for (size_t i = 0; i < process.vehicles.size(); ++i) {
     const VehicleConfig& vc = process.vehicles[i];
     Result<Vehicle> v = Vehicle::Make(BuiltInVehicleType(vc.type).value(), vc.x_m, vc.z_m,

@@ -6,12 +6,13 @@
 #include <string>
 #include <vector>
 
-#include "runtime/control_protocol.h"
-#include "runtime/exercise_config.h"
-#include "runtime/node_actions.h"
-#include "runtime/process_runtime.h"
 #include "engine/replica.h"
 #include "node/scenario_runner.h"
+#include "runtime/control_protocol.h"
+#include "runtime/exercise_config.h"
+#include "runtime/id_reservation_file.h"
+#include "runtime/node_actions.h"
+#include "runtime/process_runtime.h"
 #include "terrain/vehicle.h"
 
 namespace dt {
@@ -52,6 +53,7 @@ class NodeApp final : public NodeActions {
   const ProcessConfig& process_;
   std::optional<ScenarioRunner> scenario_;
   ProcessTransport transport_;
+  std::unique_ptr<IdReservationFile> ids_;  // outlives the replica
   std::unique_ptr<Replica> replica_;
   std::vector<Vehicle> vehicles_;
   CatchUpProgress progress_;

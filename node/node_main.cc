@@ -6,9 +6,9 @@
 #include <CLI/CLI.hpp>
 
 #include "log/log.h"
+#include "node/node_app.h"
 #include "runtime/control_server.h"
 #include "runtime/exercise_flags.h"
-#include "node/node_app.h"
 #include "runtime/process_runtime.h"
 
 int main(int argc, char** argv) {
@@ -31,8 +31,9 @@ int main(int argc, char** argv) {
           fmt::format("{}: no [[node]] named \"{}\"", exercise.source.string(), name));
     }
     dt::InstallStopSignals();
-    dt::NodeApp node(exercise, *process);
+    // Before the node: its feature number reservation lives there.
     std::filesystem::create_directories(exercise.run_dir);
+    dt::NodeApp node(exercise, *process);
     dt::ControlServer control(exercise.SocketPath(name),
                               [&](std::string_view line) { return node.Handle(line); });
 

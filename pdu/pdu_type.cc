@@ -31,4 +31,16 @@ std::string ChannelName(uint8_t exercise_id, PduType type) {
   return fmt::format("DT{}_{}", exercise_id, PduTypeName(type));
 }
 
+std::string_view NodeRoleName(NodeRole role) {
+  switch (role) {
+    case NodeRole::kNode:
+      return "node";
+    case NodeRole::kServer:
+      return "server";
+    case NodeRole::kStandby:
+      return "standby";
+  }
+  return "unknown";
+}
+
 }  // namespace dt

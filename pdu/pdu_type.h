@@ -44,6 +44,8 @@ inline constexpr size_t kMaxPduBytes = 1400;
 enum class NodeRole : uint8_t { kNode = 0, kServer = 1, kStandby = 2 };
 inline bool IsServerRole(NodeRole r) { return r == NodeRole::kServer || r == NodeRole::kStandby; }
 inline bool IsValidNodeRole(uint8_t raw) { return raw <= 2; }
+// "node", "server", "standby" ("unknown" for a value outside the enum).
+std::string_view NodeRoleName(NodeRole role);
 
 // What a Playback PDU's start and end count.
 enum class PlaybackRange : uint8_t { kFeatureNumbers = 0, kChangeSeqs = 1 };

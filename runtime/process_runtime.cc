@@ -22,18 +22,6 @@ namespace {
 volatile sig_atomic_t g_stop = 0;
 void OnStop(int) { g_stop = 1; }
 
-std::string_view RoleName(NodeRole role) {
-  switch (role) {
-    case NodeRole::kNode:
-      return "node";
-    case NodeRole::kServer:
-      return "server";
-    case NodeRole::kStandby:
-      return "standby";
-  }
-  return "unknown";
-}
-
 // The seed of a process's fault decisions: the exercise's, mixed with its address, so processes
 // drop different messages.
 uint64_t FaultSeed(const ExerciseConfig& exercise, NodeAddress a) {
@@ -56,6 +44,21 @@ ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise,
   bus.terrain_size_m = exercise.terrain_size_m();
   t.bus = std::make_unique<PduBus>(*t.transport, bus);
   return t;
+}
+
+ReplicaConfig MakeReplicaConfig(const ExerciseConfig& exercise, const ProcessConfig& process,
+                                NodeRole role) {
+  ReplicaConfig rc;
+  rc.address = process.address;
+  rc.role = role;
+  rc.max_feature_period_ms = exercise.protocol.max_feature_period_ms;
+  rc.silence_ms = exercise.protocol.silence_ms;
+  rc.playback_retry_ms = exercise.protocol.playback_retry_ms;
+  rc.playback_window = exercise.protocol.playback_window;
+  rc.members[exercise.server.address] = NodeRole::kServer;
+  if (exercise.standby) rc.members[exercise.standby->address] = NodeRole::kStandby;
+  for (const ProcessConfig& n : exercise.nodes) rc.members[n.address] = NodeRole::kNode;
+  return rc;
 }
 
 void InstallStopSignals() {
@@ -90,11 +93,14 @@ std::string StatusText(const std::string& name, NodeRole role, const Replica& re
       "own_feature_number {}\nown_change_seq {}\nacknowledged_change_seq {}\n"
       "sent {}\nreceived {}\nrejected {}\nplayed_back {}\napplied {}\nignored_stale {}\n"
       "fault_dropped {}\ndrop_probability {}",
-      name, replica.config().address.ToString(), RoleName(role), replica.signed_on() ? 1 : 0,
+      name, replica.config().address.ToString(), NodeRoleName(role), replica.signed_on() ? 1 : 0,
       replica.caught_up() ? 1 : 0, replica.live_feature_count(), replica.Digest(),
       replica.own_feature_number(), replica.own_change_seq(), replica.acknowledged_change_seq(),
       c.sent, c.received, c.rejected, c.played_back, c.applied, c.ignored_stale, faults.dropped(),
       const_cast<FaultyTransport&>(faults).faults().config().drop_probability);
+  s += fmt::format(
+      "\nvoided {}\nrefused_stranger {}\nrefused_role {}\nrefused_claim {}\nrefused_lamport {}",
+      c.voided, c.refused_stranger, c.refused_role, c.refused_claim, c.refused_lamport);
   for (const auto& [origin, max] : replica.max_feature_known()) {
     s += fmt::format("\nmax_feature {} {}", origin.ToString(), max);
   }

@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "runtime/control_command.h"
-#include "runtime/control_server.h"
-#include "runtime/exercise_config.h"
 #include "engine/replica.h"
 #include "pdu/faulty_transport.h"
 #include "pdu/pdu_bus.h"
+#include "runtime/control_command.h"
+#include "runtime/control_server.h"
+#include "runtime/exercise_config.h"
 #include "terrain/vehicle.h"
 
 namespace dt {
@@ -27,6 +27,12 @@ struct ProcessTransport {
 };
 // Throws like MakeTransport.
 ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise, const ProcessConfig& process);
+
+// The replica settings of one process: its address and role, the exercise's protocol timing,
+// and every process of the exercise file as a member (docs/protocol.md, "Rules for what is
+// believed"). Stores and reservations are the caller's to add.
+ReplicaConfig MakeReplicaConfig(const ExerciseConfig& exercise, const ProcessConfig& process,
+                                NodeRole role);
 
 // SIGTERM and SIGINT set a flag (no SA_RESTART, so waits end early); SIGPIPE is ignored.
 void InstallStopSignals();

@@ -72,13 +72,7 @@ int main(int argc, char** argv) {
     dt::InstallStopSignals();
     std::filesystem::create_directories(exercise.run_dir);
     dt::ProcessTransport transport = dt::MakeProcessTransport(exercise, *process);
-    dt::ReplicaConfig rc;
-    rc.address = process->address;
-    rc.role = role;
-    rc.max_feature_period_ms = exercise.protocol.max_feature_period_ms;
-    rc.silence_ms = exercise.protocol.silence_ms;
-    rc.playback_retry_ms = exercise.protocol.playback_retry_ms;
-    rc.playback_window = exercise.protocol.playback_window;
+    const dt::ReplicaConfig rc = dt::MakeReplicaConfig(exercise, *process, role);
     const std::filesystem::path db = exercise.run_dir / (name + ".db");
     const int64_t t0 = dt::MonotonicMs();
     auto opened =

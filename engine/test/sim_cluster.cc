@@ -7,7 +7,8 @@ SimCluster::SimCluster(uint64_t seed, HeightGrid ground, ReplicaConfig defaults,
 
 SimCluster::~SimCluster() { members_.clear(); }
 
-Replica& SimCluster::Start(NodeAddress address, NodeRole role, ChangeStore* store) {
+Replica& SimCluster::Start(NodeAddress address, NodeRole role, ChangeStore* store,
+                           IdReservation* ids) {
   auto m = std::make_unique<Member>();
   m->transport = net_.Join(address, 1);
   PduBusConfig bc;
@@ -20,6 +21,7 @@ Replica& SimCluster::Start(NodeAddress address, NodeRole role, ChangeStore* stor
   rc.address = address;
   rc.role = role;
   rc.store = store;
+  rc.ids = ids;
   m->replica = std::make_unique<Replica>(rc, ground_, *m->bus);
   m->replica->SignOn(net_.now_ms());
   Replica& r = *m->replica;

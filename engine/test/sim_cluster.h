@@ -18,8 +18,10 @@ class SimCluster {
   SimCluster(uint64_t seed, HeightGrid ground, ReplicaConfig defaults, FaultConfig faults = {});
   ~SimCluster();
 
-  // A new replica for `address` that signs on at once.
-  Replica& Start(NodeAddress address, NodeRole role, ChangeStore* store = nullptr);
+  // A new replica for `address` that signs on at once. `store` (servers) and `ids` (nodes) are the
+  // caller's and survive a crash, as files would.
+  Replica& Start(NodeAddress address, NodeRole role, ChangeStore* store = nullptr,
+                 IdReservation* ids = nullptr);
   void Crash(NodeAddress address);
   bool alive(NodeAddress address) const { return members_.count(address) != 0; }
   Replica& at(NodeAddress address) { return *members_.at(address)->replica; }

@@ -16,10 +16,11 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "log/log.h"
+#include "engine/id_reservation.h"
 #include "engine/memory_change_store.h"
 #include "engine/record_store.h"
 #include "engine/test/sim_cluster.h"
+#include "log/log.h"
 #include "server/sqlite_change_store.h"
 #include "terrain/terrain_digest.h"
 
@@ -89,6 +90,8 @@ class SimRun {
   bool with_standby_ = false;
   std::map<NodeAddress, std::unique_ptr<ChangeStore>> stores_;
   std::map<NodeAddress, std::unique_ptr<MemoryChangeStore>> memory_stores_;
+  // Each node's feature number reservation, which survives its crashes as a file would.
+  std::map<NodeAddress, std::unique_ptr<MemoryIdReservation>> reservations_;
   std::map<NodeAddress, int64_t> restart_at_ms_;
   std::map<NodeAddress, int> incarnation_;
   struct Issued {
@@ -131,7 +134,9 @@ void SimRun::StartNode(NodeAddress address) {
                 address.ToString().c_str());
   }
   ++incarnation_[address];
-  cluster_->Start(address, NodeRole::kNode);
+  auto& ids = reservations_[address];
+  if (!ids) ids = std::make_unique<MemoryIdReservation>();
+  cluster_->Start(address, NodeRole::kNode, nullptr, ids.get());
 }
 
 void SimRun::Crash(NodeAddress address) {
@@ -282,10 +287,14 @@ std::string SimRun::Run() {
   rc.silence_ms = 800;
   rc.playback_retry_ms = 300;
   rc.playback_window = 16;
-  cluster_ = std::make_unique<SimCluster>(seed_, HeightGrid(17, 8.0, 5.0f), rc, faults);
-
   std::vector<NodeAddress> nodes;
   for (int i = 1; i <= kNodes; ++i) nodes.push_back({1, static_cast<uint16_t>(i)});
+  // Membership as an exercise file gives it (docs/protocol.md, "Rules for what is believed").
+  rc.members[kServer] = NodeRole::kServer;
+  if (with_standby_) rc.members[kStandby] = NodeRole::kStandby;
+  for (NodeAddress a : nodes) rc.members[a] = NodeRole::kNode;
+  cluster_ = std::make_unique<SimCluster>(seed_, HeightGrid(17, 8.0, 5.0f), rc, faults);
+
   if (auto s = StartServer(kServer, NodeRole::kServer); !s) return s.error().message;
   if (with_standby_) {
     if (auto s = StartServer(kStandby, NodeRole::kStandby); !s) return s.error().message;
@@ -312,7 +321,49 @@ std::string SimRun::Run() {
       if (AllUp()) Crash(kServer);
     } else if (what < 88) {
       if (with_standby_ && AllUp()) Crash(kStandby);
-    } else if (what < 94) {
+    } else if (what < 90) {
+      // Several processes at once, in any combination (issue 15: "restarts without state in
+      // every combination"): each replica goes down with probability 1/2, at least two.
+      if (AllUp()) {
+        std::vector<NodeAddress> down;
+        for (NodeAddress a : cluster_->live()) {
+          if (Chance(0.5)) down.push_back(a);
+        }
+        if (down.size() >= 2) {
+          for (NodeAddress a : down) Crash(a);
+        }
+      }
+    } else if (what < 92) {
+      // Every process down but one node, which keeps creating; then it goes down too (issue
+      // 15 item 2: its numbers were issued again after its restart).
+      // The survivor is a freshly restarted incarnation, so it and its next incarnation learn
+      // the same acknowledged maximum when they sign on: the case that reissued IDs.
+      const NodeAddress who = nodes[Next(nodes.size())];
+      if (AllUp()) {
+        Crash(who);
+        for (int64_t waited = 0; waited < 5000 && !(cluster_->alive(who) && AllUp());
+             waited += 10) {
+          cluster_->Run(10);
+          ObserveAcks();
+          if (Status s = RestartDue(); !s) return s.error().message;
+        }
+      }
+      if (AllUp()) {
+        for (NodeAddress a : cluster_->live()) {
+          if (a != who) Crash(a);
+        }
+        if (trace_) {
+          std::printf("t=%lld all down but %s\n", static_cast<long long>(cluster_->now_ms()),
+                      who.ToString().c_str());
+        }
+        const int commands = 1 + static_cast<int>(Next(4));
+        for (int i = 0; i < commands; ++i) {
+          cluster_->Run(10 + static_cast<int64_t>(Next(50)));
+          if (auto f = Command(who); !f.empty()) return f;
+        }
+        Crash(who);
+      }
+    } else if (what < 95) {
       std::vector<NodeAddress> all = nodes;
       all.push_back(kServer);
       if (with_standby_) all.push_back(kStandby);
@@ -336,6 +387,21 @@ std::string SimRun::Run() {
     cluster_->Run(10);
     ObserveAcks();
     if (Status s = RestartDue(); !s) return s.error().message;
+  }
+  // Every node creates once more after the last restarts, so a number reissued by a restarted
+  // incarnation shows.
+  for (int64_t waited = 0; waited < kHealMs; waited += 10) {
+    bool all_signed_on = true;
+    for (NodeAddress a : nodes) all_signed_on = all_signed_on && cluster_->at(a).signed_on();
+    if (all_signed_on) break;
+    cluster_->Run(10);
+  }
+  for (NodeAddress a : nodes) {
+    Replica& r = cluster_->at(a);
+    const int64_t before = r.own_change_seq();
+    (void)r.Create(RandomParams(FeatureType::kCrater));
+    RecordIssued(a, before);
+    if (!failure_.empty()) return failure_;
   }
   cluster_->Run(kHealMs);
   ObserveAcks();

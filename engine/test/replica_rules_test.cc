@@ -1,0 +1,207 @@
+// Tests the rules for what a replica believes from the wire (docs/protocol.md, "Rules for what is
+// believed"): membership from the exercise file, role claims, claims about a node's counters, and
+// Lamport clocks too far ahead. Each hostile PDU is sent by a bus of its own on the same network.
+#include <cstdint>
+#include <limits>
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "engine/memory_change_store.h"
+#include "engine/replica.h"
+#include "engine/test/sim_cluster.h"
+
+namespace dt {
+namespace {
+
+using testing::SimCluster;
+
+const NodeAddress kServer{1, 100};
+const NodeAddress kStandby{1, 101};
+const NodeAddress kA{1, 1};
+const NodeAddress kB{1, 2};
+const NodeAddress kC{1, 3};  // a member node with no replica: its PDUs are forged by the tests
+const NodeAddress kStranger{77, 77};
+
+ReplicaConfig Defaults() {
+  ReplicaConfig c;
+  c.max_feature_period_ms = 200;
+  c.silence_ms = 800;
+  c.playback_retry_ms = 300;
+  c.playback_window = 64;
+  c.members = {{kServer, NodeRole::kServer},
+               {kStandby, NodeRole::kStandby},
+               {kA, NodeRole::kNode},
+               {kB, NodeRole::kNode},
+               {kC, NodeRole::kNode}};
+  return c;
+}
+
+class RulesTest : public ::testing::Test {
+ protected:
+  RulesTest() : cluster_(3, HeightGrid(33, 4.0, 10.0f), Defaults()) {
+    cluster_.Start(kServer, NodeRole::kServer, &store_);
+    cluster_.Start(kA, NodeRole::kNode);
+    cluster_.Start(kB, NodeRole::kNode);
+    cluster_.Run(1000);
+  }
+  Replica& A() { return cluster_.at(kA); }
+  Replica& B() { return cluster_.at(kB); }
+  Replica& S() { return cluster_.at(kServer); }
+
+  // A bus that sends as `who`, on the cluster's network.
+  PduBus& Forger(NodeAddress who) {
+    transports_.push_back(cluster_.net().Join(who, 1));
+    PduBusConfig bc;
+    bc.exercise_id = 1;
+    bc.local = who;
+    bc.terrain_size_m = 128.0;
+    bc.clock = [] { return 0u; };
+    buses_.push_back(std::make_unique<PduBus>(*transports_.back(), bc));
+    return *buses_.back();
+  }
+  static dtpdu::construct_t Crater(NodeAddress author, uint32_t number, uint32_t seq,
+                                   uint64_t lamport) {
+    FeaturePdu f;
+    f.id = {author.site, author.host, number};
+    f.params = FeatureParams::Crater(60, 60, 4);
+    f.change.changed_by = author;
+    f.change.change_seq = seq;
+    f.change.lamport = lamport;
+    return ToConstruct(f);
+  }
+  static dtpdu::max_feature_t Claim(NodeAddress subject, NodeRole role, int64_t seq,
+                                    int64_t lamport) {
+    dtpdu::max_feature_t m{};
+    m.subject = ToPdu(subject);
+    m.max_feature_number = seq;
+    m.max_change_seq = seq;
+    m.lamport = lamport;
+    m.role = static_cast<uint8_t>(role);
+    return m;
+  }
+  void ExpectAllEqualAndCaughtUp() {
+    for (Replica* r : {&A(), &B(), &S()}) {
+      EXPECT_TRUE(r->caught_up()) << r->config().address.ToString();
+      EXPECT_EQ(r->Digest(), S().Digest()) << r->config().address.ToString();
+    }
+  }
+
+  MemoryChangeStore store_;
+  SimCluster cluster_;
+  std::vector<std::unique_ptr<Transport>> transports_;
+  std::vector<std::unique_ptr<PduBus>> buses_;
+};
+
+TEST_F(RulesTest, AConstructFromANodeInNoExerciseFileIsRefusedEverywhere) {
+  ASSERT_TRUE(Forger(kStranger).Publish(Crater(kStranger, 1, 1, 5)).ok());
+  cluster_.Run(500);
+  for (Replica* r : {&A(), &B(), &S()}) {
+    EXPECT_EQ(r->live_feature_count(), 0u);
+    EXPECT_GE(r->counters().refused_stranger, 1u);
+    EXPECT_EQ(r->log(kStranger), nullptr);
+  }
+  ExpectAllEqualAndCaughtUp();
+}
+
+TEST_F(RulesTest, AStrangersChangeFarAheadStallsNoOneAndARestartedNodeIsReady) {
+  ASSERT_TRUE(Forger(kStranger).Publish(Crater(kStranger, 1, 1000, 5)).ok());
+  cluster_.Run(1000);
+  ExpectAllEqualAndCaughtUp();
+  cluster_.Crash(kB);
+  cluster_.Run(300);
+  Replica& b = cluster_.Start(kB, NodeRole::kNode);
+  cluster_.Run(2000);
+  EXPECT_TRUE(b.signed_on());
+  EXPECT_TRUE(b.caught_up());
+  EXPECT_EQ(b.Digest(), S().Digest());
+}
+
+TEST_F(RulesTest, AStrangerClaimingToBeTheServerMovesNoCounters) {
+  const int64_t seq = A().own_change_seq();
+  PduBus& forger = Forger({90, 90});
+  ASSERT_TRUE(forger.Publish(Claim(kA, NodeRole::kServer, 1000000, 5)).ok());
+  cluster_.Run(500);
+  EXPECT_EQ(A().own_change_seq(), seq);
+  EXPECT_EQ(B().log(kA) == nullptr ? 0 : B().log(kA)->max_known(), 0);
+  EXPECT_GE(A().counters().refused_stranger, 1u);
+  auto id = A().Create(FeatureParams::Crater(30, 30, 2));
+  ASSERT_TRUE(id.ok());
+  cluster_.Run(500);
+  ExpectAllEqualAndCaughtUp();
+}
+
+TEST_F(RulesTest, AMemberClaimingARoleItDoesNotHaveIsRefused) {
+  ASSERT_TRUE(Forger(kC).Publish(Claim(kA, NodeRole::kServer, 1000000, 5)).ok());
+  cluster_.Run(300);
+  EXPECT_GE(A().counters().refused_role, 1u);
+  EXPECT_EQ(A().own_change_seq(), 0);
+  EXPECT_EQ(B().log(kA) == nullptr ? 0 : B().log(kA)->max_known(), 0);
+  ExpectAllEqualAndCaughtUp();
+}
+
+TEST_F(RulesTest, ANodesClaimAboutAnotherNodeIsNotEvidenceForAnyone) {
+  ASSERT_TRUE(Forger(kC).Publish(Claim(kA, NodeRole::kNode, 1000000, 5)).ok());
+  cluster_.Run(300);
+  EXPECT_EQ(A().own_change_seq(), 0);
+  EXPECT_EQ(B().log(kA) == nullptr ? 0 : B().log(kA)->max_known(), 0);
+  ExpectAllEqualAndCaughtUp();
+}
+
+TEST_F(RulesTest, TheStandbysClaimBeyondWhatASignedOnNodeMadeIsRefused) {
+  ASSERT_TRUE(A().Create(FeatureParams::Crater(30, 30, 2)).ok());
+  cluster_.Run(300);
+  ASSERT_TRUE(Forger(kStandby).Publish(Claim(kA, NodeRole::kStandby, 1000000, 5)).ok());
+  cluster_.Run(300);
+  EXPECT_GE(A().counters().refused_claim, 1u);
+  EXPECT_EQ(A().own_change_seq(), 1);
+  auto id = A().Create(FeatureParams::Crater(60, 30, 2));
+  ASSERT_TRUE(id.ok());
+  cluster_.Run(500);
+  EXPECT_EQ(A().own_change_seq(), 2);
+}
+
+TEST_F(RulesTest, ALamportClockFarAheadIsRefusedAndLaterChangesStillTravel) {
+  ASSERT_TRUE(
+      Forger(kC).Publish(Claim(kC, NodeRole::kNode, 0, std::numeric_limits<int64_t>::max())).ok());
+  cluster_.Run(300);
+  EXPECT_GE(A().counters().refused_lamport, 1u);
+  auto id = A().Create(FeatureParams::Crater(30, 30, 2));
+  ASSERT_TRUE(id.ok()) << id.error().message;
+  cluster_.Run(500);
+  EXPECT_NE(B().terrain().Find(id.value()), nullptr);
+  ExpectAllEqualAndCaughtUp();
+}
+
+TEST_F(RulesTest, AChangeWithAClockFarAheadIsRefused) {
+  PduBus& c = Forger(kC);
+  ASSERT_TRUE(c.Publish(Crater(kC, 1, 1, kMaxLamportLead + 1000)).ok());
+  cluster_.Run(300);
+  EXPECT_EQ(B().live_feature_count(), 0u);
+  EXPECT_GE(B().counters().refused_lamport, 1u);
+  // Within the lead it is an ordinary change.
+  ASSERT_TRUE(c.Publish(Crater(kC, 1, 1, 1000)).ok());
+  cluster_.Run(300);
+  EXPECT_EQ(B().live_feature_count(), 1u);
+}
+
+TEST(RulesConfigTest, AReplicaMissingFromItsOwnMemberListIsAConfigError) {
+  SimNetwork net(1, {});
+  auto t = net.Join(kA, 1);
+  PduBusConfig bc;
+  bc.exercise_id = 1;
+  bc.local = kA;
+  bc.terrain_size_m = 128.0;
+  PduBus bus(*t, bc);
+  ReplicaConfig rc = Defaults();
+  rc.address = {1, 9};
+  EXPECT_THROW(Replica(rc, HeightGrid(33, 4.0, 10.0f), bus), std::invalid_argument);
+  rc.address = kA;
+  rc.role = NodeRole::kServer;  // the file says node
+  MemoryChangeStore store;
+  rc.store = &store;
+  EXPECT_THROW(Replica(rc, HeightGrid(33, 4.0, 10.0f), bus), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace dt

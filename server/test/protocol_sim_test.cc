@@ -16,10 +16,10 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "log/log.h"
 #include "engine/memory_change_store.h"
 #include "engine/record_store.h"
 #include "engine/test/sim_cluster.h"
+#include "log/log.h"
 #include "server/sqlite_change_store.h"
 #include "terrain/terrain_digest.h"
 
@@ -27,6 +27,8 @@ namespace dt {
 namespace {
 
 using testing::SimCluster;
+
+HeightGrid SimGround() { return HeightGrid(17, 8.0, 5.0f); }
 
 constexpr NodeAddress kServer{1, 100};
 constexpr NodeAddress kStandby{1, 101};
@@ -111,7 +113,8 @@ Status SimRun::StartServer(NodeAddress address, NodeRole role) {
   if (use_sqlite_) {
     // Reopened on every restart, as a restarted process would.
     stores_.erase(address);
-    auto s = SqliteChangeStore::Open(dir_ / fmt::format("server-{}.db", address.host));
+    auto s = SqliteChangeStore::Open(dir_ / fmt::format("server-{}.db", address.host),
+                                     SimGround().size_m());
     if (!s) return s.error();
     stores_[address] = std::move(s).value();
     store = stores_[address].get();
@@ -282,7 +285,7 @@ std::string SimRun::Run() {
   rc.silence_ms = 800;
   rc.playback_retry_ms = 300;
   rc.playback_window = 16;
-  cluster_ = std::make_unique<SimCluster>(seed_, HeightGrid(17, 8.0, 5.0f), rc, faults);
+  cluster_ = std::make_unique<SimCluster>(seed_, SimGround(), rc, faults);
 
   std::vector<NodeAddress> nodes;
   for (int i = 1; i <= kNodes; ++i) nodes.push_back({1, static_cast<uint16_t>(i)});
@@ -393,7 +396,7 @@ std::string SimRun::Check() {
   }
   // The oracle: what the server holds must be exactly the issued changes that survived, with
   // identical content, and materialise to the same terrain.
-  RecordStore reference(HeightGrid(17, 8.0, 5.0f));
+  RecordStore reference(SimGround());
   size_t present = 0;
   for (const Issued& i : issued_) {
     if (i.replaced) continue;

@@ -24,15 +24,21 @@ dt::ControlReply Handle(std::string_view line, const std::string& name, dt::Node
     case dt::ControlVerb::kQuit:
       quit = true;
       return dt::ControlReply::Ok("bye");
+    // Both refuse, with a reply naming the path and the reason, anything but a regular file of
+    // bounded size, and neither can block the loop (terrain/regular_file.h).
     case dt::ControlVerb::kExport:
       if (dt::Status s = server.ExportTerrain(c.value().path); !s) {
+        DT_LOG_WARN("export refused: {}", s.error().message);
         return dt::ControlReply::Fail(s.error().message);
       }
+      DT_LOG_INFO("exported the terrain to {}", c.value().path);
       return dt::ControlReply::Ok(c.value().path);
     case dt::ControlVerb::kImport:
       if (dt::Status s = server.ImportTerrain(c.value().path); !s) {
+        DT_LOG_WARN("import refused: {}", s.error().message);
         return dt::ControlReply::Fail(s.error().message);
       }
+      DT_LOG_INFO("imported {}", c.value().path);
       return dt::ControlReply::Ok(c.value().path);
     default:
       break;
@@ -77,6 +83,8 @@ int main(int argc, char** argv) {
     const int64_t t0 = dt::MonotonicMs();
     auto opened =
         dt::ServerReplica::Open(rc, dt::MakeRandomTerrain(exercise.terrain), *transport.bus, db);
+    // A database refused as a whole (not ours, damaged, a row that fails its checks) ends the
+    // start here with exit 2 and the message naming the file and the row.
     if (!opened) throw std::runtime_error(opened.error().message);
     dt::ServerReplica& server = *opened.value();
     DT_LOG_INFO("{} opened with {} features in {} ms", db.string(),

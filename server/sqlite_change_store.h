@@ -12,19 +12,35 @@ struct sqlite3_stmt;
 
 namespace dt {
 
+// The database's identity (PRAGMA application_id, "DTCS") and schema version (PRAGMA
+// user_version). Version 1 had no checksum column and left both pragmas 0.
+inline constexpr int32_t kChangeDatabaseApplicationId = 0x44544353;
+inline constexpr int32_t kChangeDatabaseSchemaVersion = 2;
+
 // journal_mode=WAL, synchronous=FULL: a batch is on disk when Append returns Ok, and a crash at
 // any moment leaves the database holding whole batches only (SQLite's own recovery, no journal of
 // ours). A change already stored (same author and sequence) is ignored, so a replay is harmless.
+// Each row carries a checksum of its content (change_row.h); LoadAll checks it and checks the
+// change as a received PDU would be checked, so a damaged row stops the start instead of leaving
+// this replica's digest different from every node's.
 class SqliteChangeStore final : public ChangeStore {
  public:
-  // Opens or creates the database. Fails (naming the path and SQLite's message) if the file
-  // cannot be opened or is not a dynterrain change database.
-  static Result<std::unique_ptr<SqliteChangeStore>> Open(const std::filesystem::path& path);
+  // Creates the database if no file is at `path` (atomically: a crash never leaves a half-made
+  // file there), else opens it. Refuses, naming the path and what is wrong: a file that is not a
+  // regular file, is empty, is not SQLite, is another application's SQLite database (its
+  // application_id), has another schema version, or is read-only. A version 1 database is
+  // migrated in place, in one transaction, after every row passed FromRow's checks.
+  // terrain_size_m is the exercise's terrain, which stored positions must lie on.
+  static Result<std::unique_ptr<SqliteChangeStore>> Open(const std::filesystem::path& path,
+                                                         double terrain_size_m);
   ~SqliteChangeStore() override;
   SqliteChangeStore(const SqliteChangeStore&) = delete;
   SqliteChangeStore& operator=(const SqliteChangeStore&) = delete;
 
+  // Does not validate: the replica hands it only changes it validated.
   Status Append(std::span<const Change> changes) override;
+  // Fails at the first row whose checksum or content is refused, naming the file, the row
+  // (author site:host, change_seq, rowid) and what is wrong.
   Result<std::vector<Change>> LoadAll() override;
 
   // Caps the database at this many pages (SQLite's max_page_count), as a quota or a full disk
@@ -33,12 +49,14 @@ class SqliteChangeStore final : public ChangeStore {
   const std::filesystem::path& path() const { return path_; }
 
  private:
-  SqliteChangeStore(std::filesystem::path path, sqlite3* db);
+  SqliteChangeStore(std::filesystem::path path, sqlite3* db, double terrain_size_m);
   Status Exec(const char* sql);
   Status Prepare();
+  Status MigrateFromVersion1();
 
   std::filesystem::path path_;
   sqlite3* db_ = nullptr;
+  double terrain_size_m_;
   sqlite3_stmt* insert_ = nullptr;
 };
 

@@ -10,13 +10,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <string>
 
 #include <fmt/format.h>
 #include <xxhash.h>
 
 #include "terrain/bytes.h"
+#include "terrain/regular_file.h"
 
 namespace dt {
 namespace {
@@ -214,7 +214,15 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
 }
 
 Status SaveTerrain(const Terrain& terrain, const fs::path& path) {
+  // Renaming over a FIFO or device would replace it with a regular file; a directory fails late.
+  if (auto s = CheckReplaceableFile(path); !s) return s;
   const std::vector<uint8_t> bytes = EncodeTerrainFile(terrain);
+  if (bytes.size() > kMaxTerrainFileBytes) {
+    return Error{
+        fmt::format("{}: the terrain file would be {} bytes, over the {}-byte limit that "
+                    "readers accept",
+                    path.string(), bytes.size(), kMaxTerrainFileBytes)};
+  }
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
   // fmt, not operator+: GCC 12 warns falsely (-Wrestrict) on "literal" + std::string&&.
   std::string temp = (dir / fmt::format(".{}.tmp.XXXXXX", path.filename().string())).string();
@@ -268,14 +276,9 @@ Status SaveTerrain(const Terrain& terrain, const fs::path& path) {
 }
 
 Result<std::unique_ptr<Terrain>> LoadTerrain(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    return Error{fmt::format("{}: cannot open: {}", path.string(), std::strerror(errno))};
-  }
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
-  if (in.bad()) return Error{fmt::format("{}: read failed", path.string())};
-  return DecodeTerrainFile(bytes, path.string());
+  auto bytes = ReadRegularFile(path, kMaxTerrainFileBytes);
+  if (!bytes) return bytes.error();
+  return DecodeTerrainFile(bytes.value(), path.string());
 }
 
 }  // namespace dt

@@ -17,6 +17,9 @@ namespace dt {
 inline constexpr uint32_t kTerrainFileVersion = 1;
 inline constexpr size_t kTerrainFileHeaderBytes = 28;
 inline constexpr size_t kTerrainFileChecksumBytes = 8;
+// Readers refuse a larger file before reading a byte, and SaveTerrain refuses to write one: 1 GiB
+// holds a ground of 11585 x 11585 posts, beyond any exercise, and bounds what `import` reads.
+inline constexpr uint64_t kMaxTerrainFileBytes = uint64_t{1} << 30;
 
 // The file's bytes: header, ground section, feature section (sorted by ID), XXH3-64 checksum.
 std::vector<uint8_t> EncodeTerrainFile(const Terrain& terrain);
@@ -28,9 +31,13 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
                                                    std::string_view source_name);
 
 // Writes a temporary file beside `path`, fsyncs it, renames it over `path` and fsyncs the
-// directory, so a crash leaves either the old file or the new one, never a partial file.
+// directory, so a crash leaves either the old file or the new one, never a partial file. Refuses
+// a `path` that exists and is not a regular file (a directory, FIFO, device), and a terrain whose
+// file would exceed kMaxTerrainFileBytes.
 Status SaveTerrain(const Terrain& terrain, const std::filesystem::path& path);
 
+// Reads `path` with ReadRegularFile (terrain/regular_file.h: regular files only, at most
+// kMaxTerrainFileBytes, never blocking on a FIFO or device), then DecodeTerrainFile. Never throws.
 Result<std::unique_ptr<Terrain>> LoadTerrain(const std::filesystem::path& path);
 
 }  // namespace dt

@@ -8,11 +8,11 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
-#include "log/log.h"
 #include "engine/change_log.h"
 #include "engine/memory_change_store.h"
 #include "engine/record_store.h"
 #include "engine/test/sim_cluster.h"
+#include "log/log.h"
 #include "server/sqlite_change_store.h"
 
 namespace dt {
@@ -70,7 +70,7 @@ void BM_ServerApply(benchmark::State& state) {
   std::filesystem::remove(path);
   std::unique_ptr<ChangeStore> store;
   if (durable) {
-    auto s = SqliteChangeStore::Open(path);
+    auto s = SqliteChangeStore::Open(path, HeightGrid(129, 8.0, 5.0f).size_m());
     if (!s) {
       state.SkipWithError(s.error().message.c_str());
       return;

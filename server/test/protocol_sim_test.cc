@@ -29,6 +29,8 @@ namespace {
 
 using testing::SimCluster;
 
+HeightGrid SimGround() { return HeightGrid(17, 8.0, 5.0f); }
+
 constexpr NodeAddress kServer{1, 100};
 constexpr NodeAddress kStandby{1, 101};
 constexpr int kNodes = 3;
@@ -114,7 +116,8 @@ Status SimRun::StartServer(NodeAddress address, NodeRole role) {
   if (use_sqlite_) {
     // Reopened on every restart, as a restarted process would.
     stores_.erase(address);
-    auto s = SqliteChangeStore::Open(dir_ / fmt::format("server-{}.db", address.host));
+    auto s = SqliteChangeStore::Open(dir_ / fmt::format("server-{}.db", address.host),
+                                     SimGround().size_m());
     if (!s) return s.error();
     stores_[address] = std::move(s).value();
     store = stores_[address].get();
@@ -293,7 +296,7 @@ std::string SimRun::Run() {
   rc.members[kServer] = NodeRole::kServer;
   if (with_standby_) rc.members[kStandby] = NodeRole::kStandby;
   for (NodeAddress a : nodes) rc.members[a] = NodeRole::kNode;
-  cluster_ = std::make_unique<SimCluster>(seed_, HeightGrid(17, 8.0, 5.0f), rc, faults);
+  cluster_ = std::make_unique<SimCluster>(seed_, SimGround(), rc, faults);
 
   if (auto s = StartServer(kServer, NodeRole::kServer); !s) return s.error().message;
   if (with_standby_) {
@@ -459,7 +462,7 @@ std::string SimRun::Check() {
   }
   // The oracle: what the server holds must be exactly the issued changes that survived, with
   // identical content, and materialise to the same terrain.
-  RecordStore reference(HeightGrid(17, 8.0, 5.0f));
+  RecordStore reference(SimGround());
   size_t present = 0;
   for (const Issued& i : issued_) {
     if (i.replaced) continue;

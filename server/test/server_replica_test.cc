@@ -1,10 +1,14 @@
-// Tests ServerReplica: resuming from SQLite after a crash, export and import of terrain files,
-// and a full database reported rather than acknowledged.
+// Tests ServerReplica: resuming from SQLite after a crash, a damaged database refused at start,
+// export and import of terrain files (and of what is not one), and a full database reported
+// rather than acknowledged.
 #include "server/server_replica.h"
 
+#include <sqlite3.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -150,6 +154,82 @@ TEST_F(ServerReplicaTest, ExportThenImportMovesTheExercise) {
   ASSERT_TRUE(SaveTerrain(other, dir_ / "other.dtt").ok());
   EXPECT_FALSE(server_->ImportTerrain(dir_ / "other.dtt").ok());
   EXPECT_EQ(server_->replica().live_feature_count(), 2u);
+}
+
+TEST_F(ServerReplicaTest, ADamagedDatabaseStopsTheStartNamingTheRow) {
+  ASSERT_TRUE(node_->Create(FeatureParams::Crater(30, 30, 4)).ok());
+  ASSERT_TRUE(node_->Create(FeatureParams::Crater(60, 60, 4)).ok());
+  Run(500);
+  ASSERT_EQ(node_->acknowledged_change_seq(), 2);
+  CrashServer();
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open((dir_ / "server.db").c_str(), &db), SQLITE_OK);
+    // One bit of change 2's parameter bytes (its position), as a failing disk might flip it.
+    ASSERT_EQ(sqlite3_exec(db,
+                           "UPDATE changes SET params = CAST(substr(params, 1, 2) || X'01' ||"
+                           " substr(params, 4) AS BLOB) WHERE seq = 2;",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(db);
+  }
+  server_transport_ = net_.Join(kServer, 1);
+  server_bus_ = std::make_unique<PduBus>(*server_transport_, BusConfig(kServer));
+  auto s = ServerReplica::Open(Config(kServer, NodeRole::kServer), Ground(), *server_bus_,
+                               dir_ / "server.db");
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find((dir_ / "server.db").string() + ": row author 1:1 change_seq 2"),
+            std::string::npos)
+      << s.error().message;
+  EXPECT_NE(s.error().message.find("checksum mismatch"), std::string::npos) << s.error().message;
+}
+
+TEST_F(ServerReplicaTest, ImportRefusesWhatIsNotAWholeTerrainFileAndAppliesNothing) {
+  ASSERT_TRUE(node_->Create(FeatureParams::Crater(30, 30, 4)).ok());
+  Run(500);
+  const auto good = dir_ / "good.dtt";
+  ASSERT_TRUE(server_->ExportTerrain(good).ok());
+  const auto bytes = EncodeTerrainFile(server_->replica().terrain());
+
+  std::filesystem::create_directory(dir_ / "dir.dtt");
+  ASSERT_EQ(mkfifo((dir_ / "fifo.dtt").c_str(), 0600), 0);  // no writer
+  std::ofstream(dir_ / "big.dtt").close();
+  std::filesystem::resize_file(dir_ / "big.dtt", kMaxTerrainFileBytes + 1);
+  std::ofstream(dir_ / "empty.dtt").close();
+  {
+    std::ofstream cut(dir_ / "cut.dtt", std::ios::binary);
+    cut.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size() - 1));
+  }
+  const int64_t own_changes = server_->replica().own_change_seq();
+  const size_t stored = server_->store().LoadAll().value().size();
+  const std::string digest = server_->replica().Digest();
+  const std::pair<std::filesystem::path, std::string> cases[] = {
+      {dir_ / "dir.dtt", "is a directory"},
+      {dir_ / "fifo.dtt", "is a FIFO"},  // returns at once: a blocking open would wait here
+      {"/dev/zero", "is a character device"},
+      {dir_ / "big.dtt", "over the limit"},
+      {dir_ / "empty.dtt", "file is 0 bytes"},
+      {dir_ / "cut.dtt", "does not match the file size"},
+  };
+  for (const auto& [path, reason] : cases) {
+    const Status s = server_->ImportTerrain(path);
+    ASSERT_FALSE(s.ok()) << path;
+    EXPECT_NE(s.error().message.find(path.string() + ": "), std::string::npos) << s.error().message;
+    EXPECT_NE(s.error().message.find(reason), std::string::npos) << s.error().message;
+  }
+  Run(300);
+  EXPECT_EQ(server_->replica().own_change_seq(), own_changes);
+  EXPECT_EQ(server_->store().LoadAll().value().size(), stored);
+  EXPECT_EQ(server_->replica().Digest(), digest);
+  EXPECT_EQ(node_->Digest(), digest);
+
+  // Export refuses to replace a FIFO (or anything but a regular file) and leaves it.
+  const Status to_fifo = server_->ExportTerrain(dir_ / "fifo.dtt");
+  ASSERT_FALSE(to_fifo.ok());
+  EXPECT_NE(to_fifo.error().message.find("is a FIFO"), std::string::npos)
+      << to_fifo.error().message;
+  EXPECT_TRUE(std::filesystem::is_fifo(dir_ / "fifo.dtt"));
 }
 
 TEST_F(ServerReplicaTest, AFullDatabaseIsReportedAndNothingIsAcknowledged) {

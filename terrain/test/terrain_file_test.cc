@@ -1,5 +1,7 @@
 #include "terrain/terrain_file.h"
 
+#include <sys/stat.h>
+
 #include <bit>
 #include <cmath>
 #include <cstdlib>
@@ -116,17 +118,60 @@ TEST_F(TerrainFiles, SaveAndLoadReportFileSystemErrors) {
   EXPECT_FALSE(fs::exists(dir_ / "no_such_dir"));
 }
 
-TEST_F(TerrainFiles, AFailedRenameLeavesNoTemporaryFile) {
-  // The target is a non-empty directory, so the final rename fails after the data was written.
+TEST_F(TerrainFiles, SaveRefusesToReplaceWhatIsNotARegularFile) {
+  // A directory would fail the final rename; a FIFO would silently become a regular file.
   fs::create_directory(dir_ / "taken");
   std::ofstream(dir_ / "taken" / "keep") << "x";
-  const Status s = SaveTerrain(*Sample(), dir_ / "taken");
-  ASSERT_FALSE(s.ok());
-  EXPECT_NE(s.error().message.find("rename"), std::string::npos) << s.error().message;
-  std::vector<fs::path> entries(fs::directory_iterator(dir_), fs::directory_iterator{});
-  ASSERT_EQ(entries.size(), 1u);
-  EXPECT_EQ(entries[0].filename(), "taken");
+  ASSERT_EQ(mkfifo((dir_ / "pipe").c_str(), 0600), 0);
+  for (const auto& [name, kind] :
+       {std::pair{"taken", "a directory"}, std::pair{"pipe", "a FIFO"}}) {
+    const Status s = SaveTerrain(*Sample(), dir_ / name);
+    ASSERT_FALSE(s.ok()) << name;
+    EXPECT_NE(s.error().message.find((dir_ / name).string() + ": is " + kind), std::string::npos)
+        << s.error().message;
+  }
+  EXPECT_TRUE(fs::is_fifo(dir_ / "pipe"));
   EXPECT_TRUE(fs::exists(dir_ / "taken" / "keep"));
+  std::vector<fs::path> entries(fs::directory_iterator(dir_), fs::directory_iterator{});
+  EXPECT_EQ(entries.size(), 2u);  // no temporary file left
+}
+
+// Each refused before a byte is decoded, with the path and the reason; none may block or throw.
+TEST_F(TerrainFiles, LoadRefusesWhatIsNotARegularFileOfBoundedSize) {
+  fs::create_directory(dir_ / "dir.dtt");
+  ASSERT_EQ(mkfifo((dir_ / "fifo.dtt").c_str(), 0600), 0);  // no writer: a blocking open waits
+  { std::ofstream big(dir_ / "big.dtt"); }
+  fs::resize_file(dir_ / "big.dtt", kMaxTerrainFileBytes + 1);  // sparse: costs no disk
+  const std::pair<fs::path, std::string> cases[] = {
+      {dir_ / "dir.dtt", "is a directory, not a regular file"},
+      {dir_ / "fifo.dtt", "is a FIFO, not a regular file"},
+      {"/dev/zero", "is a character device, not a regular file"},
+      {dir_ / "big.dtt", fmt::format("is {} bytes, over the limit of {} bytes",
+                                     kMaxTerrainFileBytes + 1, kMaxTerrainFileBytes)},
+  };
+  for (const auto& [path, reason] : cases) {
+    const auto r = LoadTerrain(path);
+    ASSERT_FALSE(r.ok()) << path;
+    EXPECT_EQ(r.error().message, path.string() + ": " + reason);
+  }
+}
+
+TEST_F(TerrainFiles, LoadRefusesEmptyAndTruncatedFiles) {
+  std::ofstream(dir_ / "empty.dtt").close();
+  const auto empty = LoadTerrain(dir_ / "empty.dtt");
+  ASSERT_FALSE(empty.ok());
+  EXPECT_NE(empty.error().message.find("empty.dtt: byte 0: file is 0 bytes"), std::string::npos)
+      << empty.error().message;
+  const auto bytes = EncodeTerrainFile(*Sample());
+  {
+    std::ofstream out(dir_ / "cut.dtt", std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size() / 2));
+  }
+  const auto cut = LoadTerrain(dir_ / "cut.dtt");
+  ASSERT_FALSE(cut.ok());
+  EXPECT_NE(cut.error().message.find("cut.dtt: byte 12: header declares"), std::string::npos)
+      << cut.error().message;
 }
 
 TEST(TerrainFileTest, EveryTruncationIsRefused) {

@@ -168,7 +168,9 @@ ExerciseConfig LoadExerciseConfig(const std::filesystem::path& path) {
   }
   std::ostringstream text;
   text << in.rdbuf();
-  return ParseExerciseConfig(text.str(), path.string(), path.parent_path());
+  // absolute() first: a bare file name has an empty parent, which absolute() refuses.
+  return ParseExerciseConfig(text.str(), path.string(),
+                             std::filesystem::absolute(path).parent_path());
 }
 
 }  // namespace dt

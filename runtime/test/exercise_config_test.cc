@@ -161,6 +161,19 @@ TEST(ExerciseConfigTest, LoadResolvesScenarioBesideTheFile) {
   { std::ofstream(dir / "e.toml") << kGood; }
   const ExerciseConfig c = LoadExerciseConfig(dir / "e.toml");
   EXPECT_EQ(c.nodes[0].scenario, dir / "scen/a.toml");
+  // A bare file name: its folder is the current directory.
+  const std::filesystem::path cwd = std::filesystem::current_path();
+  std::filesystem::current_path(dir);
+  std::string bare_error;
+  std::filesystem::path bare_scenario;
+  try {
+    bare_scenario = LoadExerciseConfig("e.toml").nodes[0].scenario;
+  } catch (const std::exception& e) {
+    bare_error = e.what();
+  }
+  std::filesystem::current_path(cwd);
+  EXPECT_EQ(bare_error, "");
+  EXPECT_EQ(bare_scenario, std::filesystem::canonical(dir) / "scen/a.toml");
   std::filesystem::remove_all(dir);
   EXPECT_THROW(LoadExerciseConfig(dir / "missing.toml"), std::invalid_argument);
 }

@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "runtime/control_command.h"
-#include "runtime/control_server.h"
-#include "runtime/exercise_config.h"
 #include "engine/replica.h"
 #include "pdu/faulty_transport.h"
 #include "pdu/pdu_bus.h"
+#include "runtime/control_command.h"
+#include "runtime/control_server.h"
+#include "runtime/exercise_config.h"
 #include "terrain/vehicle.h"
 
 namespace dt {
@@ -40,8 +40,9 @@ void WaitForWork(int transport_fd, bool messages_held, const ControlServer& cont
 // Milliseconds since the first call (steady clock).
 int64_t MonotonicMs();
 
-// "key value" lines: name, address, role, signed_on, caught_up, features, digest, own numbers,
-// acknowledged sequence, counters, max_feature per origin, vehicles (docs/node.md "status").
+// "key value" lines: name, address, role, require_server, signed_on, caught_up, features, digest,
+// own numbers, acknowledged sequence, counters, max_feature per origin, vehicles (docs/node.md
+// "status").
 std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
                        const FaultyTransport& faults, const std::vector<Vehicle>& vehicles);
 

@@ -154,6 +154,37 @@ TEST(ExerciseConfigTest, NeedsServerAndANode) {
   EXPECT_NE(ErrorOf(no_server).find("server: missing"), std::string::npos) << ErrorOf(no_server);
 }
 
+TEST(ExerciseConfigTest, AnExerciseWithoutAServerSaysSo) {
+  const std::string server_table = "[server]\nname = \"server\"\nsite = 1\nhost = 100\n";
+  const std::string serverless = Replace(Replace(kGood, server_table, ""), "silence_ms = 1500",
+                                         "silence_ms = 1500\nrequire_server = false");
+  const ExerciseConfig c = ParseExerciseConfig(serverless, "ex.toml", "/base");
+  EXPECT_FALSE(c.server.has_value());
+  EXPECT_FALSE(c.require_server());
+  ASSERT_EQ(c.Processes().size(), 2u);
+  EXPECT_EQ(c.Processes()[0]->name, "node-1");
+  EXPECT_EQ(c.FindProcess("server"), nullptr);
+
+  const ExerciseConfig with = ParseExerciseConfig(kGood, "ex.toml", "/base");
+  ASSERT_TRUE(with.server.has_value());
+  EXPECT_TRUE(with.require_server());
+  EXPECT_EQ(with.server->address, (NodeAddress{1, 100}));
+
+  // A server, or a standby, in an exercise that says it has none is a contradiction.
+  std::string e = ErrorOf(serverless + server_table);
+  EXPECT_NE(e.find("ex.toml: server: an exercise with [protocol] require_server = false"),
+            std::string::npos)
+      << e;
+  e = ErrorOf(serverless + "[standby]\nname = \"standby\"\nsite = 1\nhost = 101\n");
+  EXPECT_NE(e.find("standby: an exercise with"), std::string::npos) << e;
+  // require_server = true is the default, and it needs its [server].
+  e = ErrorOf(Replace(serverless, "require_server = false", "require_server = true"));
+  EXPECT_NE(e.find("server: missing"), std::string::npos) << e;
+  EXPECT_NE(e.find("require_server = false for one without"), std::string::npos) << e;
+  e = ErrorOf(Replace(serverless, "require_server = false", "require_server = 0"));
+  EXPECT_NE(e.find("protocol.require_server"), std::string::npos) << e;
+}
+
 TEST(ExerciseConfigTest, LoadResolvesScenarioBesideTheFile) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("dt-excfg-" + std::to_string(::getpid()));

@@ -31,6 +31,12 @@ int main(int argc, char** argv) {
     drill = dt::LoadDrillConfig(drill_path);
     exercise = dt::LoadExerciseConfig(drill.exercise);
     dt::ApplyOverrides(exercise, transport, run_dir);
+    if (!exercise.server) {
+      // The checks are about what the server acknowledged and stored.
+      throw std::invalid_argument(
+          fmt::format("{}: {} has no server ([protocol] require_server = false); drills need one",
+                      drill_path, exercise.source.string()));
+    }
     for (const dt::DrillAction& a : drill.actions) {
       for (const auto* list : {&a.targets, &a.from}) {
         for (const std::string& n : *list) {

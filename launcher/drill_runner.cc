@@ -11,10 +11,10 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "runtime/control_client.h"
-#include "runtime/control_command.h"
 #include "render/montage.h"
 #include "render/png_io.h"
+#include "runtime/control_client.h"
+#include "runtime/control_command.h"
 
 namespace dt {
 namespace {
@@ -124,7 +124,7 @@ std::map<std::string, std::string> DrillRunner::Status(const std::string& name) 
 }
 
 void DrillRunner::StartAll() {
-  std::vector<std::string> servers = {exercise_.server.name};
+  std::vector<std::string> servers = {exercise_.server->name};  // dt_drill refuses none
   if (exercise_.standby) servers.push_back(exercise_.standby->name);
   for (const std::string& s : servers) sup_.Start(s, Command(s));
   dt::Status st = sup_.WaitReady(servers, static_cast<int>(drill_.ready_timeout_s * 1000));

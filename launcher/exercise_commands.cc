@@ -14,8 +14,8 @@ ProgramPaths ProgramPaths::BesideSelf() {
 std::vector<std::string> ProcessCommand(const ExerciseConfig& exercise,
                                         const ProcessConfig& process, const ProgramPaths& programs,
                                         const std::vector<std::string>& extra) {
-  const bool is_server =
-      &process == &exercise.server || (exercise.standby && &process == &*exercise.standby);
+  const bool is_server = (exercise.server && &process == &*exercise.server) ||
+                         (exercise.standby && &process == &*exercise.standby);
   std::vector<std::string> argv = {(is_server ? programs.server : programs.node).string(),
                                    "--config", std::filesystem::absolute(exercise.source).string(),
                                    "--name", process.name};

@@ -63,8 +63,9 @@ int main(int argc, char** argv) {
   int rc = 0;
   bool interrupted = false;
   try {
-    // The server first: nodes sign on to it.
-    std::vector<std::string> servers = {exercise.server.name};
+    // The server first: nodes sign on to it. An exercise without one starts its nodes at once.
+    std::vector<std::string> servers;
+    if (exercise.server) servers.push_back(exercise.server->name);
     if (exercise.standby) servers.push_back(exercise.standby->name);
     for (const std::string& n : servers) {
       sup.Start(n, dt::ProcessCommand(exercise, *exercise.FindProcess(n), programs, extra));

@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
     dt::log::Init(name, level);
     dt::ExerciseConfig exercise = flags.Load();
     const dt::ProcessConfig* process = exercise.FindProcess(name);
-    if (process == nullptr || process == &exercise.server ||
+    if (process == nullptr || (exercise.server && process == &*exercise.server) ||
         (exercise.standby && process == &*exercise.standby)) {
       throw std::invalid_argument(
           fmt::format("{}: no [[node]] named \"{}\"", exercise.source.string(), name));

@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
-#include "runtime/toml_reader.h"
 #include "pdu/transport.h"
+#include "runtime/toml_reader.h"
 #include "terrain/vehicle_type.h"
 
 namespace dt {
@@ -73,7 +73,8 @@ void ApplyOverrides(ExerciseConfig& exercise, const std::string& transport_url,
 }
 
 std::vector<const ProcessConfig*> ExerciseConfig::Processes() const {
-  std::vector<const ProcessConfig*> out{&server};
+  std::vector<const ProcessConfig*> out;
+  if (server) out.push_back(&*server);
   if (standby) out.push_back(&*standby);
   for (const ProcessConfig& n : nodes) out.push_back(&n);
   return out;
@@ -115,7 +116,9 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   c.terrain.seed = static_cast<uint64_t>(t.Int("seed", 1, 0, INT64_MAX));
   t.Finish();
 
+  bool require_server = true;
   if (auto p = top.OptionalTable("protocol")) {
+    require_server = p->Bool("require_server", true);
     c.protocol.max_feature_period_ms =
         static_cast<int>(p->Int("max_feature_period_ms", 500, 10, 600000));
     c.protocol.silence_ms = static_cast<int>(p->Int("silence_ms", 2000, 10, 3600000));
@@ -138,8 +141,25 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   }
 
   const std::filesystem::path base = std::filesystem::absolute(base_dir);
-  c.server = ReadProcess(top.Table("server"), base, false, c.terrain_size_m());
-  if (auto s = top.OptionalTable("standby")) c.standby = ReadProcess(*s, base, false, 0.0);
+  if (require_server) {
+    if (!top.Has("server")) {
+      top.Fail("server",
+               "missing: an exercise needs a [server], or [protocol] "
+               "require_server = false for one without");
+    }
+    c.server = ReadProcess(top.Table("server"), base, false, c.terrain_size_m());
+    if (auto s = top.OptionalTable("standby")) c.standby = ReadProcess(*s, base, false, 0.0);
+  } else {
+    for (const char* table : {"server", "standby"}) {
+      if (top.Has(table)) {
+        // Not Fail(): it would print the whole table as the value.
+        throw std::invalid_argument(
+            fmt::format("{}: {}: an exercise with [protocol] require_server = false has no server "
+                        "(remove the [{}] table)",
+                        source_name, table, table));
+      }
+    }
+  }
   for (const TomlReader& n : top.TableArray("node")) {
     c.nodes.push_back(ReadProcess(n, base, true, c.terrain_size_m()));
   }
@@ -168,7 +188,9 @@ ExerciseConfig LoadExerciseConfig(const std::filesystem::path& path) {
   }
   std::ostringstream text;
   text << in.rdbuf();
-  return ParseExerciseConfig(text.str(), path.string(), path.parent_path());
+  // absolute() first: a bare file name has an empty parent, which absolute() refuses.
+  return ParseExerciseConfig(text.str(), path.string(),
+                             std::filesystem::absolute(path).parent_path());
 }
 
 }  // namespace dt

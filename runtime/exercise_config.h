@@ -50,12 +50,16 @@ struct ExerciseConfig {
   ProtocolTiming protocol;
   FaultConfig faults;  // injected on receipt by every process (pdu/faulty_transport.h)
   uint64_t fault_seed = 1;
-  ProcessConfig server;
+  // Absent exactly when the file says [protocol] require_server = false: an exercise without a
+  // server (a replay of a recording, docs/pdu.md), whose nodes sign on with what they hear.
+  std::optional<ProcessConfig> server;
   std::optional<ProcessConfig> standby;
   std::vector<ProcessConfig> nodes;
 
   double terrain_size_m() const { return (terrain.posts_per_side - 1) * terrain.spacing_m; }
-  // The server, the standby (if any) and every node, in that order.
+  // ReplicaConfig::require_server: nodes wait for a server's answer to sign on.
+  bool require_server() const { return server.has_value(); }
+  // The server and the standby (each if any), then every node, in that order.
   std::vector<const ProcessConfig*> Processes() const;
   // nullptr if no process has this name.
   const ProcessConfig* FindProcess(std::string_view name) const;
@@ -66,7 +70,8 @@ struct ExerciseConfig {
 // Parses TOML text. Relative paths (scenarios) resolve against base_dir; a relative run_dir
 // resolves against the current directory. Throws std::invalid_argument naming `source_name`, the
 // key and the offending value for a syntax error, a missing or mistyped key, a value out of
-// range, an unknown key, or duplicate process names or addresses.
+// range, an unknown key, duplicate process names or addresses, a missing [server] (unless
+// [protocol] require_server = false) or a [server] or [standby] in an exercise without a server.
 ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,
                                    const std::filesystem::path& base_dir);
 

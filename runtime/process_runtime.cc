@@ -55,7 +55,8 @@ ReplicaConfig MakeReplicaConfig(const ExerciseConfig& exercise, const ProcessCon
   rc.silence_ms = exercise.protocol.silence_ms;
   rc.playback_retry_ms = exercise.protocol.playback_retry_ms;
   rc.playback_window = exercise.protocol.playback_window;
-  rc.members[exercise.server.address] = NodeRole::kServer;
+  if (exercise.server) rc.members[exercise.server->address] = NodeRole::kServer;
+  rc.require_server = exercise.require_server();
   if (exercise.standby) rc.members[exercise.standby->address] = NodeRole::kStandby;
   for (const ProcessConfig& n : exercise.nodes) rc.members[n.address] = NodeRole::kNode;
   return rc;
@@ -89,11 +90,13 @@ std::string StatusText(const std::string& name, NodeRole role, const Replica& re
                        const FaultyTransport& faults, const std::vector<Vehicle>& vehicles) {
   const Replica::Counters c = replica.counters();
   std::string s = fmt::format(
-      "name {}\naddress {}\nrole {}\nsigned_on {}\ncaught_up {}\nfeatures {}\ndigest {}\n"
+      "name {}\naddress {}\nrole {}\nrequire_server {}\nsigned_on {}\ncaught_up {}\nfeatures {}\n"
+      "digest {}\n"
       "own_feature_number {}\nown_change_seq {}\nacknowledged_change_seq {}\n"
       "sent {}\nreceived {}\nrejected {}\nplayed_back {}\napplied {}\nignored_stale {}\n"
       "fault_dropped {}\ndrop_probability {}",
-      name, replica.config().address.ToString(), NodeRoleName(role), replica.signed_on() ? 1 : 0,
+      name, replica.config().address.ToString(), NodeRoleName(role),
+      replica.config().require_server ? 1 : 0, replica.signed_on() ? 1 : 0,
       replica.caught_up() ? 1 : 0, replica.live_feature_count(), replica.Digest(),
       replica.own_feature_number(), replica.own_change_seq(), replica.acknowledged_change_seq(),
       c.sent, c.received, c.rejected, c.played_back, c.applied, c.ignored_stale, faults.dropped(),

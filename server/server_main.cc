@@ -2,6 +2,7 @@
 // SQLite under the exercise's run_dir, served by a fixed-rate loop with a control socket.
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
@@ -68,8 +69,8 @@ int main(int argc, char** argv) {
   try {
     dt::log::Init(name, level);
     dt::ExerciseConfig exercise = flags.Load();
-    const dt::ProcessConfig* process =
-        standby ? (exercise.standby ? &*exercise.standby : nullptr) : &exercise.server;
+    const std::optional<dt::ProcessConfig>& entry = standby ? exercise.standby : exercise.server;
+    const dt::ProcessConfig* process = entry ? &*entry : nullptr;
     if (process == nullptr || process->name != name) {
       throw std::invalid_argument(fmt::format("{}: no {} named \"{}\"", exercise.source.string(),
                                               standby ? "[standby]" : "[server]", name));

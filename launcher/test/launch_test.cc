@@ -54,6 +54,33 @@ TEST(LaunchTest, StartsAllWaitsForReadyAndStopsOnSigterm) {
   std::filesystem::remove_all(ex.parent_path());
 }
 
+TEST(LaunchTest, StartsOnlyNodesInAnExerciseWithoutAServer) {
+  std::vector<std::string> out;
+  Supervisor sup([&](const std::string&, std::string_view line) { out.emplace_back(line); });
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("dt-launch-nosrv" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "ex.toml") << "[exercise]\nname = \"fakes\"\nrun_dir = \"" << dir.string()
+                                 << "\"\n[terrain]\n[protocol]\nrequire_server = false\n"
+                                    "[[node]]\nname = \"node-1\"\nsite = 1\nhost = 1\n"
+                                    "[[node]]\nname = \"node-2\"\nsite = 1\nhost = 2\n";
+  // No server program at all: starting one would fail the launch.
+  sup.Start("fakes",
+            {DT_LAUNCH, "--config", (dir / "ex.toml").string(), "--node-bin", DT_FAKE_CHILD,
+             "--server-bin", "/nonexistent/dt_server", "--ready-timeout-s", "30"});
+  ASSERT_TRUE(sup.WaitReady({"fakes"}, 60000));
+  EXPECT_NE(std::find(out.begin(), out.end(), "[launch] all 2 processes ready"), out.end());
+  sup.Signal("fakes", SIGTERM);
+  ASSERT_TRUE(sup.WaitExit("fakes", 60000));
+  EXPECT_EQ(DescribeWaitStatus(sup.last_wait_status("fakes")), "exited 0");
+  for (const char* n : {"node-1", "node-2"}) {
+    EXPECT_NE(std::find(out.begin(), out.end(), fmt::format("[launch] {}: exited 0", n)), out.end())
+        << n;
+  }
+  for (const std::string& l : out) EXPECT_EQ(l.find("server"), std::string::npos) << l;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(LaunchTest, ReportsAChildThatCannotStart) {
   std::vector<std::string> out;
   Supervisor sup([&](const std::string&, std::string_view line) { out.emplace_back(line); });

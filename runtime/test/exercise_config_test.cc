@@ -154,6 +154,37 @@ TEST(ExerciseConfigTest, NeedsServerAndANode) {
   EXPECT_NE(ErrorOf(no_server).find("server: missing"), std::string::npos) << ErrorOf(no_server);
 }
 
+TEST(ExerciseConfigTest, AnExerciseWithoutAServerSaysSo) {
+  const std::string server_table = "[server]\nname = \"server\"\nsite = 1\nhost = 100\n";
+  const std::string serverless = Replace(Replace(kGood, server_table, ""), "silence_ms = 1500",
+                                         "silence_ms = 1500\nrequire_server = false");
+  const ExerciseConfig c = ParseExerciseConfig(serverless, "ex.toml", "/base");
+  EXPECT_FALSE(c.server.has_value());
+  EXPECT_FALSE(c.require_server());
+  ASSERT_EQ(c.Processes().size(), 2u);
+  EXPECT_EQ(c.Processes()[0]->name, "node-1");
+  EXPECT_EQ(c.FindProcess("server"), nullptr);
+
+  const ExerciseConfig with = ParseExerciseConfig(kGood, "ex.toml", "/base");
+  ASSERT_TRUE(with.server.has_value());
+  EXPECT_TRUE(with.require_server());
+  EXPECT_EQ(with.server->address, (NodeAddress{1, 100}));
+
+  // A server, or a standby, in an exercise that says it has none is a contradiction.
+  std::string e = ErrorOf(serverless + server_table);
+  EXPECT_NE(e.find("ex.toml: server: an exercise with [protocol] require_server = false"),
+            std::string::npos)
+      << e;
+  e = ErrorOf(serverless + "[standby]\nname = \"standby\"\nsite = 1\nhost = 101\n");
+  EXPECT_NE(e.find("standby: an exercise with"), std::string::npos) << e;
+  // require_server = true is the default, and it needs its [server].
+  e = ErrorOf(Replace(serverless, "require_server = false", "require_server = true"));
+  EXPECT_NE(e.find("server: missing"), std::string::npos) << e;
+  EXPECT_NE(e.find("require_server = false for one without"), std::string::npos) << e;
+  e = ErrorOf(Replace(serverless, "require_server = false", "require_server = 0"));
+  EXPECT_NE(e.find("protocol.require_server"), std::string::npos) << e;
+}
+
 TEST(ExerciseConfigTest, LoadResolvesScenarioBesideTheFile) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("dt-excfg-" + std::to_string(::getpid()));
@@ -161,6 +192,19 @@ TEST(ExerciseConfigTest, LoadResolvesScenarioBesideTheFile) {
   { std::ofstream(dir / "e.toml") << kGood; }
   const ExerciseConfig c = LoadExerciseConfig(dir / "e.toml");
   EXPECT_EQ(c.nodes[0].scenario, dir / "scen/a.toml");
+  // A bare file name: its folder is the current directory.
+  const std::filesystem::path cwd = std::filesystem::current_path();
+  std::filesystem::current_path(dir);
+  std::string bare_error;
+  std::filesystem::path bare_scenario;
+  try {
+    bare_scenario = LoadExerciseConfig("e.toml").nodes[0].scenario;
+  } catch (const std::exception& e) {
+    bare_error = e.what();
+  }
+  std::filesystem::current_path(cwd);
+  EXPECT_EQ(bare_error, "");
+  EXPECT_EQ(bare_scenario, std::filesystem::canonical(dir) / "scen/a.toml");
   std::filesystem::remove_all(dir);
   EXPECT_THROW(LoadExerciseConfig(dir / "missing.toml"), std::invalid_argument);
 }

@@ -6,12 +6,12 @@
 #include <string>
 #include <vector>
 
+#include "engine/replica.h"
+#include "node/scenario_runner.h"
 #include "runtime/control_protocol.h"
 #include "runtime/exercise_config.h"
 #include "runtime/node_actions.h"
 #include "runtime/process_runtime.h"
-#include "engine/replica.h"
-#include "node/scenario_runner.h"
 #include "terrain/vehicle.h"
 
 namespace dt {
@@ -30,7 +30,7 @@ class NodeApp final : public NodeActions {
   // Receives PDUs for up to timeout_ms.
   void Receive(int timeout_ms);
   int transport_fd() const { return transport_.bus->Fd(); }
-  bool messages_held() const { return transport_.faults->held() > 0; }
+  bool needs_handling() const { return transport_.needs_handling(); }
   ControlReply Handle(std::string_view line);
 
   bool ready() const { return replica_->signed_on() && replica_->caught_up(); }

@@ -6,9 +6,9 @@
 #include <CLI/CLI.hpp>
 
 #include "log/log.h"
+#include "node/node_app.h"
 #include "runtime/control_server.h"
 #include "runtime/exercise_flags.h"
-#include "node/node_app.h"
 #include "runtime/process_runtime.h"
 
 int main(int argc, char** argv) {
@@ -50,7 +50,8 @@ int main(int argc, char** argv) {
       // Until the next tick: PDUs and control requests as they arrive.
       for (int64_t left; (left = next_ms - dt::MonotonicMs()) > 0 && !dt::StopRequested() &&
                          !node.quit_requested();) {
-        dt::WaitForWork(node.transport_fd(), node.messages_held(), control, static_cast<int>(left));
+        dt::WaitForWork(node.transport_fd(), node.needs_handling(), control,
+                        static_cast<int>(left));
         node.Receive(0);
         control.Poll(0);
       }

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <charconv>
+#include <cstdlib>
 #include <stdexcept>
 
 #include <dds/dds.h>
@@ -32,7 +33,29 @@ void OnDataAvailable(dds_entity_t /*reader*/, void* arg) {
   [[maybe_unused]] ssize_t w = write(fd, &one, sizeof one);
 }
 
+// Reliable, keep-all, volatile, and a writer never waits for room in its history: when a reader
+// has not acknowledged enough (a dead one not yet unmatched), dds_write returns Timeout at once
+// and the PDU is not written, so the caller's loop goes on (RetryingTransport queues it).
+dds_qos_t* MakeQos() {
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, 0);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+  return qos;
+}
+
 }  // namespace
+
+std::string DomainConfig(const DdsConfig& config) {
+  std::string uri = std::string(kDdsDomainDefaults);
+  if (!config.config_file.empty()) {
+    uri += ",file://" + config.config_file;
+  } else if (const char* env = std::getenv("CYCLONEDDS_URI"); env != nullptr && *env != '\0') {
+    uri += ",";
+    uri += env;
+  }
+  return uri;
+}
 
 DdsConfig ParseDdsUrl(std::string_view url) {
   constexpr std::string_view kScheme = "dds://";
@@ -68,17 +91,15 @@ DdsTransport::DdsTransport(DdsConfig config, uint8_t exercise_id)
     : config_(std::move(config)), exercise_id_(exercise_id) {
   event_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (event_fd_ < 0) throw std::runtime_error("DDS: eventfd failed");
-  if (!config_.config_file.empty()) {
-    if (access(config_.config_file.c_str(), R_OK) != 0) {
-      close(event_fd_);
-      throw std::runtime_error(
-          fmt::format("DDS: cannot read the configuration '{}'", config_.config_file));
-    }
-    const std::string uri = "file://" + config_.config_file;
-    const dds_entity_t d = dds_create_domain(config_.domain_id, uri.c_str());
-    // Another transport of this process may have created the domain already: share it.
-    if (d > 0) domain_ = d;
+  if (!config_.config_file.empty() && access(config_.config_file.c_str(), R_OK) != 0) {
+    close(event_fd_);
+    throw std::runtime_error(
+        fmt::format("DDS: cannot read the configuration '{}'", config_.config_file));
   }
+  const std::string domain_config = DomainConfig(config_);
+  const dds_entity_t d = dds_create_domain(config_.domain_id, domain_config.c_str());
+  // Another transport of this process may have created the domain already: share it.
+  if (d > 0) domain_ = d;
   participant_ = dds_create_participant(config_.domain_id, nullptr, nullptr);
   if (participant_ < 0) {
     const dds_return_t rc = participant_;
@@ -86,10 +107,7 @@ DdsTransport::DdsTransport(DdsConfig config, uint8_t exercise_id)
     close(event_fd_);
     throw DdsError(fmt::format("creating a participant in domain {}", config_.domain_id), rc);
   }
-  dds_qos_t* qos = dds_create_qos();
-  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(2));
-  dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
-  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+  dds_qos_t* qos = MakeQos();
   try {
     for (size_t i = 0; i < kAllPduTypes.size(); ++i) {
       const std::string name = ChannelName(exercise_id_, kAllPduTypes[i]);
@@ -145,10 +163,7 @@ Status DdsTransport::Publish(PduType type, std::span<const uint8_t> bytes) {
 void DdsTransport::Subscribe(PduType type, Handler handler) {
   auto& t = types_[IndexOf(type)];
   if (t.reader == 0) {
-    dds_qos_t* qos = dds_create_qos();
-    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(2));
-    dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
-    dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+    dds_qos_t* qos = MakeQos();
     dds_listener_t* listener = dds_create_listener(nullptr);
     dds_lset_data_available_arg(listener, OnDataAvailable, &event_fd_, true);
     t.reader = dds_create_reader(participant_, t.topic, qos, listener);

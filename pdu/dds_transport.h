@@ -21,11 +21,30 @@ struct DdsConfig {
 // Parses "dds://<domain>[?config=<file>]". Throws std::invalid_argument naming the URL.
 DdsConfig ParseDdsUrl(std::string_view url);
 
+// Cyclone DDS settings every DdsTransport's domain starts from (docs/pdu.md "Cyclone DDS"); a
+// configuration file (or CYCLONEDDS_URI) given by the user comes after them and overrides them.
+//  - LeaseDuration 3 s (Cyclone's default is 10 s): a killed or stopped process's readers are
+//    unmatched 3 s after its last message, and only until then do they hold writers back.
+//    Cyclone re-announces a participant every 4/5 of its lease (2.4 s), and any data renews it.
+//  - WhcHigh = WhcHighInit 4 MB (defaults 500 kB, growing from 30 kB): how much unacknowledged
+//    data a writer may hold before dds_write refuses. A dead reader acknowledges nothing until
+//    it is unmatched; 4 MB holds a lease's worth of a server's playback bursts (about 20 000
+//    PDUs), so in practice nothing is refused, and what is gets queued by RetryingTransport.
+inline constexpr std::string_view kDdsDomainDefaults =
+    "<CycloneDDS><Domain id=\"any\"><Discovery><LeaseDuration>3s</LeaseDuration></Discovery>"
+    "<Internal><Watermarks><WhcHigh>4MB</WhcHigh><WhcHighInit>4MB</WhcHighInit></Watermarks>"
+    "</Internal></Domain></CycloneDDS>";
+
+// The configuration a DdsTransport's domain is created with: kDdsDomainDefaults, then the
+// config file or, if none, CYCLONEDDS_URI (Cyclone's comma-separated list; later wins).
+std::string DomainConfig(const DdsConfig& config);
+
 // One participant; per PDU type a topic named ChannelName(exercise, type) of the IDL type
 // dtpdu_dds::Pdu (the LCM-encoded bytes, so decoding and validation are the transport's
-// business nowhere), a writer and, once subscribed, a reader. QoS: reliable, keep-all history,
-// volatile. A data-available listener (on Cyclone's threads) only signals an eventfd; samples are
-// taken and handlers run in HandleTimeout on the caller's thread.
+// business nowhere), a writer and, once subscribed, a reader. QoS: reliable with no blocking
+// (a write that would wait for acknowledgements fails with Timeout at once and writes nothing),
+// keep-all history, volatile. A data-available listener (on Cyclone's threads) only signals an
+// eventfd; samples are taken and handlers run in HandleTimeout on the caller's thread.
 class DdsTransport final : public Transport {
  public:
   // Throws std::runtime_error (with Cyclone's error text) if DDS entities cannot be created.

@@ -1,4 +1,5 @@
-// DdsTransport: the Transport over Cyclone DDS, reliable and keep-all, one topic per PDU type.
+// DdsTransport: the Transport over Cyclone DDS, reliable and keep-all, one typed topic per PDU
+// type.
 #pragma once
 
 #include <array>
@@ -7,6 +8,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "pdu/transport.h"
 
@@ -39,9 +41,13 @@ inline constexpr std::string_view kDdsDomainDefaults =
 // config file or, if none, CYCLONEDDS_URI (Cyclone's comma-separated list; later wins).
 std::string DomainConfig(const DdsConfig& config);
 
-// One participant; per PDU type a topic named ChannelName(exercise, type) of the IDL type
-// dtpdu_dds::Pdu (the LCM-encoded bytes, so decoding and validation are the transport's
-// business nowhere), a writer and, once subscribed, a reader. QoS: reliable with no blocking
+// One participant; per PDU type a topic named ChannelName(exercise, type) of the PDU's own IDL
+// type (dtpdu_dds::<lcm name>, generated from the .lcm file; features keyed by their ID), a
+// writer and, once subscribed, a reader. The Transport still moves bytes: Publish decodes the
+// LCM bytes into the sample (refusing bytes that are not a PDU of the channel's type) and
+// carries whatever follows the PDU (at most dds_codec::kMaxAuthBytes) in its `auth` member;
+// receiving re-encodes the sample, so handlers get the very bytes published. Validation stays
+// with PduBus, as on every transport. QoS: reliable with no blocking
 // (a write that would wait for acknowledgements fails with Timeout at once and writes nothing),
 // keep-all history, volatile. A data-available listener (on Cyclone's threads) only signals an
 // eventfd; samples are taken and handlers run in HandleTimeout on the caller's thread.
@@ -75,6 +81,8 @@ class DdsTransport final : public Transport {
 
   DdsConfig config_;
   uint8_t exercise_id_;
+  std::vector<uint8_t> bytes_;  // a received sample re-encoded, reused
+  uint64_t undecodable_ = 0;
   int32_t domain_ = 0;  // non-zero when this transport created the domain
   int32_t participant_ = 0;
   int event_fd_ = -1;

@@ -38,12 +38,24 @@ void OnDataAvailable(dds_entity_t /*reader*/, void* arg) {
 // Reliable, keep-all, volatile, and a writer never waits for room in its history: when a reader
 // has not acknowledged enough (a dead one not yet unmatched), dds_write returns Timeout at once
 // and the PDU is not written, so the caller's loop goes on (RetryingTransport queues it).
-dds_qos_t* MakeQos() {
+// Durable feature topics: transient-local, and a writer keeps only the latest sample of each
+// feature (instance), which it also gives to every reader that joins later.
+enum class Role { kTopic, kWriter, kReader };
+dds_qos_t* MakeQos(bool durable_feature, Role role) {
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, 0);
-  dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
-  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+  if (durable_feature && role == Role::kWriter) {
+    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
+  } else {
+    dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+  }
+  dds_qset_durability(qos,
+                      durable_feature ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
   return qos;
+}
+
+bool IsFeatureType(PduType type) {
+  return type == PduType::kConstruct || type == PduType::kUpdate || type == PduType::kDestruct;
 }
 
 }  // namespace
@@ -78,13 +90,21 @@ DdsConfig ParseDdsUrl(std::string_view url) {
           fmt::format("'{}': the domain must be a number in [0, 230], got '{}'", url, rest));
     }
   }
-  if (!query.empty()) {
+  // Options: config=<file>, durable=0|1, separated by '&'.
+  for (bool more = !query.empty(); more;) {
+    const size_t amp = query.find('&');
+    const std::string_view option = query.substr(0, amp);
+    more = amp != std::string_view::npos;
+    if (more) query = query.substr(amp + 1);
     constexpr std::string_view kConfig = "config=";
-    if (query.substr(0, kConfig.size()) != kConfig || query.size() == kConfig.size()) {
-      throw std::invalid_argument(
-          fmt::format("'{}': the only option is config=<file>, got '{}'", url, query));
+    if (option.substr(0, kConfig.size()) == kConfig && option.size() > kConfig.size()) {
+      config.config_file = std::string(option.substr(kConfig.size()));
+    } else if (option == "durable=1" || option == "durable=0") {
+      config.durable_features = option == "durable=1";
+    } else {
+      throw std::invalid_argument(fmt::format(
+          "'{}': options are config=<file> and durable=0|1 (joined by &), got '{}'", url, option));
     }
-    config.config_file = std::string(query.substr(kConfig.size()));
   }
   return config;
 }
@@ -109,25 +129,32 @@ DdsTransport::DdsTransport(DdsConfig config, uint8_t exercise_id)
     close(event_fd_);
     throw DdsError(fmt::format("creating a participant in domain {}", config_.domain_id), rc);
   }
-  dds_qos_t* qos = MakeQos();
   try {
     for (size_t i = 0; i < kAllPduTypes.size(); ++i) {
-      const std::string name = ChannelName(exercise_id_, kAllPduTypes[i]);
+      const PduType type = kAllPduTypes[i];
+      const std::string name = ChannelName(exercise_id_, type);
+      const bool durable = Durable(type);
       auto& t = types_[i];
-      t.topic = dds_create_topic(participant_, dds_codec::Descriptor(kAllPduTypes[i]), name.c_str(),
-                                 qos, nullptr);
+      dds_qos_t* qos = MakeQos(durable, Role::kTopic);
+      t.topic =
+          dds_create_topic(participant_, dds_codec::Descriptor(type), name.c_str(), qos, nullptr);
+      dds_delete_qos(qos);
       if (t.topic < 0) throw DdsError("creating topic " + name, t.topic);
+      qos = MakeQos(durable, Role::kWriter);
       t.writer = dds_create_writer(participant_, t.topic, qos, nullptr);
+      dds_delete_qos(qos);
       if (t.writer < 0) throw DdsError("creating a writer on " + name, t.writer);
     }
   } catch (...) {
-    dds_delete_qos(qos);
     dds_delete(participant_);
     if (domain_ > 0) dds_delete(domain_);
     close(event_fd_);
     throw;
   }
-  dds_delete_qos(qos);
+}
+
+bool DdsTransport::Durable(PduType type) const {
+  return config_.durable_features && IsFeatureType(type);
 }
 
 DdsTransport::~DdsTransport() {
@@ -139,9 +166,10 @@ DdsTransport::~DdsTransport() {
 }
 
 std::string DdsTransport::Url() const {
-  return config_.config_file.empty()
-             ? fmt::format("dds://{}", config_.domain_id)
-             : fmt::format("dds://{}?config={}", config_.domain_id, config_.config_file);
+  std::string url = fmt::format("dds://{}", config_.domain_id);
+  if (!config_.config_file.empty()) url += "?config=" + config_.config_file;
+  if (config_.durable_features) url += config_.config_file.empty() ? "?durable=1" : "&durable=1";
+  return url;
 }
 
 Status DdsTransport::Publish(PduType type, std::span<const uint8_t> bytes) {
@@ -159,7 +187,7 @@ Status DdsTransport::Publish(PduType type, std::span<const uint8_t> bytes) {
 void DdsTransport::Subscribe(PduType type, Handler handler) {
   auto& t = types_[IndexOf(type)];
   if (t.reader == 0) {
-    dds_qos_t* qos = MakeQos();
+    dds_qos_t* qos = MakeQos(Durable(type), Role::kReader);
     dds_listener_t* listener = dds_create_listener(nullptr);
     dds_lset_data_available_arg(listener, OnDataAvailable, &event_fd_, true);
     t.reader = dds_create_reader(participant_, t.topic, qos, listener);
@@ -202,6 +230,14 @@ int DdsTransport::TakeAll(PduType type, PerType& t) {
     if (static_cast<size_t>(n) < kBatch) break;
   }
   return dispatched;
+}
+
+int DdsTransport::MatchedReaders(PduType type) const {
+  dds_publication_matched_status_t st{};
+  if (dds_get_publication_matched_status(types_[IndexOf(type)].writer, &st) != DDS_RETCODE_OK) {
+    return -1;
+  }
+  return static_cast<int>(st.current_count);
 }
 
 bool DdsTransport::WaitForReaders(PduType type, int readers, int timeout_ms) {

@@ -18,9 +18,14 @@ struct DdsConfig {
   uint32_t domain_id = 0;
   // A Cyclone DDS XML configuration file; empty: CYCLONEDDS_URI or Cyclone's defaults.
   std::string config_file;
+  // Construct, Update and Destruct topics transient-local: every writer keeps the latest sample
+  // of each feature and gives them to readers that join later. Readers then match only durable
+  // writers, so an exercise sets it for every process or for none. (docs/pdu.md "Durability".)
+  bool durable_features = false;
 };
 
-// Parses "dds://<domain>[?config=<file>]". Throws std::invalid_argument naming the URL.
+// Parses "dds://<domain>[?<option>[&<option>]]", options config=<file> and durable=0|1. Throws
+// std::invalid_argument naming the URL.
 DdsConfig ParseDdsUrl(std::string_view url);
 
 // Cyclone DDS settings every DdsTransport's domain starts from (docs/pdu.md "Cyclone DDS"); a
@@ -69,6 +74,8 @@ class DdsTransport final : public Transport {
   // `readers` readers, this transport's own reader included. Volatile data written before a
   // reader is matched never reaches it, so a sender that must not lose its first PDUs waits here.
   bool WaitForReaders(PduType type, int readers, int timeout_ms);
+  // Readers the writer of `type` is matched with now (-1 if DDS cannot tell).
+  int MatchedReaders(PduType type) const;
 
  private:
   struct PerType {
@@ -78,6 +85,7 @@ class DdsTransport final : public Transport {
     std::deque<Handler> handlers;
   };
   int TakeAll(PduType type, PerType& per_type);
+  bool Durable(PduType type) const;
 
   DdsConfig config_;
   uint8_t exercise_id_;

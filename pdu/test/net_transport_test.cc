@@ -2,6 +2,7 @@
 // private network namespace the test makes for itself.
 #include <chrono>
 #include <functional>
+#include <map>
 
 #include <dds/dds.h>
 #include <gtest/gtest.h>
@@ -270,6 +271,37 @@ TEST(DdsTypedTopics, AnIndependentReaderSeesNamedFieldsAndOneInstancePerFeature)
   EXPECT_NE(instances[0], instances[2]);
 }
 
+// With durable=1 a reader that joins after the features were published still gets the latest
+// change of each (and only that), from the writer's history; MaxFeature stays volatile.
+TEST(DdsTypedTopics, ADurableLateJoinerGetsTheLatestChangeOfEveryFeature) {
+  SKIP_WITHOUT_NETNS();
+  const std::string url = kDds + "&durable=1";
+  auto holder = MakeTransport(url, 6);
+  EXPECT_EQ(holder->Url(), url);
+  auto pdu = sample::Update();
+  for (int64_t feature = 1; feature <= 20; ++feature) {
+    pdu.feature_number = feature;
+    for (int64_t change = 1; change <= 3; ++change) {
+      pdu.change_seq = feature * 10 + change;
+      ASSERT_TRUE(holder->Publish(PduType::kUpdate, EncodePdu(pdu)).ok());
+    }
+  }
+  ASSERT_TRUE(holder->Publish(PduType::kMaxFeature, EncodePdu(sample::MaxFeature())).ok());
+  auto joiner = MakeTransport(url, 6);
+  std::map<int64_t, std::vector<int64_t>> changes;  // feature -> change_seqs received
+  int max_features = 0;
+  joiner->Subscribe(PduType::kUpdate, [&](std::span<const uint8_t> b) {
+    dtpdu::update_t got;
+    if (!DecodePdu(b, got)) changes[got.feature_number].push_back(got.change_seq);
+  });
+  joiner->Subscribe(PduType::kMaxFeature, [&](std::span<const uint8_t>) { ++max_features; });
+  ASSERT_TRUE(HandleUntil({joiner.get()}, [&] { return changes.size() >= 20; }));
+  for (int64_t feature = 1; feature <= 20; ++feature) {
+    EXPECT_EQ(changes[feature], (std::vector<int64_t>{feature * 10 + 3})) << feature;
+  }
+  EXPECT_EQ(max_features, 0);
+}
+
 TEST(DdsUrl, ParsesDomainAndConfig) {
   EXPECT_EQ(ParseDdsUrl("dds://").domain_id, 0u);
   EXPECT_EQ(ParseDdsUrl("dds://12").domain_id, 12u);
@@ -277,6 +309,11 @@ TEST(DdsUrl, ParsesDomainAndConfig) {
   EXPECT_THROW(ParseDdsUrl("dds://abc"), std::invalid_argument);
   EXPECT_THROW(ParseDdsUrl("dds://300"), std::invalid_argument);
   EXPECT_THROW(ParseDdsUrl("dds://1?cfg=x"), std::invalid_argument);
+  EXPECT_FALSE(ParseDdsUrl("dds://3?config=/x.xml").durable_features);
+  EXPECT_TRUE(ParseDdsUrl("dds://3?config=/x.xml&durable=1").durable_features);
+  EXPECT_EQ(ParseDdsUrl("dds://3?durable=1&config=/x.xml").config_file, "/x.xml");
+  EXPECT_THROW(ParseDdsUrl("dds://1?durable=yes"), std::invalid_argument);
+  EXPECT_THROW(ParseDdsUrl("dds://1?config=/x.xml&"), std::invalid_argument);
   EXPECT_THROW(MakeTransport("dds://1?config=/nonexistent.xml", 1), std::runtime_error);
 }
 

@@ -198,13 +198,29 @@ def emit_codec(structs):
     for s in structs:
         out.append(f'#include <{s.package}/{s.name}.hpp>')
     out += ["", "namespace dt::dds_codec {", "namespace {", "",
-            "// Storage for the sequences of one sample while it is written.",
+            "// Buffers for the sequences of a sample being written, kept between writes so a",
+            "// write allocates nothing once they have grown.",
+            "template <typename T>",
+            "struct Pool {",
+            "  std::deque<std::vector<T>> buffers;  // grows without moving what it holds",
+            "  size_t used = 0;",
+            "  std::vector<T>& Next(size_t n) {",
+            "    if (used == buffers.size()) buffers.emplace_back();",
+            "    std::vector<T>& v = buffers[used++];",
+            "    v.resize(n);",
+            "    return v;",
+            "  }",
+            "};",
+            "",
             "struct Arena {"]
     for t in nested_seq_types:
-        out.append(f"  std::deque<std::vector<{c_name(t)}>> {t};")
+        out.append(f"  Pool<{c_name(t)}> {t};")
     for t in prim_seq_types:
-        out.append(f"  std::deque<std::vector<{PRIMITIVES[t][1]}>> {t};")
-    out += ["};", ""]
+        out.append(f"  Pool<{PRIMITIVES[t][1]}> {t};")
+    out.append("  void Reset() {")
+    for t in nested_seq_types + prim_seq_types:
+        out.append(f"    {t}.used = 0;")
+    out += ["  }", "};", ""]
     # Declarations first: nested structs refer to each other in dependency order anyway.
     for s in structs:
         lcm = f"{s.package}::{s.name}"
@@ -222,7 +238,7 @@ def emit_codec(structs):
                 store = m.type
                 elem = c_name(m.type) if m.type not in PRIMITIVES else PRIMITIVES[m.type][1]
                 out.append("  {")
-                out.append(f"    std::vector<{elem}>& v = arena.{store}.emplace_back(in.{m.name}.size());")
+                out.append(f"    std::vector<{elem}>& v = arena.{store}.Next(in.{m.name}.size());")
                 out.append("    for (size_t i = 0; i < v.size(); ++i) {")
                 out.append("    " + conv_to(m, f"in.{m.name}[i]", "v[i]"))
                 out.append("    }")
@@ -266,7 +282,10 @@ def emit_codec(structs):
         "                             lcm_name, trailer, kMaxAuthBytes)};",
         "  }",
         "  Idl sample{};",
-        "  Arena arena;",
+        "  // One transport thread writes at a time (Transport is not thread-safe); thread_local",
+        "  // keeps transports on different threads apart.",
+        "  static thread_local Arena arena;",
+        "  arena.Reset();",
         "  ToIdl(pdu, sample, arena);",
         "  sample.auth._maximum = static_cast<uint32_t>(trailer);",
         "  sample.auth._length = static_cast<uint32_t>(trailer);",

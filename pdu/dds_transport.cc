@@ -12,7 +12,6 @@
 #include <fmt/format.h>
 
 #include "log/log.h"
-
 #include "pdu/dds_codec.h"
 
 namespace dt {

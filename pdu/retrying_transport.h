@@ -33,7 +33,7 @@ class RetryingTransport final : public Transport {
  public:
   static constexpr size_t kDefaultMaxQueued = 10000;
   static constexpr int kRetryIntervalMs = 5;
-  static constexpr size_t kMaxRetriesPerCall = 256;
+  static constexpr size_t kMaxRetriesPerCall = 64;
 
   struct Counters {
     size_t queued = 0;           // PDUs waiting now

@@ -76,8 +76,9 @@ void NodeApp::Tick(int64_t now_ms, double dt_s) {
 }
 
 void NodeApp::Receive(int timeout_ms) {
-  // Held (delayed) messages need HandleTimeout calls even when the socket is quiet.
-  if (transport_.faults->held() > 0 && timeout_ms > 1) timeout_ms = 1;
+  // Held (delayed) messages and queued writes need HandleTimeout calls even when the socket is
+  // quiet.
+  if (transport_.needs_handling() && timeout_ms > 1) timeout_ms = 1;
   Result<int> r = transport_.bus->HandleTimeout(timeout_ms);
   if (!r && !StopRequested()) DT_LOG_WARN("receive: {}", r.error().message);
 }
@@ -89,8 +90,8 @@ ControlReply NodeApp::Handle(std::string_view line) {
     quit_ = true;
     return ControlReply::Ok("bye");
   }
-  if (auto r = AnswerCommonCommand(c.value(), process_.name, NodeRole::kNode, *replica_,
-                                   *transport_.faults, vehicles_)) {
+  if (auto r = AnswerCommonCommand(c.value(), process_.name, NodeRole::kNode, *replica_, transport_,
+                                   vehicles_)) {
     return *r;
   }
   ControlReply reply = RunFeatureCommand(c.value(), *this);

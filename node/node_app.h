@@ -31,7 +31,7 @@ class NodeApp final : public NodeActions {
   // Receives PDUs for up to timeout_ms.
   void Receive(int timeout_ms);
   int transport_fd() const { return transport_.bus->Fd(); }
-  bool messages_held() const { return transport_.faults->held() > 0; }
+  bool needs_handling() const { return transport_.needs_handling(); }
   ControlReply Handle(std::string_view line);
 
   bool ready() const { return replica_->signed_on() && replica_->caught_up(); }

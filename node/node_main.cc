@@ -51,7 +51,8 @@ int main(int argc, char** argv) {
       // Until the next tick: PDUs and control requests as they arrive.
       for (int64_t left; (left = next_ms - dt::MonotonicMs()) > 0 && !dt::StopRequested() &&
                          !node.quit_requested();) {
-        dt::WaitForWork(node.transport_fd(), node.messages_held(), control, static_cast<int>(left));
+        dt::WaitForWork(node.transport_fd(), node.needs_handling(), control,
+                        static_cast<int>(left));
         node.Receive(0);
         control.Poll(0);
       }

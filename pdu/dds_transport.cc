@@ -5,12 +5,14 @@
 #include <unistd.h>
 
 #include <charconv>
+#include <cstdlib>
 #include <stdexcept>
 
 #include <dds/dds.h>
 #include <fmt/format.h>
 
-#include "dt_pdu_dds.h"
+#include "log/log.h"
+#include "pdu/dds_codec.h"
 
 namespace dt {
 namespace {
@@ -32,7 +34,41 @@ void OnDataAvailable(dds_entity_t /*reader*/, void* arg) {
   [[maybe_unused]] ssize_t w = write(fd, &one, sizeof one);
 }
 
+// Reliable, keep-all, volatile, and a writer never waits for room in its history: when a reader
+// has not acknowledged enough (a dead one not yet unmatched), dds_write returns Timeout at once
+// and the PDU is not written, so the caller's loop goes on (RetryingTransport queues it).
+// Durable feature topics: transient-local, and a writer keeps only the latest sample of each
+// feature (instance), which it also gives to every reader that joins later.
+enum class Role { kTopic, kWriter, kReader };
+dds_qos_t* MakeQos(bool durable_feature, Role role) {
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, 0);
+  if (durable_feature && role == Role::kWriter) {
+    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
+  } else {
+    dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+  }
+  dds_qset_durability(qos,
+                      durable_feature ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
+  return qos;
+}
+
+bool IsFeatureType(PduType type) {
+  return type == PduType::kConstruct || type == PduType::kUpdate || type == PduType::kDestruct;
+}
+
 }  // namespace
+
+std::string DomainConfig(const DdsConfig& config) {
+  std::string uri = std::string(kDdsDomainDefaults);
+  if (!config.config_file.empty()) {
+    uri += ",file://" + config.config_file;
+  } else if (const char* env = std::getenv("CYCLONEDDS_URI"); env != nullptr && *env != '\0') {
+    uri += ",";
+    uri += env;
+  }
+  return uri;
+}
 
 DdsConfig ParseDdsUrl(std::string_view url) {
   constexpr std::string_view kScheme = "dds://";
@@ -53,13 +89,21 @@ DdsConfig ParseDdsUrl(std::string_view url) {
           fmt::format("'{}': the domain must be a number in [0, 230], got '{}'", url, rest));
     }
   }
-  if (!query.empty()) {
+  // Options: config=<file>, durable=0|1, separated by '&'.
+  for (bool more = !query.empty(); more;) {
+    const size_t amp = query.find('&');
+    const std::string_view option = query.substr(0, amp);
+    more = amp != std::string_view::npos;
+    if (more) query = query.substr(amp + 1);
     constexpr std::string_view kConfig = "config=";
-    if (query.substr(0, kConfig.size()) != kConfig || query.size() == kConfig.size()) {
-      throw std::invalid_argument(
-          fmt::format("'{}': the only option is config=<file>, got '{}'", url, query));
+    if (option.substr(0, kConfig.size()) == kConfig && option.size() > kConfig.size()) {
+      config.config_file = std::string(option.substr(kConfig.size()));
+    } else if (option == "durable=1" || option == "durable=0") {
+      config.durable_features = option == "durable=1";
+    } else {
+      throw std::invalid_argument(fmt::format(
+          "'{}': options are config=<file> and durable=0|1 (joined by &), got '{}'", url, option));
     }
-    config.config_file = std::string(query.substr(kConfig.size()));
   }
   return config;
 }
@@ -68,17 +112,15 @@ DdsTransport::DdsTransport(DdsConfig config, uint8_t exercise_id)
     : config_(std::move(config)), exercise_id_(exercise_id) {
   event_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (event_fd_ < 0) throw std::runtime_error("DDS: eventfd failed");
-  if (!config_.config_file.empty()) {
-    if (access(config_.config_file.c_str(), R_OK) != 0) {
-      close(event_fd_);
-      throw std::runtime_error(
-          fmt::format("DDS: cannot read the configuration '{}'", config_.config_file));
-    }
-    const std::string uri = "file://" + config_.config_file;
-    const dds_entity_t d = dds_create_domain(config_.domain_id, uri.c_str());
-    // Another transport of this process may have created the domain already: share it.
-    if (d > 0) domain_ = d;
+  if (!config_.config_file.empty() && access(config_.config_file.c_str(), R_OK) != 0) {
+    close(event_fd_);
+    throw std::runtime_error(
+        fmt::format("DDS: cannot read the configuration '{}'", config_.config_file));
   }
+  const std::string domain_config = DomainConfig(config_);
+  const dds_entity_t d = dds_create_domain(config_.domain_id, domain_config.c_str());
+  // Another transport of this process may have created the domain already: share it.
+  if (d > 0) domain_ = d;
   participant_ = dds_create_participant(config_.domain_id, nullptr, nullptr);
   if (participant_ < 0) {
     const dds_return_t rc = participant_;
@@ -86,27 +128,32 @@ DdsTransport::DdsTransport(DdsConfig config, uint8_t exercise_id)
     close(event_fd_);
     throw DdsError(fmt::format("creating a participant in domain {}", config_.domain_id), rc);
   }
-  dds_qos_t* qos = dds_create_qos();
-  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(2));
-  dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
-  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
   try {
     for (size_t i = 0; i < kAllPduTypes.size(); ++i) {
-      const std::string name = ChannelName(exercise_id_, kAllPduTypes[i]);
+      const PduType type = kAllPduTypes[i];
+      const std::string name = ChannelName(exercise_id_, type);
+      const bool durable = Durable(type);
       auto& t = types_[i];
-      t.topic = dds_create_topic(participant_, &dtpdu_dds_Pdu_desc, name.c_str(), qos, nullptr);
+      dds_qos_t* qos = MakeQos(durable, Role::kTopic);
+      t.topic =
+          dds_create_topic(participant_, dds_codec::Descriptor(type), name.c_str(), qos, nullptr);
+      dds_delete_qos(qos);
       if (t.topic < 0) throw DdsError("creating topic " + name, t.topic);
+      qos = MakeQos(durable, Role::kWriter);
       t.writer = dds_create_writer(participant_, t.topic, qos, nullptr);
+      dds_delete_qos(qos);
       if (t.writer < 0) throw DdsError("creating a writer on " + name, t.writer);
     }
   } catch (...) {
-    dds_delete_qos(qos);
     dds_delete(participant_);
     if (domain_ > 0) dds_delete(domain_);
     close(event_fd_);
     throw;
   }
-  dds_delete_qos(qos);
+}
+
+bool DdsTransport::Durable(PduType type) const {
+  return config_.durable_features && IsFeatureType(type);
 }
 
 DdsTransport::~DdsTransport() {
@@ -118,9 +165,10 @@ DdsTransport::~DdsTransport() {
 }
 
 std::string DdsTransport::Url() const {
-  return config_.config_file.empty()
-             ? fmt::format("dds://{}", config_.domain_id)
-             : fmt::format("dds://{}?config={}", config_.domain_id, config_.config_file);
+  std::string url = fmt::format("dds://{}", config_.domain_id);
+  if (!config_.config_file.empty()) url += "?config=" + config_.config_file;
+  if (config_.durable_features) url += config_.config_file.empty() ? "?durable=1" : "&durable=1";
+  return url;
 }
 
 Status DdsTransport::Publish(PduType type, std::span<const uint8_t> bytes) {
@@ -128,16 +176,9 @@ Status DdsTransport::Publish(PduType type, std::span<const uint8_t> bytes) {
     return Error{fmt::format("{} PDU of {} bytes exceeds the {}-byte single-datagram limit",
                              PduTypeName(type), bytes.size(), kMaxPduBytes)};
   }
-  dtpdu_dds_Pdu sample{};
-  sample.pdu_type = static_cast<uint8_t>(type);
-  sample.payload._length = static_cast<uint32_t>(bytes.size());
-  sample.payload._maximum = static_cast<uint32_t>(bytes.size());
-  sample.payload._buffer = const_cast<uint8_t*>(bytes.data());  // only read by dds_write
-  sample.payload._release = false;
-  const dds_return_t rc = dds_write(types_[IndexOf(type)].writer, &sample);
-  if (rc != DDS_RETCODE_OK) {
+  if (Status s = dds_codec::Write(type, types_[IndexOf(type)].writer, bytes); !s) {
     return Error{fmt::format("DDS write on {} failed: {}", ChannelName(exercise_id_, type),
-                             dds_strretcode(rc))};
+                             s.error().message)};
   }
   return Status::Ok();
 }
@@ -145,10 +186,7 @@ Status DdsTransport::Publish(PduType type, std::span<const uint8_t> bytes) {
 void DdsTransport::Subscribe(PduType type, Handler handler) {
   auto& t = types_[IndexOf(type)];
   if (t.reader == 0) {
-    dds_qos_t* qos = dds_create_qos();
-    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(2));
-    dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
-    dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+    dds_qos_t* qos = MakeQos(Durable(type), Role::kReader);
     dds_listener_t* listener = dds_create_listener(nullptr);
     dds_lset_data_available_arg(listener, OnDataAvailable, &event_fd_, true);
     t.reader = dds_create_reader(participant_, t.topic, qos, listener);
@@ -173,11 +211,15 @@ int DdsTransport::TakeAll(PduType type, PerType& t) {
     if (n <= 0) break;
     for (dds_return_t i = 0; i < n; ++i) {
       if (!infos[i].valid_data) continue;
-      const auto* s = static_cast<const dtpdu_dds_Pdu*>(samples[i]);
-      // The topic already names the type; a mismatching tag is left to the validator, which
-      // checks the header inside the payload.
-      (void)type;
-      const std::span<const uint8_t> bytes(s->payload._buffer, s->payload._length);
+      if (!dds_codec::Read(type, samples[i], bytes_)) {
+        // Only a writer outside dynterrain can produce such a sample: nothing to hand on.
+        if (undecodable_++ % 1000 == 0) {
+          DT_LOG_WARN("DDS: dropped an inconsistent {} sample ({} so far)",
+                      ChannelName(exercise_id_, type), undecodable_);
+        }
+        continue;
+      }
+      const std::span<const uint8_t> bytes(bytes_);
       ++dispatched;
       for (size_t h = 0; h < t.handlers.size(); ++h) {
         [&]() noexcept { t.handlers[h](bytes); }();
@@ -187,6 +229,14 @@ int DdsTransport::TakeAll(PduType type, PerType& t) {
     if (static_cast<size_t>(n) < kBatch) break;
   }
   return dispatched;
+}
+
+int DdsTransport::MatchedReaders(PduType type) const {
+  dds_publication_matched_status_t st{};
+  if (dds_get_publication_matched_status(types_[IndexOf(type)].writer, &st) != DDS_RETCODE_OK) {
+    return -1;
+  }
+  return static_cast<int>(st.current_count);
 }
 
 bool DdsTransport::WaitForReaders(PduType type, int readers, int timeout_ms) {

@@ -27,8 +27,7 @@ class SimNetwork::Endpoint final : public Transport {
       return Error{fmt::format("{} PDU of {} bytes exceeds the {}-byte single-datagram limit",
                                PduTypeName(type), bytes.size(), kMaxPduBytes)};
     }
-    net_.Publish(*this, type, bytes);
-    return Status::Ok();
+    return net_.Publish(*this, type, bytes);
   }
 
   void Subscribe(PduType type, Handler handler) override {
@@ -115,7 +114,26 @@ void SimNetwork::Leave(Endpoint& endpoint) {
   endpoints_.erase(std::remove(endpoints_.begin(), endpoints_.end(), &endpoint), endpoints_.end());
 }
 
-void SimNetwork::Publish(Endpoint& from, PduType type, std::span<const uint8_t> bytes) {
+void SimNetwork::BlockWrites(NodeAddress node, int64_t until_ms) {
+  if (until_ms <= now_ms_) {
+    writes_blocked_until_ms_.erase(node);
+  } else {
+    writes_blocked_until_ms_[node] = until_ms;
+  }
+}
+
+bool SimNetwork::WritesBlocked(NodeAddress node) const {
+  auto it = writes_blocked_until_ms_.find(node);
+  return it != writes_blocked_until_ms_.end() && now_ms_ < it->second;
+}
+
+Status SimNetwork::Publish(Endpoint& from, PduType type, std::span<const uint8_t> bytes) {
+  if (WritesBlocked(from.node())) {
+    ++stats_.write_failures;
+    return Error{fmt::format("SimNetwork: write by {} on {} timed out (writes blocked until {} ms)",
+                             from.node().ToString(), ChannelName(from.exercise_id(), type),
+                             writes_blocked_until_ms_.at(from.node()))};
+  }
   ++stats_.published;
   auto shared = std::make_shared<const std::vector<uint8_t>>(bytes.begin(), bytes.end());
   for (Endpoint* to : endpoints_) {
@@ -127,6 +145,7 @@ void SimNetwork::Publish(Endpoint& from, PduType type, std::span<const uint8_t> 
       to->Enqueue(Pending{now_ms_ + d, next_order_++, type, shared});
     }
   }
+  return Status::Ok();
 }
 
 void SimNetwork::AdvanceMs(int64_t ms) {

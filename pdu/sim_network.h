@@ -32,6 +32,13 @@ class SimNetwork {
 
   FaultModel& faults() { return faults_; }
 
+  // Makes every Publish by `node`'s endpoints fail, as a carrier's write that timed out (a DDS
+  // writer held back by a dead reader), until virtual time reaches until_ms: the PDU is not sent
+  // and Publish returns an Error. Receiving is unaffected. A later call replaces the window;
+  // BlockWrites(node, 0) ends it at once.
+  void BlockWrites(NodeAddress node, int64_t until_ms);
+  bool WritesBlocked(NodeAddress node) const;
+
   // Moves virtual time forward; messages whose delay has passed become deliverable.
   void AdvanceMs(int64_t ms);
   int64_t now_ms() const { return now_ms_; }
@@ -42,9 +49,10 @@ class SimNetwork {
 
   struct Stats {
     uint64_t published = 0;
-    uint64_t copies_queued = 0;  // after drops, including duplicates and loopback
-    uint64_t dropped = 0;        // deliveries decided lost (drops and partitions)
-    uint64_t delivered = 0;      // copies handed to an endpoint's handlers
+    uint64_t copies_queued = 0;   // after drops, including duplicates and loopback
+    uint64_t dropped = 0;         // deliveries decided lost (drops and partitions)
+    uint64_t delivered = 0;       // copies handed to an endpoint's handlers
+    uint64_t write_failures = 0;  // Publish calls failed by BlockWrites (not in published)
   };
   const Stats& stats() const { return stats_; }
 
@@ -62,13 +70,14 @@ class SimNetwork {
   };
   using Inbox = std::priority_queue<Pending, std::vector<Pending>, std::greater<>>;
 
-  void Publish(Endpoint& from, PduType type, std::span<const uint8_t> bytes);
+  Status Publish(Endpoint& from, PduType type, std::span<const uint8_t> bytes);
   void Leave(Endpoint& endpoint);
 
   FaultModel faults_;
   int64_t now_ms_ = 0;
   uint64_t next_order_ = 0;
   std::vector<Endpoint*> endpoints_;  // join order: fates are drawn in this order
+  std::map<NodeAddress, int64_t> writes_blocked_until_ms_;
   Stats stats_;
 };
 

@@ -19,7 +19,7 @@ std::unique_ptr<Transport> MakeTransport(std::string_view url, uint8_t exercise_
   }
   throw std::invalid_argument(
       fmt::format("unknown transport URL '{}': expected memq://, udpm://<group>:<port>[?...] or "
-                  "dds://<domain>[?config=<file>]",
+                  "dds://<domain>[?config=<file>][&durable=1]",
                   u));
 }
 

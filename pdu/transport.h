@@ -49,7 +49,7 @@ class Transport {
 //   "memq://"                                  in-process, this object only (LCM memq)
 //   "udpm://239.255.76.67:7667?ttl=0"          LCM UDP multicast (the default; ttl=0 stays on
 //                                              the host, ttl=1 spans the LAN)
-//   "dds://<domain>[?config=<file.xml>]"       Cyclone DDS, reliable, keep-all
+//   "dds://<domain>[?config=<file.xml>][&durable=1]"  Cyclone DDS, reliable, keep-all
 // Channels carry exercise_id. Throws std::invalid_argument for a malformed URL and
 // std::runtime_error when the transport cannot be created (the message names the URL).
 std::unique_ptr<Transport> MakeTransport(std::string_view url, uint8_t exercise_id);

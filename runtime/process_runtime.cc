@@ -37,7 +37,9 @@ ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise,
       MakeTransport(exercise.transport_url, exercise.exercise_id), process.address, exercise.faults,
       FaultSeed(exercise, process.address));
   t.faults = faulty.get();
-  t.transport = std::move(faulty);
+  auto retrying = std::make_unique<RetryingTransport>(std::move(faulty));
+  t.retrying = retrying.get();
+  t.transport = std::move(retrying);
   PduBusConfig bus;
   bus.exercise_id = exercise.exercise_id;
   bus.local = process.address;
@@ -72,11 +74,11 @@ void InstallStopSignals() {
 
 bool StopRequested() { return g_stop != 0; }
 
-void WaitForWork(int transport_fd, bool messages_held, const ControlServer& control,
+void WaitForWork(int transport_fd, bool needs_handling, const ControlServer& control,
                  int timeout_ms) {
   std::vector<pollfd> fds = {{transport_fd, POLLIN, 0}};
   control.AddPollFds(fds);
-  poll(fds.data(), fds.size(), messages_held ? std::min(timeout_ms, 1) : timeout_ms);
+  poll(fds.data(), fds.size(), needs_handling ? std::min(timeout_ms, 1) : timeout_ms);
 }
 
 int64_t MonotonicMs() {
@@ -87,20 +89,23 @@ int64_t MonotonicMs() {
 }
 
 std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
-                       const FaultyTransport& faults, const std::vector<Vehicle>& vehicles) {
+                       const ProcessTransport& transport, const std::vector<Vehicle>& vehicles) {
   const Replica::Counters c = replica.counters();
+  const RetryingTransport::Counters w = transport.retrying->counters();
   std::string s = fmt::format(
       "name {}\naddress {}\nrole {}\nrequire_server {}\nsigned_on {}\ncaught_up {}\nfeatures {}\n"
       "digest {}\n"
       "own_feature_number {}\nown_change_seq {}\nacknowledged_change_seq {}\n"
       "sent {}\nreceived {}\nrejected {}\nplayed_back {}\napplied {}\nignored_stale {}\n"
-      "fault_dropped {}\ndrop_probability {}",
+      "fault_dropped {}\ndrop_probability {}\nwrite_queued {}\nwrite_retried {}\n"
+      "write_failed {}\nwrite_given_up {}",
       name, replica.config().address.ToString(), NodeRoleName(role),
       replica.config().require_server ? 1 : 0, replica.signed_on() ? 1 : 0,
       replica.caught_up() ? 1 : 0, replica.live_feature_count(), replica.Digest(),
       replica.own_feature_number(), replica.own_change_seq(), replica.acknowledged_change_seq(),
-      c.sent, c.received, c.rejected, c.played_back, c.applied, c.ignored_stale, faults.dropped(),
-      const_cast<FaultyTransport&>(faults).faults().config().drop_probability);
+      c.sent, c.received, c.rejected, c.played_back, c.applied, c.ignored_stale,
+      transport.faults->dropped(), transport.faults->faults().config().drop_probability, w.queued,
+      w.retried, w.failed_writes, w.given_up);
   s += fmt::format(
       "\nvoided {}\nrefused_stranger {}\nrefused_role {}\nrefused_claim {}\nrefused_lamport {}",
       c.voided, c.refused_stranger, c.refused_role, c.refused_claim, c.refused_lamport);
@@ -136,13 +141,14 @@ Status RenderMapPng(const Terrain& terrain, const std::vector<Vehicle>& vehicles
 
 std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
                                                 const std::string& name, NodeRole role,
-                                                const Replica& replica, FaultyTransport& faults,
+                                                const Replica& replica, ProcessTransport& transport,
                                                 const std::vector<Vehicle>& vehicles) {
+  FaultyTransport& faults = *transport.faults;
   switch (command.verb) {
     case ControlVerb::kPing:
       return ControlReply::Ok("pong");
     case ControlVerb::kStatus:
-      return ControlReply::Ok(StatusText(name, role, replica, faults, vehicles));
+      return ControlReply::Ok(StatusText(name, role, replica, transport, vehicles));
     case ControlVerb::kDigest:
       return ControlReply::Ok(replica.Digest());
     case ControlVerb::kFeatures: {

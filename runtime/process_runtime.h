@@ -11,6 +11,7 @@
 #include "engine/replica.h"
 #include "pdu/faulty_transport.h"
 #include "pdu/pdu_bus.h"
+#include "pdu/retrying_transport.h"
 #include "runtime/control_command.h"
 #include "runtime/control_server.h"
 #include "runtime/exercise_config.h"
@@ -19,11 +20,17 @@
 namespace dt {
 
 // The exercise's transport wrapped in a FaultyTransport (faults from the config, changeable at
-// run time by control commands) and a PduBus for this process.
+// run time by control commands), that in a RetryingTransport (a write the carrier refuses is
+// queued and retried, never waited for), and a PduBus for this process over the whole stack.
+// The retrying layer is outermost so it also retries writes that fail in any layer below it.
 struct ProcessTransport {
-  FaultyTransport* faults = nullptr;  // owned by `transport`
+  FaultyTransport* faults = nullptr;      // owned by `transport`
+  RetryingTransport* retrying = nullptr;  // owned by `transport`: it is the outermost layer
   std::unique_ptr<Transport> transport;
   std::unique_ptr<PduBus> bus;
+  // Held (delayed) messages and queued writes need HandleTimeout calls even while the fd is
+  // quiet.
+  bool needs_handling() const { return faults->held() > 0 || retrying->queued() > 0; }
 };
 // Throws like MakeTransport.
 ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise, const ProcessConfig& process);
@@ -39,24 +46,24 @@ void InstallStopSignals();
 bool StopRequested();
 
 // Waits up to timeout_ms until the transport or the control socket has work (1 ms at most while
-// the fault injector holds delayed messages, which need HandleTimeout calls to move).
-void WaitForWork(int transport_fd, bool messages_held, const ControlServer& control,
+// needs_handling: delayed messages and queued writes need HandleTimeout calls to move).
+void WaitForWork(int transport_fd, bool needs_handling, const ControlServer& control,
                  int timeout_ms);
 
 // Milliseconds since the first call (steady clock).
 int64_t MonotonicMs();
 
 // "key value" lines: name, address, role, require_server, signed_on, caught_up, features, digest,
-// own numbers, acknowledged sequence, counters, max_feature per origin, vehicles (docs/node.md
-// "status").
+// own numbers, acknowledged sequence, counters, fault and write-retry counters, refusals by the
+// protocol's rules, max_feature per origin, vehicles (docs/node.md "status").
 std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
-                       const FaultyTransport& faults, const std::vector<Vehicle>& vehicles);
+                       const ProcessTransport& transport, const std::vector<Vehicle>& vehicles);
 
 // Answers status, digest, features, render, loss, partition, heal and ping; nullopt for the
 // others (feature commands, quit), which the process handles itself.
 std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
                                                 const std::string& name, NodeRole role,
-                                                const Replica& replica, FaultyTransport& faults,
+                                                const Replica& replica, ProcessTransport& transport,
                                                 const std::vector<Vehicle>& vehicles);
 
 // Renders the terrain and vehicles as a 512-pixel map PNG. Error if the file cannot be written

@@ -37,3 +37,19 @@ if ! python3 -c 'import lcm' 2>/dev/null; then
   echo "setup: installing the lcm Python module"
   python3 -m pip install --quiet lcm || echo "setup: warning: could not install the lcm Python module; the Python decode test will be skipped"
 fi
+
+# The cyclonedds Python package: its `cyclonedds` CLI reads our typed DDS topics by field name
+# (pdu_dds_python_subscribe_test). Version 0.10.2 matches Debian's Cyclone DDS; pip builds it
+# against the installed C library, looking for CYCLONEDDS_HOME/{include,bin,lib/libddsc.so}.
+# Debian keeps the library in the multiarch directory, so a directory of links stands in for the
+# install prefix during the build (the package then finds libddsc on the system path).
+if ! command -v cyclonedds >/dev/null 2>&1; then
+  echo "setup: installing the cyclonedds Python package"
+  home="$(mktemp -d)"
+  ln -s /usr/include "$home/include"
+  ln -s /usr/bin "$home/bin"
+  ln -s "/usr/lib/$(gcc -print-multiarch)" "$home/lib"
+  CYCLONEDDS_HOME="$home" python3 -m pip install --quiet cyclonedds==0.10.2 ||
+    echo "setup: warning: could not install the cyclonedds Python package; the DDS subscribe test will be skipped"
+  rm -rf "$home"
+fi

@@ -17,7 +17,7 @@
 namespace {
 
 dt::ControlReply Handle(std::string_view line, const std::string& name, dt::NodeRole role,
-                        dt::ServerReplica& server, dt::FaultyTransport& faults, bool& quit) {
+                        dt::ServerReplica& server, dt::ProcessTransport& transport, bool& quit) {
   static const std::vector<dt::Vehicle> kNoVehicles;
   dt::Result<dt::ControlCommand> c = dt::ParseControlCommand(line);
   if (!c) return dt::ControlReply::Fail(c.error().message);
@@ -44,8 +44,8 @@ dt::ControlReply Handle(std::string_view line, const std::string& name, dt::Node
     default:
       break;
   }
-  if (auto r =
-          dt::AnswerCommonCommand(c.value(), name, role, server.replica(), faults, kNoVehicles)) {
+  if (auto r = dt::AnswerCommonCommand(c.value(), name, role, server.replica(), transport,
+                                       kNoVehicles)) {
     return *r;
   }
   return dt::ControlReply::Fail(fmt::format(
@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
                 server.replica().live_feature_count(), dt::MonotonicMs() - t0);
     bool quit = false;
     dt::ControlServer control(exercise.SocketPath(name), [&](std::string_view line) {
-      return Handle(line, name, role, server, *transport.faults, quit);
+      return Handle(line, name, role, server, transport, quit);
     });
 
     const int64_t tick_ms = 1000 / exercise.tick_hz;
@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
       if (next_ms < dt::MonotonicMs() - tick_ms) next_ms = dt::MonotonicMs();
       for (int64_t left;
            (left = next_ms - dt::MonotonicMs()) > 0 && !dt::StopRequested() && !quit;) {
-        dt::WaitForWork(transport.bus->Fd(), transport.faults->held() > 0, control,
+        dt::WaitForWork(transport.bus->Fd(), transport.needs_handling(), control,
                         static_cast<int>(left));
         (void)transport.bus->HandleTimeout(0);
         control.Poll(0);

@@ -1,5 +1,7 @@
 #include "engine/test/sim_cluster.h"
 
+#include "pdu/retrying_transport.h"
+
 namespace dt::testing {
 
 SimCluster::SimCluster(uint64_t seed, HeightGrid ground, ReplicaConfig defaults, FaultConfig faults)
@@ -10,7 +12,8 @@ SimCluster::~SimCluster() { members_.clear(); }
 Replica& SimCluster::Start(NodeAddress address, NodeRole role, ChangeStore* store,
                            IdReservation* ids) {
   auto m = std::make_unique<Member>();
-  m->transport = net_.Join(address, 1);
+  // As in every process (runtime/process_runtime.cc): a refused write is queued and retried.
+  m->transport = std::make_unique<RetryingTransport>(net_.Join(address, 1));
   PduBusConfig bc;
   bc.exercise_id = 1;
   bc.local = address;

@@ -2,9 +2,13 @@
 // private network namespace the test makes for itself.
 #include <chrono>
 #include <functional>
+#include <map>
 
+#include <dds/dds.h>
 #include <gtest/gtest.h>
 
+#include "dt_pdu_dds.h"
+#include "pdu/dds_codec.h"
 #include "pdu/dds_transport.h"
 #include "pdu/lcm_transport.h"
 #include "pdu/pdu_bus.h"
@@ -169,6 +173,135 @@ TEST(LcmTransportUdpm, AsksForATwoMebibyteReceiveBuffer) {
   EXPECT_EQ(own.lcm_url(), "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304");
 }
 
+// Bytes after the LCM encoding (an authentication trailer) travel in the sample's `auth` member
+// and come back appended, unchanged; more than the member holds, or bytes that are not a PDU of
+// the channel's type, are refused by Publish.
+TEST(DdsTypedTopics, CarryATrailerAfterThePduUnchangedAndRefuseWhatTheyCannotCarry) {
+  SKIP_WITHOUT_NETNS();
+  auto tx = MakeTransport(kDds, 4);
+  auto rx = MakeTransport(kDds, 4);
+  std::vector<std::vector<uint8_t>> got;
+  rx->Subscribe(PduType::kMaxFeature,
+                [&](std::span<const uint8_t> b) { got.emplace_back(b.begin(), b.end()); });
+  AwaitReaders(*tx, PduType::kMaxFeature, 1);
+  const std::vector<uint8_t> pdu = EncodePdu(sample::MaxFeature());
+  std::vector<uint8_t> with_trailer = pdu;
+  for (size_t i = 0; i < dds_codec::kMaxAuthBytes; ++i) {
+    with_trailer.push_back(static_cast<uint8_t>(i * 7));
+  }
+  ASSERT_TRUE(tx->Publish(PduType::kMaxFeature, pdu).ok());
+  ASSERT_TRUE(tx->Publish(PduType::kMaxFeature, with_trailer).ok());
+
+  std::vector<uint8_t> too_long = with_trailer;
+  too_long.push_back(0);
+  const Status refused = tx->Publish(PduType::kMaxFeature, too_long);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("129 bytes follow the PDU"), std::string::npos)
+      << refused.error().message;
+  // A Playback's bytes are not a MaxFeature (LCM's fingerprint differs); a truncated PDU is none.
+  EXPECT_FALSE(tx->Publish(PduType::kMaxFeature, EncodePdu(sample::Playback())).ok());
+  EXPECT_FALSE(tx->Publish(PduType::kMaxFeature, std::span(pdu).first(pdu.size() - 1)).ok());
+
+  ASSERT_TRUE(HandleUntil({rx.get()}, [&] { return got.size() >= 2; }));
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_EQ(got[0], pdu);
+  EXPECT_EQ(got[1], with_trailer);
+}
+
+// A reader written against the generated C types alone (what any DDS tool with the IDL sees):
+// named fields, and one instance per feature ID.
+TEST(DdsTypedTopics, AnIndependentReaderSeesNamedFieldsAndOneInstancePerFeature) {
+  SKIP_WITHOUT_NETNS();
+  auto tx = MakeTransport(kDds, 5);
+  const dds_entity_t participant = dds_create_participant(0, nullptr, nullptr);
+  ASSERT_GT(participant, 0);
+  const dds_entity_t topic =
+      dds_create_topic(participant, &dtpdu_dds_update_t_desc,
+                       ChannelName(5, PduType::kUpdate).c_str(), nullptr, nullptr);
+  ASSERT_GT(topic, 0);
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, 0);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+  const dds_entity_t reader = dds_create_reader(participant, topic, qos, nullptr);
+  dds_delete_qos(qos);
+  ASSERT_GT(reader, 0);
+  AwaitReaders(*tx, PduType::kUpdate, 1);
+
+  auto pdu = sample::Update();  // feature 1:2:4
+  std::vector<uint8_t> bytes = EncodePdu(pdu);
+  bytes.push_back(0xEE);
+  ASSERT_TRUE(tx->Publish(PduType::kUpdate, bytes).ok());
+  pdu.change_seq += 1;  // a later change of the same feature
+  ASSERT_TRUE(tx->Publish(PduType::kUpdate, EncodePdu(pdu)).ok());
+  pdu.feature_number = 99;  // another feature
+  ASSERT_TRUE(tx->Publish(PduType::kUpdate, EncodePdu(pdu)).ok());
+
+  std::vector<dtpdu_dds_update_t> samples;
+  std::vector<dds_instance_handle_t> instances;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (samples.size() < 3 && std::chrono::steady_clock::now() < deadline) {
+    void* raw[4] = {};
+    dds_sample_info_t infos[4];
+    const dds_return_t n = dds_take(reader, raw, infos, 4, 4);
+    for (dds_return_t i = 0; i < n; ++i) {
+      if (!infos[i].valid_data) continue;
+      samples.push_back(*static_cast<const dtpdu_dds_update_t*>(raw[i]));
+      instances.push_back(infos[i].instance_handle);
+      // The copy keeps no pointers into the loan: only scalars are read below.
+      samples.back().vertex_edits = {};
+      samples.back().auth._length = static_cast<const dtpdu_dds_update_t*>(raw[i])->auth._length;
+      samples.back().auth._buffer = nullptr;
+    }
+    if (n > 0) dds_return_loan(reader, raw, n);
+    if (samples.size() < 3) {
+      ASSERT_TRUE(tx->HandleTimeout(20).ok());
+    }
+  }
+  dds_delete(participant);
+  ASSERT_EQ(samples.size(), 3u);
+  EXPECT_EQ(samples[0].origin.site, 1);
+  EXPECT_EQ(samples[0].origin.host, 2);
+  EXPECT_EQ(samples[0].feature_number, 4);
+  EXPECT_EQ(samples[0].header.exercise_id, sample::kSampleExercise);
+  EXPECT_EQ(samples[0].change_seq, sample::Update().change_seq);
+  EXPECT_EQ(samples[0].auth._length, 1u);  // the trailer byte
+  EXPECT_EQ(samples[1].change_seq, sample::Update().change_seq + 1);
+  EXPECT_EQ(samples[2].feature_number, 99);
+  EXPECT_EQ(instances[0], instances[1]);
+  EXPECT_NE(instances[0], instances[2]);
+}
+
+// With durable=1 a reader that joins after the features were published still gets the latest
+// change of each (and only that), from the writer's history; MaxFeature stays volatile.
+TEST(DdsTypedTopics, ADurableLateJoinerGetsTheLatestChangeOfEveryFeature) {
+  SKIP_WITHOUT_NETNS();
+  const std::string url = kDds + "&durable=1";
+  auto holder = MakeTransport(url, 6);
+  EXPECT_EQ(holder->Url(), url);
+  auto pdu = sample::Update();
+  for (int64_t feature = 1; feature <= 20; ++feature) {
+    pdu.feature_number = feature;
+    for (int64_t change = 1; change <= 3; ++change) {
+      pdu.change_seq = feature * 10 + change;
+      ASSERT_TRUE(holder->Publish(PduType::kUpdate, EncodePdu(pdu)).ok());
+    }
+  }
+  ASSERT_TRUE(holder->Publish(PduType::kMaxFeature, EncodePdu(sample::MaxFeature())).ok());
+  auto joiner = MakeTransport(url, 6);
+  std::map<int64_t, std::vector<int64_t>> changes;  // feature -> change_seqs received
+  int max_features = 0;
+  joiner->Subscribe(PduType::kUpdate, [&](std::span<const uint8_t> b) {
+    dtpdu::update_t got;
+    if (!DecodePdu(b, got)) changes[got.feature_number].push_back(got.change_seq);
+  });
+  joiner->Subscribe(PduType::kMaxFeature, [&](std::span<const uint8_t>) { ++max_features; });
+  ASSERT_TRUE(HandleUntil({joiner.get()}, [&] { return changes.size() >= 20; }));
+  for (int64_t feature = 1; feature <= 20; ++feature) {
+    EXPECT_EQ(changes[feature], (std::vector<int64_t>{feature * 10 + 3})) << feature;
+  }
+  EXPECT_EQ(max_features, 0);
+}
+
 TEST(DdsUrl, ParsesDomainAndConfig) {
   EXPECT_EQ(ParseDdsUrl("dds://").domain_id, 0u);
   EXPECT_EQ(ParseDdsUrl("dds://12").domain_id, 12u);
@@ -176,6 +309,11 @@ TEST(DdsUrl, ParsesDomainAndConfig) {
   EXPECT_THROW(ParseDdsUrl("dds://abc"), std::invalid_argument);
   EXPECT_THROW(ParseDdsUrl("dds://300"), std::invalid_argument);
   EXPECT_THROW(ParseDdsUrl("dds://1?cfg=x"), std::invalid_argument);
+  EXPECT_FALSE(ParseDdsUrl("dds://3?config=/x.xml").durable_features);
+  EXPECT_TRUE(ParseDdsUrl("dds://3?config=/x.xml&durable=1").durable_features);
+  EXPECT_EQ(ParseDdsUrl("dds://3?durable=1&config=/x.xml").config_file, "/x.xml");
+  EXPECT_THROW(ParseDdsUrl("dds://1?durable=yes"), std::invalid_argument);
+  EXPECT_THROW(ParseDdsUrl("dds://1?config=/x.xml&"), std::invalid_argument);
   EXPECT_THROW(MakeTransport("dds://1?config=/nonexistent.xml", 1), std::runtime_error);
 }
 

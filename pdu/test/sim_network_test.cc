@@ -217,6 +217,47 @@ TEST(SimNetwork, AReplyPublishedByAHandlerWaitsForTheNextCall) {
   EXPECT_FALSE(a->Publish(PduType::kPlayback, std::vector<uint8_t>(kMaxPduBytes + 1)).ok());
 }
 
+TEST(SimNetwork, BlockedWritesFailUntilTheirWindowEndsAndReceivingGoesOn) {
+  SimNetwork net(6);
+  auto nodes = MakeNodes(net, 2);
+  Node& a = *nodes[0];
+  Node& b = *nodes[1];
+  net.BlockWrites(a.address, 100);
+  EXPECT_TRUE(net.WritesBlocked(a.address));
+  EXPECT_FALSE(net.WritesBlocked(b.address));
+  const Status failed = a.transport->Publish(PduType::kMaxFeature, Message(a.address, 1));
+  ASSERT_FALSE(failed.ok());
+  EXPECT_NE(failed.error().message.find("timed out"), std::string::npos) << failed.error().message;
+  // The blocked node still receives.
+  ASSERT_TRUE(b.transport->Publish(PduType::kMaxFeature, Message(b.address, 2)).ok());
+  HandleAll(nodes);
+  EXPECT_EQ(a.log, (std::vector<Received>{{b.address, 2}}));
+  EXPECT_EQ(b.log, (std::vector<Received>{{b.address, 2}}));  // nothing of a's
+  EXPECT_EQ(net.stats().write_failures, 1u);
+  EXPECT_EQ(net.stats().published, 1u);
+
+  net.AdvanceMs(99);
+  EXPECT_FALSE(a.transport->Publish(PduType::kMaxFeature, Message(a.address, 3)).ok());
+  net.AdvanceMs(1);  // the window ends at 100 ms
+  EXPECT_FALSE(net.WritesBlocked(a.address));
+  ASSERT_TRUE(a.transport->Publish(PduType::kMaxFeature, Message(a.address, 4)).ok());
+  HandleAll(nodes);
+  EXPECT_EQ(b.log, (std::vector<Received>{{b.address, 2}, {a.address, 4}}));
+  EXPECT_EQ(net.stats().write_failures, 2u);
+}
+
+TEST(SimNetwork, ALaterBlockWritesReplacesTheWindowAndZeroEndsIt) {
+  SimNetwork net(7);
+  auto a = net.Join({1, 1}, 1);
+  const auto bytes = EncodePdu(sample::MaxFeature());
+  net.BlockWrites({1, 1}, 50);
+  net.BlockWrites({1, 1}, 500);  // replaces, does not add to, the first window
+  net.AdvanceMs(60);
+  EXPECT_FALSE(a->Publish(PduType::kMaxFeature, bytes).ok());
+  net.BlockWrites({1, 1}, 0);
+  EXPECT_TRUE(a->Publish(PduType::kMaxFeature, bytes).ok());
+}
+
 TEST(FaultModel, RefusesBadConfigs) {
   FaultConfig f;
   f.drop_probability = 1.5;

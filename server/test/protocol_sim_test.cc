@@ -77,6 +77,7 @@ class SimRun {
   // replica is up, a partition only while every replica is up (docs/protocol.md, "Limits").
   bool AllUp() {
     if (!restart_at_ms_.empty() || partitioned_) return false;
+    if (cluster_->now_ms() < blocked_until_ms_) return false;
     for (NodeAddress a : cluster_->live()) {
       if (!cluster_->at(a).signed_on()) return false;
     }
@@ -108,6 +109,9 @@ class SimRun {
   std::map<std::pair<NodeAddress, int>, int64_t> max_ack_;
   std::string failure_;
   bool partitioned_ = false;
+  // Until then a node's or the standby's writes fail: like a partition, no crash meanwhile (a
+  // replica nobody hears during a sign-on is the double fault of docs/protocol.md "Limits").
+  int64_t blocked_until_ms_ = 0;
   bool trace_ = std::getenv("DT_SIM_TRACE") != nullptr;
 };
 
@@ -310,7 +314,26 @@ std::string SimRun::Run() {
     // Restarts that are due.
     if (Status s = RestartDue(); !s) return s.error().message;
     const uint64_t what = Next(100);
-    if (what < 75) {
+    if (what >= 72 && what < 75) {
+      // A sender whose writes time out for longer than the silence period (a DDS writer held
+      // back by a killed reader blocked the server's loop for 2 s at a time). The server at any
+      // moment, so a node may sign on and then lose it before it fetched its acknowledged
+      // changes; a node or the standby only while everything else is well.
+      const int64_t ms = 1000 + static_cast<int64_t>(Next(1500));  // silence_ms is 800
+      if (Chance(0.5)) {
+        if (cluster_->alive(kServer)) cluster_->net().BlockWrites(kServer, cluster_->now_ms() + ms);
+      } else if (AllUp()) {
+        std::vector<NodeAddress> others = nodes;
+        if (with_standby_) others.push_back(kStandby);
+        const NodeAddress who = others[Next(others.size())];
+        cluster_->net().BlockWrites(who, cluster_->now_ms() + ms);
+        blocked_until_ms_ = cluster_->now_ms() + ms;
+      }
+      if (trace_) {
+        std::printf("t=%lld writes blocked for %lld ms\n",
+                    static_cast<long long>(cluster_->now_ms()), static_cast<long long>(ms));
+      }
+    } else if (what < 75) {
       const NodeAddress who = nodes[Next(nodes.size())];
       if (cluster_->alive(who)) {
         if (auto f = Command(who); !f.empty()) return f;
@@ -384,6 +407,8 @@ std::string SimRun::Run() {
   // Heal: no more faults; everything crashed comes back.
   cluster_->net().faults().set_config({});
   cluster_->net().faults().Heal();
+  for (NodeAddress a : cluster_->live()) cluster_->net().BlockWrites(a, 0);
+  blocked_until_ms_ = 0;
   // Each comes back when its downtime is over, as during the run (a process restarts after its
   // last messages have landed).
   while (!restart_at_ms_.empty()) {

@@ -187,6 +187,26 @@ TEST(Validation, SizesAtOrBelowZeroOrBeyondTheMaxima) {
   EXPECT_EQ(ReasonFor(c), RejectReason::kOutOfRange);
 }
 
+TEST(Validation, TheFeatureParameterBoundsRefuseAPdu) {
+  // The bounds of ValidateFeatureParams, not a rule of their own: a subnormal radius, a size just
+  // under the minimum, a direction of many turns.
+  auto c = sample::Construct();
+  c.length_m[0] = std::numeric_limits<double>::denorm_min();
+  EXPECT_EQ(ReasonFor(c), RejectReason::kOutOfRange);
+  c.length_m[0] = std::nextafter(kMinFeatureSizeM, 0.0);
+  EXPECT_EQ(ReasonFor(c), RejectReason::kOutOfRange);
+  c.length_m[0] = kMinFeatureSizeM;
+  EXPECT_EQ(ReasonFor(c), std::nullopt);
+  auto u = sample::Update();
+  u.direction_rad = 1e300;
+  EXPECT_EQ(ReasonFor(u), RejectReason::kOutOfRange);
+  u.direction_rad = -kMaxDirectionRad;
+  EXPECT_EQ(ReasonFor(u), std::nullopt);
+  u = sample::Update();
+  u.height_m[1] = std::numeric_limits<double>::denorm_min();
+  EXPECT_EQ(ReasonFor(u), RejectReason::kOutOfRange);
+}
+
 TEST(Validation, OffTerrain) {
   auto c = sample::Construct();
   c.position_m[0] = -0.001;

@@ -92,7 +92,20 @@ TEST(ControlCommandTest, RefusesBadCommandsWithTheValue) {
   EXPECT_NE(err("crater 1 2").find("takes 3 arguments, got 2"), std::string::npos);
   EXPECT_NE(err("crater 1 2 abc").find("radius_m \"abc\""), std::string::npos);
   EXPECT_NE(err("crater 1 2 nan").find("not a finite number"), std::string::npos);
+  EXPECT_NE(err("drive 0 -inf 0").find("speed_mps \"-inf\" is not a finite number"),
+            std::string::npos);
+  EXPECT_NE(err("drive 0 1 -nan").find("heading_rate_deg_s \"-nan\" is not a finite number"),
+            std::string::npos);
   EXPECT_NE(err("crater 1 2 -4").find("radius"), std::string::npos) << err("crater 1 2 -4");
+  // The documented bounds of terrain/feature_params.h reach the command's reply.
+  EXPECT_NE(err("crater 50 50 4.9e-324").find("crater radius_m = 5e-324 is outside [0.01, 200]"),
+            std::string::npos)
+      << err("crater 50 50 4.9e-324");
+  EXPECT_EQ(err("berm 10 10 1e300 30 4 2"),
+            "direction_deg=1e+300 is outside [-360, 360] (one turn either way)");
+  EXPECT_EQ(err("berm 10 10 -360 30 4 2"), "");
+  EXPECT_NE(err("bridge 100 100 0 8 20 60 20 6 0.001").find("bridge height_m[1] = 0.001"),
+            std::string::npos);
   EXPECT_NE(err("destroy 1:2").find("\"1:2\""), std::string::npos);
   EXPECT_NE(err("destroy 1:2:0").find("number 0"), std::string::npos);
   EXPECT_NE(err("destroy 1:70000:3").find("host \"70000\""), std::string::npos);

@@ -8,8 +8,9 @@
 
 #include <fmt/format.h>
 
-#include "runtime/toml_reader.h"
 #include "pdu/transport.h"
+#include "runtime/toml_reader.h"
+#include "terrain/height_grid.h"
 #include "terrain/vehicle_type.h"
 
 namespace dt {
@@ -109,7 +110,7 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   ex.Finish();
 
   const TomlReader t = top.Table("terrain");
-  c.terrain.posts_per_side = static_cast<int>(t.Int("posts_per_side", 129, 2, 65536));
+  c.terrain.posts_per_side = static_cast<int>(t.Int("posts_per_side", 129, 2, kMaxPostsPerSide));
   c.terrain.spacing_m = t.Double("spacing_m", 10.0, 0.01, 10000.0);
   c.terrain.relief_m = t.Double("relief_m", 50.0, 0.0, 10000.0);
   c.terrain.seed = static_cast<uint64_t>(t.Int("seed", 1, 0, INT64_MAX));

@@ -29,7 +29,7 @@ constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'E', 'R', '\r', '\n',
 constexpr size_t kVersionOffset = 8;
 constexpr size_t kGroundLengthOffset = 12;
 constexpr size_t kFeatureLengthOffset = 20;
-constexpr int kMaxPosts = 65536;
+constexpr int kMaxPosts = kMaxPostsPerSide;  // HeightGrid's limit
 
 // Bytes of a ground section for an n x n grid: n, spacing, posts, two soils per square.
 uint64_t GroundSectionBytes(uint64_t n) { return 4 + 8 + 4 * n * n + 2 * 2 * (n - 1) * (n - 1); }

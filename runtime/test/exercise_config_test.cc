@@ -10,6 +10,10 @@
 
 #include <unistd.h>
 
+#include <fmt/format.h>
+
+#include "terrain/height_grid.h"
+
 namespace dt {
 namespace {
 
@@ -144,6 +148,17 @@ TEST(ExerciseConfigTest, RefusesUnknownKeysTyposAndDuplicates) {
   e = ErrorOf("[exercise\nname=1");
   EXPECT_NE(e.find("ex.toml:1"), std::string::npos) << e;
   EXPECT_NE(e.find("syntax"), std::string::npos) << e;
+}
+
+TEST(ExerciseConfigTest, AGridTooLargeForMemoryIsRefusedNamingTheKey) {
+  const std::string e = ErrorOf(Replace(kGood, "posts_per_side = 65", "posts_per_side = 65536"));
+  EXPECT_NE(e.find(fmt::format("ex.toml: terrain.posts_per_side: must be in [2, {}] (value 65536)",
+                               kMaxPostsPerSide)),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(ErrorOf(Replace(kGood, "posts_per_side = 65",
+                            fmt::format("posts_per_side = {}", kMaxPostsPerSide))),
+            "");
 }
 
 TEST(ExerciseConfigTest, NeedsServerAndANode) {

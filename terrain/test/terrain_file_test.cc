@@ -183,7 +183,7 @@ TEST(TerrainFileTest, ResealedStructuralErrorsAreStillRefused) {
     auto b = bytes;
     PutU32(b, kGroundAt, 1);
     Reseal(b);
-    ExpectRefused(b, "byte 28: posts_per_side 1 is outside [2, 65536]");
+    ExpectRefused(b, "byte 28: posts_per_side 1 is outside [2, 4097]");
   }
   {
     auto b = bytes;

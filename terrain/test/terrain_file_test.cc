@@ -227,6 +227,21 @@ TEST(TerrainFileTest, ResealedStructuralErrorsAreStillRefused) {
                                                                              /*crater record*/ 82));
   }
   {
+    auto b = bytes;
+    PutU32(b, kFeaturesAt + 4, 0);  // origin 0:0 (site and host of the first record)
+    Reseal(b);
+    ExpectRefused(b, fmt::format("byte {}: feature 0:0:1: origin site is 0, which is no node's",
+                                 kFeaturesAt + 4));
+  }
+  {
+    auto b = bytes;
+    b[kFeaturesAt + 4 + 2] = 0;  // origin 1:0
+    b[kFeaturesAt + 4 + 3] = 0;
+    Reseal(b);
+    ExpectRefused(b, fmt::format("byte {}: feature 1:0:1: origin host is 0, which is no node's",
+                                 kFeaturesAt + 4 + 2));
+  }
+  {
     // Number 0 means "no feature".
     auto b = bytes;
     PutU32(b, kFeaturesAt + 4 + 4, 0);

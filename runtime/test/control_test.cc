@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 #include <thread>
 
@@ -138,6 +139,34 @@ TEST(ControlCommandTest, BadFeatureCommandChangesNothing) {
                         node);
   EXPECT_TRUE(r.ok) << r.error;
   EXPECT_DOUBLE_EQ(node.features.at(id).length_m[0], 9.0);
+}
+
+TEST(ControlCommandTest, ADriveSaysWhichValuesTheVehicleClamped) {
+  const VehicleType tank = TankType();
+  MapActions node;
+  ControlReply r = RunFeatureCommand(ParseControlCommand("drive 0 1e30 0").value(), node);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.body, fmt::format("speed 1e+30 m/s clamped to {} m/s, the tank's top speed",
+                                tank.max_speed_mps));
+  EXPECT_EQ(node.vehicle.speed_mps(), tank.max_speed_mps);
+
+  r = RunFeatureCommand(ParseControlCommand("drive 0 -50 0").value(), node);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.body, fmt::format("speed -50 m/s clamped to {} m/s, the tank's top reverse speed",
+                                -tank.max_reverse_speed_mps));
+
+  r = RunFeatureCommand(ParseControlCommand("drive 0 5 -1000").value(), node);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.body, fmt::format("heading rate -1000 deg/s clamped to {:.6g} deg/s, the tank's top "
+                                "turn rate",
+                                -tank.max_turn_rate_rad_s * 180.0 / std::numbers::pi));
+  EXPECT_EQ(node.vehicle.speed_mps(), 5.0);
+
+  // Within the limits: nothing to say.
+  r = RunFeatureCommand(ParseControlCommand("drive 0 -3 20").value(), node);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.body, "");
+  EXPECT_EQ(node.vehicle.speed_mps(), -3.0);
 }
 
 TEST(ControlServerTest, AnswersRequestsOverTheSocket) {

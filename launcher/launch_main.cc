@@ -17,6 +17,9 @@ namespace {
 
 void Say(const std::string& text) { dt::Supervisor::PrintPrefixed("launch", text); }
 
+// The exit code of a bad config, the launcher's own and dt_node's and dt_server's.
+constexpr int kConfigErrorExit = 2;
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -44,7 +47,7 @@ int main(int argc, char** argv) {
     exercise = flags.Load();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dt_launch: %s\n", e.what());
-    return 2;
+    return kConfigErrorExit;
   }
 
   const int wake_fd = dt::InstallStopSignalPipe();
@@ -82,6 +85,15 @@ int main(int argc, char** argv) {
     if (!s) {
       Say("exercise failed to start: " + s.error().message);
       rc = 1;
+      // dt_node and dt_server exit 2 for a bad config (docs/node.md): a child that did so before
+      // the exercise was ready found the exercise's config bad, so the launcher exits as it
+      // would for a config it refused itself (docs/launcher.md).
+      for (const std::string& n : sup.names()) {
+        const int st = sup.last_wait_status(n);
+        if (!sup.running(n) && WIFEXITED(st) && WEXITSTATUS(st) == kConfigErrorExit) {
+          rc = kConfigErrorExit;
+        }
+      }
     } else {
       Say(fmt::format("all {} processes ready", all.size()));
       std::printf("READY %s\n", exercise.name.c_str());

@@ -28,6 +28,9 @@ int main(int argc, char** argv) {
   app.add_option("command", words, "the command and its arguments")->required();
   app.allow_extras(false);
   app.prefix_command(false);
+  // Every word from the command on is the command's: a negative number or -inf is an argument
+  // for the command parser to judge, not an option (docs/node.md "Control socket").
+  app.positionals_at_end(true);
   CLI11_PARSE(app, argc, argv);
 
   std::string line;

@@ -118,12 +118,14 @@ Result<std::vector<FeatureId>> NodeApp::Breach(FeatureId berm, double gap_start_
   return replica_->Breach(berm, gap_start_m, gap_width_m);
 }
 
-Status NodeApp::Drive(int index, double speed_mps, double heading_rate_rad_s) {
+Result<AppliedDrive> NodeApp::Drive(int index, double speed_mps, double heading_rate_rad_s) {
   if (index < 0 || index >= vehicle_count()) {
     return Error{
         fmt::format("vehicle {} does not exist (this node has {})", index, vehicle_count())};
   }
-  return vehicles_[static_cast<size_t>(index)].Command(speed_mps, heading_rate_rad_s);
+  Vehicle& v = vehicles_[static_cast<size_t>(index)];
+  if (Status s = v.Command(speed_mps, heading_rate_rad_s); !s) return s.error();
+  return AppliedDrive{v.type().name, v.speed_mps(), v.heading_rate_rad_s()};
 }
 
 }  // namespace dt

@@ -46,7 +46,7 @@ class NodeApp final : public NodeActions {
   Result<std::vector<FeatureId>> Breach(FeatureId berm, double gap_start_m,
                                         double gap_width_m) override;
   int vehicle_count() const override { return static_cast<int>(vehicles_.size()); }
-  Status Drive(int index, double speed_mps, double heading_rate_rad_s) override;
+  Result<AppliedDrive> Drive(int index, double speed_mps, double heading_rate_rad_s) override;
 
  private:
   const ExerciseConfig& exercise_;

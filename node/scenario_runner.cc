@@ -58,8 +58,12 @@ Status ScenarioRunner::Run(const ScenarioStep& step, NodeActions& actions) {
       }
       return Status::Ok();
     }
-    case ScenarioAction::kDrive:
-      return actions.Drive(step.vehicle, step.speed_mps, step.heading_rate_rad_s);
+    case ScenarioAction::kDrive: {
+      Result<AppliedDrive> applied =
+          actions.Drive(step.vehicle, step.speed_mps, step.heading_rate_rad_s);
+      if (!applied) return applied.error();
+      return Status::Ok();
+    }
     case ScenarioAction::kWait:
       return Status::Ok();
   }

@@ -1,11 +1,25 @@
 #include "pdu/conversion.h"
 
+#include <type_traits>
+
 #include <fmt/format.h>
 
 #include "pdu/pdu_type.h"
 
 namespace dt {
 namespace {
+
+// The author of a change: a Construct calls it created_by (it is always the feature's origin),
+// Update and Destruct changed_by. The different name gives Construct and Update different LCM
+// fingerprints (docs/pdu.md "Encoding").
+template <typename Pdu>
+auto& AuthorOf(Pdu& pdu) {
+  if constexpr (std::is_same_v<std::remove_const_t<Pdu>, dtpdu::construct_t>) {
+    return pdu.created_by;
+  } else {
+    return pdu.changed_by;
+  }
+}
 
 // Construct and Update have the same fields; one template serves both so they cannot drift.
 template <typename Pdu>
@@ -14,7 +28,7 @@ Pdu FeatureToPdu(const FeaturePdu& f) {
   pdu.origin = ToPdu(OriginOf(f.id));
   pdu.feature_number = f.id.number;
   pdu.feature_type = static_cast<int16_t>(f.params.type);
-  pdu.changed_by = ToPdu(f.change.changed_by);
+  AuthorOf(pdu) = ToPdu(f.change.changed_by);
   pdu.change_seq = f.change.change_seq;
   pdu.lamport = static_cast<int64_t>(f.change.lamport);
   pdu.position_m[0] = f.params.x_m;
@@ -51,7 +65,7 @@ Result<ChangeStamp> StampFromPdu(const Pdu& pdu) {
   if (auto s = CheckSerial("change_seq", pdu.change_seq, 1); !s) return s.error();
   if (pdu.lamport < 1) return Error{fmt::format("lamport = {} is below 1", pdu.lamport)};
   ChangeStamp c;
-  c.changed_by = FromPdu(pdu.changed_by);
+  c.changed_by = FromPdu(AuthorOf(pdu));
   c.change_seq = static_cast<uint32_t>(pdu.change_seq);
   c.lamport = static_cast<uint64_t>(pdu.lamport);
   return c;

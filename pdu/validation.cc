@@ -78,7 +78,7 @@ std::optional<Rejection> ValidateFeature(const Pdu& pdu, const ValidationContext
   const FeaturePdu& f = feature.value();
   if (PduTraits<Pdu>::kType == PduType::kConstruct && f.change.changed_by != OriginOf(f.id)) {
     return Reject(RejectReason::kBadField,
-                  fmt::format("Construct of {} changed_by {}: only the origin creates a feature",
+                  fmt::format("Construct of {} created_by {}: only the origin creates a feature",
                               f.id.ToString(), f.change.changed_by.ToString()));
   }
   for (const auto& [name, v] : {std::pair{"x", f.params.x_m}, std::pair{"z", f.params.z_m}}) {

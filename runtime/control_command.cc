@@ -69,6 +69,22 @@ std::string IdLines(const std::vector<FeatureId>& ids) {
   return out;
 }
 
+// One line for each commanded value the vehicle clamped to its type's limits; empty if none was.
+std::string ClampNotes(const ControlCommand& c, const AppliedDrive& applied) {
+  std::string out;
+  auto note = [&](const std::string& line) { out += (out.empty() ? "" : "\n") + line; };
+  if (applied.speed_mps != c.speed_mps) {
+    note(fmt::format("speed {:.6g} m/s clamped to {:.6g} m/s, the {}'s top {}speed", c.speed_mps,
+                     applied.speed_mps, applied.vehicle_type, c.speed_mps < 0.0 ? "reverse " : ""));
+  }
+  if (applied.heading_rate_rad_s != c.heading_rate_rad_s) {
+    note(fmt::format("heading rate {:.6g} deg/s clamped to {:.6g} deg/s, the {}'s top turn rate",
+                     c.heading_rate_rad_s / kDegToRad, applied.heading_rate_rad_s / kDegToRad,
+                     applied.vehicle_type));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string ControlUsage() {
@@ -257,15 +273,15 @@ ControlReply RunFeatureCommand(const ControlCommand& c, NodeActions& actions) {
       if (!ids) return ControlReply::Fail(ids.error().message);
       return ControlReply::Ok(IdLines(ids.value()));
     }
-    case ControlVerb::kDrive:
+    case ControlVerb::kDrive: {
       if (c.vehicle >= actions.vehicle_count()) {
         return ControlReply::Fail(fmt::format("vehicle {} does not exist (this node has {})",
                                               c.vehicle, actions.vehicle_count()));
       }
-      if (Status s = actions.Drive(c.vehicle, c.speed_mps, c.heading_rate_rad_s); !s) {
-        return ControlReply::Fail(s.error().message);
-      }
-      return ControlReply::Ok();
+      Result<AppliedDrive> applied = actions.Drive(c.vehicle, c.speed_mps, c.heading_rate_rad_s);
+      if (!applied) return ControlReply::Fail(applied.error().message);
+      return ControlReply::Ok(ClampNotes(c, applied.value()));
+    }
     default:
       return ControlReply::Fail("not a feature command");
   }

@@ -62,7 +62,8 @@ Result<FeatureId> ParseFeatureId(std::string_view text);
 Result<NodeAddress> ParseNodeAddress(std::string_view text);
 
 // Runs a feature or drive command (kCreate .. kDrive) against the node. The reply body of a
-// create or breach lists the new IDs, one a line.
+// create or breach lists the new IDs, one a line; that of a drive names each value the vehicle
+// clamped to its type's limits ("speed 1e+30 m/s clamped to 18 m/s, the tank's top speed").
 ControlReply RunFeatureCommand(const ControlCommand& command, NodeActions& actions);
 
 }  // namespace dt

@@ -10,12 +10,17 @@
 
 #include "pdu/transport.h"
 #include "runtime/toml_reader.h"
+#include "terrain/height_grid.h"
 #include "terrain/vehicle_type.h"
 
 namespace dt {
 namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+// The keys of the process tables (docs/node.md "Exercise files").
+const std::vector<std::string> kServerKeys = {"name", "site", "host"};
+const std::vector<std::string> kNodeKeys = {"name", "site", "host", "scenario", "vehicle"};
 
 VehicleConfig ReadVehicle(const TomlReader& r) {
   VehicleConfig v;
@@ -40,7 +45,7 @@ ProcessConfig ReadProcess(const TomlReader& r, const std::filesystem::path& base
   if (is_node) {
     const std::string scenario = r.String("scenario", "");
     if (!scenario.empty()) p.scenario = std::filesystem::absolute(base_dir / scenario);
-    for (const TomlReader& v : r.TableArray("vehicle")) {
+    for (const TomlReader& v : r.TableArray("vehicle", {"type", "x_m", "z_m", "heading_deg"})) {
       VehicleConfig vc = ReadVehicle(v);
       if (vc.x_m > terrain_size_m || vc.z_m > terrain_size_m) {
         v.Fail("x_m", fmt::format("vehicle at ({}, {}) is off the {} m terrain", vc.x_m, vc.z_m,
@@ -94,11 +99,12 @@ std::filesystem::path ExerciseConfig::SocketPath(std::string_view process_name) 
 ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,
                                    const std::filesystem::path& base_dir) {
   const toml::table root = TomlReader::ParseText(toml_text, source_name);
-  const TomlReader top(root, std::string(source_name), "");
+  const TomlReader top(root, std::string(source_name), "",
+                       {"exercise", "terrain", "protocol", "faults", "server", "standby", "node"});
   ExerciseConfig c;
   c.source = std::string(source_name);
 
-  const TomlReader ex = top.Table("exercise");
+  const TomlReader ex = top.Table("exercise", {"name", "id", "transport", "run_dir", "tick_hz"});
   c.name = ex.String("name");
   c.exercise_id = static_cast<uint8_t>(ex.Int("id", 1, 0, 255));
   c.transport_url = ex.String("transport", std::string(kDefaultTransportUrl));
@@ -109,15 +115,17 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   c.tick_hz = static_cast<int>(ex.Int("tick_hz", 30, 1, 1000));
   ex.Finish();
 
-  const TomlReader t = top.Table("terrain");
-  c.terrain.posts_per_side = static_cast<int>(t.Int("posts_per_side", 129, 2, 65536));
+  const TomlReader t = top.Table("terrain", {"posts_per_side", "spacing_m", "relief_m", "seed"});
+  c.terrain.posts_per_side = static_cast<int>(t.Int("posts_per_side", 129, 2, kMaxPostsPerSide));
   c.terrain.spacing_m = t.Double("spacing_m", 10.0, 0.01, 10000.0);
   c.terrain.relief_m = t.Double("relief_m", 50.0, 0.0, 10000.0);
   c.terrain.seed = static_cast<uint64_t>(t.Int("seed", 1, 0, INT64_MAX));
   t.Finish();
 
   bool require_server = true;
-  if (auto p = top.OptionalTable("protocol")) {
+  if (auto p = top.OptionalTable("protocol", {"max_feature_period_ms", "silence_ms",
+                                              "playback_retry_ms", "playback_window",
+                                              "require_server"})) {
     require_server = p->Bool("require_server", true);
     c.protocol.max_feature_period_ms =
         static_cast<int>(p->Int("max_feature_period_ms", 500, 10, 600000));
@@ -131,7 +139,8 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     p->Finish();
   }
 
-  if (auto f = top.OptionalTable("faults")) {
+  if (auto f = top.OptionalTable("faults", {"drop_probability", "duplicate_probability",
+                                            "reorder_probability", "reorder_window", "seed"})) {
     c.faults.drop_probability = f->Double("drop_probability", 0.0, 0.0, 1.0);
     c.faults.duplicate_probability = f->Double("duplicate_probability", 0.0, 0.0, 1.0);
     c.faults.reorder_probability = f->Double("reorder_probability", 0.0, 0.0, 1.0);
@@ -142,13 +151,16 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
 
   const std::filesystem::path base = std::filesystem::absolute(base_dir);
   if (require_server) {
+    top.FailOnUnknownKeys();  // a mistyped [srever] is named, not "server: missing"
     if (!top.Has("server")) {
       top.Fail("server",
                "missing: an exercise needs a [server], or [protocol] "
                "require_server = false for one without");
     }
-    c.server = ReadProcess(top.Table("server"), base, false, c.terrain_size_m());
-    if (auto s = top.OptionalTable("standby")) c.standby = ReadProcess(*s, base, false, 0.0);
+    c.server = ReadProcess(top.Table("server", kServerKeys), base, false, c.terrain_size_m());
+    if (auto s = top.OptionalTable("standby", kServerKeys)) {
+      c.standby = ReadProcess(*s, base, false, 0.0);
+    }
   } else {
     for (const char* table : {"server", "standby"}) {
       if (top.Has(table)) {
@@ -160,7 +172,7 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
       }
     }
   }
-  for (const TomlReader& n : top.TableArray("node")) {
+  for (const TomlReader& n : top.TableArray("node", kNodeKeys)) {
     c.nodes.push_back(ReadProcess(n, base, true, c.terrain_size_m()));
   }
   if (c.nodes.empty()) top.Fail("node", "an exercise needs at least one [[node]]");

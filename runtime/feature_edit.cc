@@ -100,6 +100,11 @@ Result<FeatureParams> ApplyFeatureEdit(const FeatureParams& params, const Featur
     if (!std::isfinite(value)) {
       return Error{fmt::format("{}={} is not a finite number", key, value)};
     }
+    // Validation allows one turn either way (kMaxDirectionRad); say so in the key's own unit.
+    if (key == "direction_deg" && std::abs(value) > 360.0) {
+      return Error{
+          fmt::format("direction_deg={} is outside [-360, 360] (one turn either way)", value)};
+    }
     if (!SetKey(p, key, value)) {
       if (key == "status") {
         return Error{fmt::format("status={} must be 0 (intact) or 1 (destroyed)", value)};

@@ -14,7 +14,7 @@ namespace dt {
 // The keys, in the units their names give (docs/node.md "Feature keys"):
 //   every type: x_m, z_m
 //   crater:     radius_m
-//   berm:       direction_deg, length_m, width_m, height_m
+//   berm:       direction_deg (-360 .. 360), length_m, width_m, height_m
 //   bridge:     direction_deg, width_m, ramp1_m, span_m, ramp2_m, height1_m, height2_m,
 //               status ("intact" = 0 or "destroyed" = 1, as a number)
 struct FeatureEdit {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "terrain/feature_id.h"
@@ -9,6 +10,14 @@
 #include "terrain/result.h"
 
 namespace dt {
+
+// What a drive command set: the vehicle clamps the commanded values to its type's limits
+// (terrain/vehicle.h), so these may differ from what was asked.
+struct AppliedDrive {
+  std::string vehicle_type;  // "tank"
+  double speed_mps = 0.0;
+  double heading_rate_rad_s = 0.0;
+};
 
 // Implemented by the node process over its replica and vehicles; tests implement it in memory.
 // Every call either does all it says or returns an Error and changes nothing.
@@ -23,8 +32,8 @@ class NodeActions {
   virtual Result<std::vector<FeatureId>> Breach(FeatureId berm, double gap_start_m,
                                                 double gap_width_m) = 0;
   virtual int vehicle_count() const = 0;
-  // Commands vehicle `index` (0-based).
-  virtual Status Drive(int index, double speed_mps, double heading_rate_rad_s) = 0;
+  // Commands vehicle `index` (0-based); answers what the vehicle took after clamping.
+  virtual Result<AppliedDrive> Drive(int index, double speed_mps, double heading_rate_rad_s) = 0;
 };
 
 }  // namespace dt

@@ -1,6 +1,9 @@
 #include "runtime/toml_reader.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <stdexcept>
 
@@ -8,8 +11,12 @@
 
 namespace dt {
 
-TomlReader::TomlReader(const toml::table& table, std::string source, std::string path_prefix)
-    : table_(&table), source_(std::move(source)), prefix_(std::move(path_prefix)) {}
+TomlReader::TomlReader(const toml::table& table, std::string source, std::string path_prefix,
+                       std::vector<std::string> known_keys)
+    : table_(&table),
+      source_(std::move(source)),
+      prefix_(std::move(path_prefix)),
+      known_(std::move(known_keys)) {}
 
 toml::table TomlReader::ParseText(std::string_view text, std::string_view source) {
   try {
@@ -25,6 +32,37 @@ std::string TomlValueText(const toml::node& node) {
   std::ostringstream out;
   node.visit([&](const auto& v) { out << v; });
   return out.str();
+}
+
+std::optional<std::string> NearestKey(std::string_view key,
+                                      const std::vector<std::string>& candidates) {
+  // Optimal string alignment distance: Levenshtein plus swaps of neighbours ("hots" -> "host").
+  auto distance = [](std::string_view a, std::string_view b) {
+    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+      for (size_t j = 1; j <= b.size(); ++j) {
+        const size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+        d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+        if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+          d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+        }
+      }
+    }
+    return d[a.size()][b.size()];
+  };
+  std::optional<std::string> best;
+  size_t best_distance = 3;  // more than 2 edits is no typo
+  for (const std::string& c : candidates) {
+    if (c == key) continue;
+    const size_t dist = distance(key, c);
+    if (dist < best_distance && dist < key.size()) {
+      best = c;
+      best_distance = dist;
+    }
+  }
+  return best;
 }
 
 std::string TomlReader::KeyPath(std::string_view key) const {
@@ -47,7 +85,31 @@ void TomlReader::FailTable(std::string_view problem) const {
 
 bool TomlReader::Has(std::string_view key) const { return table_->contains(key); }
 
+bool TomlReader::Known(std::string_view key) const {
+  return std::find(known_.begin(), known_.end(), key) != known_.end();
+}
+
+void TomlReader::FailUnknown(std::string_view key) const {
+  // The keys this table may hold: the declared ones, or else the ones read so far.
+  const std::vector<std::string> candidates =
+      known_.empty() ? std::vector<std::string>(read_.begin(), read_.end()) : known_;
+  const std::optional<std::string> nearest = NearestKey(key, candidates);
+  Fail(key, nearest ? fmt::format("unknown key (did you mean \"{}\"?)", *nearest) : "unknown key");
+}
+
+void TomlReader::FailOnUnknownKeys() const {
+  if (known_.empty()) return;
+  for (const auto& [k, v] : *table_) {
+    if (!Known(k.str())) FailUnknown(k.str());
+  }
+}
+
 const toml::node* TomlReader::Get(std::string_view key) const {
+  if (!known_.empty() && !Known(key)) {
+    std::fprintf(stderr, "TomlReader: %s is read but not among the table's known keys\n",
+                 KeyPath(key).c_str());
+    std::abort();
+  }
   const toml::node* n = table_->get(key);
   if (n != nullptr) read_.emplace(key);
   return n;
@@ -55,7 +117,11 @@ const toml::node* TomlReader::Get(std::string_view key) const {
 
 const toml::node& TomlReader::Require(std::string_view key) const {
   const toml::node* n = Get(key);
-  if (n == nullptr) Fail(key, "missing");
+  if (n == nullptr) {
+    // A required key is missing most often because it is mistyped: name the typo first.
+    FailOnUnknownKeys();
+    Fail(key, "missing");
+  }
   return *n;
 }
 
@@ -125,18 +191,20 @@ std::vector<std::string> TomlReader::StringList(std::string_view key) const {
   return out;
 }
 
-TomlReader TomlReader::Table(std::string_view key) const {
+TomlReader TomlReader::Table(std::string_view key, std::vector<std::string> known_keys) const {
   const toml::table* t = Require(key).as_table();
   if (t == nullptr) Fail(key, "expected a table");
-  return TomlReader(*t, source_, KeyPath(key));
+  return TomlReader(*t, source_, KeyPath(key), std::move(known_keys));
 }
 
-std::optional<TomlReader> TomlReader::OptionalTable(std::string_view key) const {
+std::optional<TomlReader> TomlReader::OptionalTable(std::string_view key,
+                                                    std::vector<std::string> known_keys) const {
   if (!Has(key)) return std::nullopt;
-  return Table(key);
+  return Table(key, std::move(known_keys));
 }
 
-std::vector<TomlReader> TomlReader::TableArray(std::string_view key) const {
+std::vector<TomlReader> TomlReader::TableArray(std::string_view key,
+                                               std::vector<std::string> known_keys) const {
   std::vector<TomlReader> out;
   const toml::node* n = Get(key);
   if (n == nullptr) return out;
@@ -145,14 +213,14 @@ std::vector<TomlReader> TomlReader::TableArray(std::string_view key) const {
   for (size_t i = 0; i < a->size(); ++i) {
     const toml::table* t = (*a)[i].as_table();
     if (t == nullptr) Fail(key, fmt::format("element {} is not a table", i));
-    out.emplace_back(*t, source_, fmt::format("{}[{}]", KeyPath(key), i));
+    out.emplace_back(*t, source_, fmt::format("{}[{}]", KeyPath(key), i), known_keys);
   }
   return out;
 }
 
 void TomlReader::Finish() const {
   for (const auto& [k, v] : *table_) {
-    if (read_.count(k.str()) == 0) Fail(k.str(), "unknown key");
+    if (read_.count(k.str()) == 0) FailUnknown(k.str());
   }
 }
 

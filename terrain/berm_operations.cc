@@ -37,14 +37,15 @@ Result<std::vector<FeatureParams>> BreachBerm(const FeatureParams& berm, double 
   std::vector<FeatureParams> pieces;
   // Before the gap: same start, crest shortened so its end piece ends at the gap's edge.
   const double first_length = gap_centre_m - 0.5 * gap_width_m - run;
-  if (first_length > 0.0) {
+  // A piece shorter than the smallest feature is no berm: dropped, so the breach stays valid.
+  if (first_length >= kMinFeatureSizeM) {
     FeatureParams p = berm;
     p.length_m[0] = first_length;
     pieces.push_back(p);
   }
   // After the gap: starts where its end piece clears the gap, ends where the berm ended.
   const double second_start = gap_centre_m + 0.5 * gap_width_m + run;
-  if (length - second_start > 0.0) {
+  if (length - second_start >= kMinFeatureSizeM) {
     FeatureParams p = berm;
     p.x_m = berm.x_m + second_start * c;
     p.z_m = berm.z_m + second_start * s;

@@ -13,11 +13,11 @@ namespace dt {
 // Breach (thesis III.C.2, second method): the parameters of the 0, 1 or 2 shorter berms that
 // replace `berm` when a gap of `gap_width_m` is cut centred `gap_centre_m` along its crest from
 // the placement point. The gap is bare ground across its whole width: each piece stops, end
-// piece included, at the gap's edge; a piece with no crest left is dropped. Pieces keep the
-// berm's direction, width, height and material (a kFromGround piece takes the soil under its
-// own placement point; use the Berm overload to keep the resolved material). Refused if `berm`
-// is not a valid berm, the gap width is not finite and > 0, or the gap centre is not on the
-// crest [0, length].
+// piece included, at the gap's edge; a piece whose crest would be shorter than kMinFeatureSizeM
+// is dropped. Pieces keep the berm's direction, width, height and material (a kFromGround piece
+// takes the soil under its own placement point; use the Berm overload to keep the resolved
+// material). Refused if `berm` is not a valid berm, the gap width is not finite and > 0, or the
+// gap centre is not on the crest [0, length].
 Result<std::vector<FeatureParams>> BreachBerm(const FeatureParams& berm, double gap_centre_m,
                                               double gap_width_m);
 // As above; the pieces carry the berm's resolved material so they look like the original.

@@ -18,7 +18,7 @@ namespace dt {
 namespace {
 
 constexpr int kMinPosts = 2;
-constexpr int kMaxPosts = 65536;  // HeightGrid's limit
+constexpr int kMaxPosts = kMaxPostsPerSide;  // HeightGrid's limit
 
 void CheckSoil(Material soil) {
   if (!IsValidMaterial(static_cast<uint16_t>(soil)) || soil == Material::kFromGround) {

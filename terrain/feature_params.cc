@@ -6,16 +6,21 @@
 namespace dt {
 namespace {
 
-Status CheckRange(std::string_view field, double value, double min_exclusive,
+Status CheckRange(std::string_view field, double value, double min_inclusive,
                   double max_inclusive) {
   if (!std::isfinite(value)) {
     return Error{fmt::format("{} is not finite ({})", field, value)};
   }
-  if (!(value > min_exclusive) || value > max_inclusive) {
+  if (!(value >= min_inclusive) || value > max_inclusive) {
     return Error{
-        fmt::format("{} = {} is outside ({}, {}]", field, value, min_exclusive, max_inclusive)};
+        fmt::format("{} = {} is outside [{}, {}]", field, value, min_inclusive, max_inclusive)};
   }
   return Status::Ok();
+}
+
+// A size: at least kMinFeatureSizeM, at most the type's maximum.
+Status CheckSize(std::string_view field, double value, double max_inclusive) {
+  return CheckRange(field, value, kMinFeatureSizeM, max_inclusive);
 }
 
 Status CheckFinite(std::string_view field, double value) {
@@ -95,6 +100,15 @@ Status ValidateFeatureParams(const FeatureParams& p) {
                          {"width_m", p.width_m}}) {
     if (auto s = CheckFinite(name, v); !s) return s;
   }
+  for (auto [name, v] : {std::pair{"x_m", p.x_m}, std::pair{"z_m", p.z_m}}) {
+    if (auto s = CheckRange(name, v, -kMaxFeatureCoordinateM, kMaxFeatureCoordinateM); !s) {
+      return s;
+    }
+  }
+  if (!(std::abs(p.direction_rad) <= kMaxDirectionRad)) {
+    return Error{fmt::format("{} direction_rad = {} is outside [-2 pi, 2 pi] (one turn either way)",
+                             FeatureTypeName(p.type), p.direction_rad)};
+  }
   if (p.type != FeatureType::kCrater && !p.vertex_edits.empty()) {
     return Error{fmt::format("{} cannot carry crater vertex edits", FeatureTypeName(p.type))};
   }
@@ -104,8 +118,7 @@ Status ValidateFeatureParams(const FeatureParams& p) {
   }
   switch (p.type) {
     case FeatureType::kCrater: {
-      if (auto s = CheckRange("crater radius_m", p.length_m[0], 0.0, kMaxCraterRadiusM); !s)
-        return s;
+      if (auto s = CheckSize("crater radius_m", p.length_m[0], kMaxCraterRadiusM); !s) return s;
       const CraterVertexEdit* previous = nullptr;
       for (const auto& e : p.vertex_edits) {
         if (e.spoke >= kCraterSpokes || e.ring >= kCraterRings) {
@@ -125,22 +138,20 @@ Status ValidateFeatureParams(const FeatureParams& p) {
       break;
     }
     case FeatureType::kBerm:
-      if (auto s = CheckRange("berm length_m", p.length_m[0], 0.0, kMaxBermLengthM); !s) return s;
-      if (auto s = CheckRange("berm width_m", p.width_m, 0.0, kMaxBermWidthM); !s) return s;
-      if (auto s = CheckRange("berm height_m", p.height_m[0], 0.0, kMaxBermHeightM); !s) return s;
+      if (auto s = CheckSize("berm length_m", p.length_m[0], kMaxBermLengthM); !s) return s;
+      if (auto s = CheckSize("berm width_m", p.width_m, kMaxBermWidthM); !s) return s;
+      if (auto s = CheckSize("berm height_m", p.height_m[0], kMaxBermHeightM); !s) return s;
       break;
     case FeatureType::kBridge:
-      if (auto s = CheckRange("bridge span length_m", p.length_m[0], 0.0, kMaxBridgeLengthM); !s)
+      if (auto s = CheckSize("bridge span length_m", p.length_m[0], kMaxBridgeLengthM); !s)
         return s;
-      if (auto s = CheckRange("bridge ramp 1 length_m", p.length_m[1], 0.0, kMaxBridgeLengthM); !s)
+      if (auto s = CheckSize("bridge ramp 1 length_m", p.length_m[1], kMaxBridgeLengthM); !s)
         return s;
-      if (auto s = CheckRange("bridge ramp 2 length_m", p.length_m[2], 0.0, kMaxBridgeLengthM); !s)
+      if (auto s = CheckSize("bridge ramp 2 length_m", p.length_m[2], kMaxBridgeLengthM); !s)
         return s;
-      if (auto s = CheckRange("bridge width_m", p.width_m, 0.0, kMaxBridgeWidthM); !s) return s;
-      if (auto s = CheckRange("bridge height_m[0]", p.height_m[0], 0.0, kMaxBridgeHeightM); !s)
-        return s;
-      if (auto s = CheckRange("bridge height_m[1]", p.height_m[1], 0.0, kMaxBridgeHeightM); !s)
-        return s;
+      if (auto s = CheckSize("bridge width_m", p.width_m, kMaxBridgeWidthM); !s) return s;
+      if (auto s = CheckSize("bridge height_m[0]", p.height_m[0], kMaxBridgeHeightM); !s) return s;
+      if (auto s = CheckSize("bridge height_m[1]", p.height_m[1], kMaxBridgeHeightM); !s) return s;
       if (p.status != BridgeStatus::kIntact && p.status != BridgeStatus::kDestroyed) {
         return Error{fmt::format("unknown bridge status {}", static_cast<int32_t>(p.status))};
       }

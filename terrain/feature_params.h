@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <numbers>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,7 +35,18 @@ struct CraterVertexEdit {
   auto operator<=>(const CraterVertexEdit&) const = default;
 };
 
-// Documented maxima (docs/terrain.md): bigger values are refused as bad input.
+// Documented ranges (docs/terrain.md "Parameter ranges"); values outside are refused as bad
+// input. Every size (radius, lengths, widths, heights) is at least kMinFeatureSizeM, the finest
+// post spacing an exercise allows: smaller is no earthwork, and a subnormal or vanishing size
+// would only overflow the geometry's divisions.
+inline constexpr double kMinFeatureSizeM = 0.01;
+// Placement coordinates: far beyond any terrain (kMaxPostsPerSide posts at the exercise file's
+// largest spacing, 10 km, span 41 000 km), so sums and differences of them stay exact to well
+// under a millimetre. Whether the feature lies on the terrain is Terrain::Add's check.
+inline constexpr double kMaxFeatureCoordinateM = 1e8;
+// Directions: one turn either way, so both the [0, 2 pi) and the (-pi, pi] conventions (and
+// -360 .. 360 degrees) are accepted; a larger magnitude is a unit mistake or garbage.
+inline constexpr double kMaxDirectionRad = 2.0 * std::numbers::pi;
 inline constexpr double kMaxCraterRadiusM = 200.0;
 inline constexpr double kMaxBermLengthM = 2000.0;
 inline constexpr double kMaxBermWidthM = 100.0;
@@ -78,8 +90,8 @@ struct FeatureParams {
                               Material material = Material::kConcrete);
 };
 
-// Checks types, finiteness and documented ranges; the error names the field and its value.
-// Does not check bounds against a terrain: Terrain::Add does.
+// Checks types, finiteness and the documented ranges above; the error names the field and its
+// value. Does not check bounds against a terrain: Terrain::Add does.
 Status ValidateFeatureParams(const FeatureParams& params);
 
 // Canonical little-endian encoding: equal params give equal bytes on every machine.

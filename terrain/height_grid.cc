@@ -9,30 +9,29 @@
 namespace dt {
 namespace {
 
-void CheckShape(int posts_per_side, double spacing_m) {
-  if (posts_per_side < 2 || posts_per_side > 65536) {
+// Checks the shape and returns the number of posts, so a constructor can check before it
+// allocates.
+size_t CheckShape(int posts_per_side, double spacing_m) {
+  if (posts_per_side < 2 || posts_per_side > kMaxPostsPerSide) {
     throw std::invalid_argument(
-        fmt::format("posts_per_side = {} must be in [2, 65536]", posts_per_side));
+        fmt::format("posts_per_side = {} must be in [2, {}]", posts_per_side, kMaxPostsPerSide));
   }
   if (!std::isfinite(spacing_m) || spacing_m <= 0.0) {
     throw std::invalid_argument(fmt::format("spacing_m = {} must be finite and > 0", spacing_m));
   }
+  return static_cast<size_t>(posts_per_side) * static_cast<size_t>(posts_per_side);
 }
 
 }  // namespace
 
 HeightGrid::HeightGrid(int posts_per_side, double spacing_m, float elevation_m, Material soil)
     : HeightGrid(posts_per_side, spacing_m,
-                 std::vector<float>(static_cast<size_t>(std::max(posts_per_side, 0)) *
-                                        static_cast<size_t>(std::max(posts_per_side, 0)),
-                                    elevation_m),
-                 soil) {}
+                 std::vector<float>(CheckShape(posts_per_side, spacing_m), elevation_m), soil) {}
 
 HeightGrid::HeightGrid(int posts_per_side, double spacing_m, std::vector<float> posts_m,
                        Material soil)
     : n_(posts_per_side), spacing_m_(spacing_m), posts_(std::move(posts_m)) {
-  CheckShape(posts_per_side, spacing_m);
-  const size_t expected = static_cast<size_t>(n_) * static_cast<size_t>(n_);
+  const size_t expected = CheckShape(posts_per_side, spacing_m);
   if (posts_.size() != expected) {
     throw std::invalid_argument(fmt::format("{} posts given for a {} x {} grid (expected {})",
                                             posts_.size(), n_, n_, expected));

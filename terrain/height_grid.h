@@ -21,15 +21,22 @@ struct SquareIndex {
   bool operator==(const SquareIndex&) const = default;
 };
 
+// The most posts per side a grid may have (docs/terrain.md "Grid size"): 4097 x 4097 posts,
+// 40 km a side at 10 m spacing. A Terrain over it holds about 34 bytes per square (elevation,
+// two soils, the square's feature list and bits), some 570 MB; the next power-of-two size, 8193,
+// would need 2.3 GB per process.
+inline constexpr int kMaxPostsPerSide = 4097;
+
 // Post (i, j) stands at x = i * spacing_m, z = j * spacing_m; the grid covers
 // [0, size_m()] x [0, size_m()]. Elevations are y, up (docs/conventions.md).
 class HeightGrid {
  public:
-  // Flat ground. Throws std::invalid_argument unless posts_per_side >= 2 and spacing_m > 0.
+  // Flat ground. Throws std::invalid_argument, before allocating anything, unless
+  // posts_per_side is in [2, kMaxPostsPerSide] and spacing_m is finite and > 0.
   HeightGrid(int posts_per_side, double spacing_m, float elevation_m = 0.0f,
              Material soil = Material::kGrass);
-  // Posts given row by row along x: index = j * posts_per_side + i. Throws on a size mismatch
-  // or a non-finite elevation.
+  // Posts given row by row along x: index = j * posts_per_side + i. Throws as above, on a size
+  // mismatch or on a non-finite elevation.
   HeightGrid(int posts_per_side, double spacing_m, std::vector<float> posts_m,
              Material soil = Material::kGrass);
 

@@ -42,8 +42,9 @@ HeightGrid MakeRandomTerrain(const RandomTerrainParams& params) {
         fmt::format("relief_m = {} must be finite and >= 0", params.relief_m));
   }
   const int n = params.posts_per_side;
-  if (n < 2 || n > 65536) {
-    throw std::invalid_argument(fmt::format("posts_per_side = {} must be in [2, 65536]", n));
+  if (n < 2 || n > kMaxPostsPerSide) {
+    throw std::invalid_argument(
+        fmt::format("posts_per_side = {} must be in [2, {}]", n, kMaxPostsPerSide));
   }
   const size_t count = static_cast<size_t>(n) * static_cast<size_t>(n);
   // Octave o adds value noise with cells of cell[o] posts and weight 2^(K-1-o): the first octave

@@ -29,7 +29,7 @@ constexpr std::array<uint8_t, 8> kMagic = {0x89, 'D', 'T', 'E', 'R', '\r', '\n',
 constexpr size_t kVersionOffset = 8;
 constexpr size_t kGroundLengthOffset = 12;
 constexpr size_t kFeatureLengthOffset = 20;
-constexpr int kMaxPosts = 65536;
+constexpr int kMaxPosts = kMaxPostsPerSide;  // HeightGrid's limit
 
 // Bytes of a ground section for an n x n grid: n, spacing, posts, two soils per square.
 uint64_t GroundSectionBytes(uint64_t n) { return 4 + 8 + 4 * n * n + 2 * 2 * (n - 1) * (n - 1); }
@@ -179,6 +179,14 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
       return truncated(fmt::format("the header of feature record {} of {}", index + 1, *count));
     }
     const FeatureId id{*site, *host, *number};
+    // The origin is the node that created the feature; 0 is no node's site or host (an exercise
+    // gives every process a site and host in 1 .. 65535, docs/node.md).
+    if (id.site == 0 || id.host == 0) {
+      return fail(id.site == 0 ? record_at : record_at + 2,
+                  fmt::format("feature {}: origin {} is 0, which is no node's (a node's site "
+                              "and host are 1 .. 65535)",
+                              id.ToString(), id.site == 0 ? "site" : "host"));
+    }
     if (index > 0 && !(previous < id)) {
       return fail(record_at, fmt::format("feature {} follows {}: records must be sorted by ID "
                                          "without repeats",

@@ -100,6 +100,25 @@ TEST(LaunchTest, ReportsAChildThatCannotStart) {
   std::filesystem::remove_all(ex.parent_path());
 }
 
+TEST(LaunchTest, AChildsConfigErrorExitsTwo) {
+  std::vector<std::string> out;
+  Supervisor sup([&](const std::string&, std::string_view line) { out.emplace_back(line); });
+  const std::filesystem::path ex = WriteExercise("child-cfg");
+  // The nodes refuse the exercise as dt_node does a bad scenario: exit 2 before READY.
+  const std::filesystem::path node_bin = ex.parent_path() / "bad-config-node.sh";
+  std::ofstream(node_bin) << "#!/bin/sh\nexec '" << DT_FAKE_CHILD
+                          << "' \"$@\" --mode fail --exit-code 2\n";
+  std::filesystem::permissions(node_bin, std::filesystem::perms::owner_all);
+  sup.Start("fakes", {DT_LAUNCH, "--config", ex.string(), "--node-bin", node_bin.string(),
+                      "--server-bin", DT_FAKE_CHILD});
+  ASSERT_TRUE(sup.WaitExit("fakes", 60000));
+  EXPECT_EQ(DescribeWaitStatus(sup.last_wait_status("fakes")), "exited 2");
+  EXPECT_NE(std::find(out.begin(), out.end(), "[launch] node-1: exited 2"), out.end());
+  // The servers were stopped, not orphaned.
+  EXPECT_NE(std::find(out.begin(), out.end(), "[launch] server: exited 0"), out.end());
+  std::filesystem::remove_all(ex.parent_path());
+}
+
 TEST(LaunchTest, BadConfigExitsTwoNamingTheKey) {
   std::vector<std::string> out;
   Supervisor sup([&](const std::string&, std::string_view line) { out.emplace_back(line); });

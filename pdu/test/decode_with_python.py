@@ -3,7 +3,9 @@
 
 Generates the Python bindings with lcm-gen -p, loops the captured bytes through an lcm.LCM
 memq instance (LCM's Python module, PyPI package `lcm`), decodes them with the generated
-dtpdu.construct_t and compares every checked field with the values the capture wrote.
+dtpdu.construct_t and compares every checked field with the values the capture wrote; checks that
+the captured fingerprint names construct_t alone among the generated types (as a tool that picks
+the type by fingerprint, like lcm-spy, would look it up).
 Exit 0: pass; 1: mismatch; 77: skipped (no `lcm` Python module).
 Usage: decode_with_python.py <lcm-gen> <capture-program> <work-dir> <file.lcm>...
 """
@@ -46,6 +48,21 @@ def main():
     lc.handle_timeout(1000)
     if received != [captured]:
         print("FAIL: LCM's Python module did not hand back the captured bytes")
+        return 1
+
+    # A tool that picks the type by fingerprint (as lcm-spy does) must find exactly one type.
+    by_fingerprint = {}
+    for name in dir(dtpdu):
+        cls = getattr(dtpdu, name)
+        if isinstance(cls, type) and hasattr(cls, "_get_packed_fingerprint"):
+            by_fingerprint.setdefault(cls._get_packed_fingerprint(), []).append(cls.__name__)
+    shared = [names for names in by_fingerprint.values() if len(names) > 1]
+    if shared:
+        print(f"FAIL: LCM types share a fingerprint: {shared}")
+        return 1
+    if by_fingerprint.get(captured[:8]) != ["construct_t"]:
+        print(f"FAIL: the captured fingerprint names {by_fingerprint.get(captured[:8])}, "
+              "not construct_t")
         return 1
 
     msg = dtpdu.construct_t.decode(received[0])

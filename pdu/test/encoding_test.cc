@@ -1,11 +1,19 @@
-// Checks one encoded Construct PDU byte for byte against a vector built by hand from LCM's rules.
+// Checks one encoded Construct PDU byte for byte against a vector built by hand from LCM's rules,
+// and that every LCM type has a fingerprint of its own.
 #include <bit>
 #include <cstring>
+#include <filesystem>
+#include <iterator>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "dtpdu/crater_vertex_edit_t.hpp"
+#include "dtpdu/header_t.hpp"
+#include "dtpdu/node_address_t.hpp"
 #include "pdu/pdu_traits.h"
 #include "pdu/test/sample_pdus.h"
 
@@ -62,7 +70,8 @@ uint64_t EditFingerprint() {
   return Fingerprint(
       BaseHash({{"spoke", "byte", {}}, {"ring", "byte", {}}, {"offset_m", "double", {}}}), {});
 }
-uint64_t ConstructFingerprint() {
+// Construct and Update differ only in the name of the change's author.
+uint64_t FeatureFingerprint(const std::string& author) {
   const std::vector<Member> members = {
       {"header", "", {}},
       {"sender", "", {}},
@@ -70,7 +79,7 @@ uint64_t ConstructFingerprint() {
       {"origin", "", {}},
       {"feature_number", "int64_t", {}},
       {"feature_type", "int16_t", {}},
-      {"changed_by", "", {}},
+      {author, "", {}},
       {"change_seq", "int64_t", {}},
       {"lamport", "int64_t", {}},
       {"is_playback", "boolean", {}},
@@ -89,6 +98,8 @@ uint64_t ConstructFingerprint() {
                      {HeaderFingerprint(), AddressFingerprint(), AddressFingerprint(),
                       AddressFingerprint(), AddressFingerprint(), EditFingerprint()});
 }
+uint64_t ConstructFingerprint() { return FeatureFingerprint("created_by"); }
+uint64_t UpdateFingerprint() { return FeatureFingerprint("changed_by"); }
 
 // Big-endian appenders: LCM's wire order.
 struct Bytes {
@@ -103,6 +114,35 @@ TEST(Encoding, FingerprintMatchesTheIndependentComputation) {
   EXPECT_EQ(static_cast<uint64_t>(dtpdu::header_t::getHash()), HeaderFingerprint());
   EXPECT_EQ(static_cast<uint64_t>(dtpdu::node_address_t::getHash()), AddressFingerprint());
   EXPECT_EQ(static_cast<uint64_t>(dtpdu::construct_t::getHash()), ConstructFingerprint());
+  EXPECT_EQ(static_cast<uint64_t>(dtpdu::update_t::getHash()), UpdateFingerprint());
+}
+
+// A decoder that picks the type by fingerprint (lcm-spy, lcm-logplayer tools) must tell every
+// type apart: no two types of pdu/lcm may share one.
+TEST(Encoding, EveryLcmTypeHasItsOwnFingerprint) {
+  const std::map<std::string, int64_t> fingerprints = {
+      {"header_t", dtpdu::header_t::getHash()},
+      {"node_address_t", dtpdu::node_address_t::getHash()},
+      {"crater_vertex_edit_t", dtpdu::crater_vertex_edit_t::getHash()},
+      {"construct_t", dtpdu::construct_t::getHash()},
+      {"update_t", dtpdu::update_t::getHash()},
+      {"destruct_t", dtpdu::destruct_t::getHash()},
+      {"max_feature_t", dtpdu::max_feature_t::getHash()},
+      {"playback_t", dtpdu::playback_t::getHash()},
+  };
+  // Every type of pdu/lcm is in the list, so a new one cannot escape the check.
+  std::set<std::string> files;
+  for (const auto& entry : std::filesystem::directory_iterator(DT_PDU_LCM_DIR)) {
+    if (entry.path().extension() == ".lcm") files.insert(entry.path().stem().string());
+  }
+  std::set<std::string> listed;
+  for (const auto& [name, hash] : fingerprints) listed.insert(name);
+  EXPECT_EQ(listed, files);
+  for (auto a = fingerprints.begin(); a != fingerprints.end(); ++a) {
+    for (auto b = std::next(a); b != fingerprints.end(); ++b) {
+      EXPECT_NE(a->second, b->second) << a->first << " and " << b->first << " share a fingerprint";
+    }
+  }
 }
 
 TEST(Encoding, ConstructBytesMatchTheHandBuiltVector) {
@@ -116,7 +156,7 @@ TEST(Encoding, ConstructBytesMatchTheHandBuiltVector) {
   pdu.origin = ToPdu({0xFFFF, 2});
   pdu.feature_number = 0x12345678;
   pdu.feature_type = 1;
-  pdu.changed_by = ToPdu({0xFFFF, 2});
+  pdu.created_by = ToPdu({0xFFFF, 2});
   pdu.change_seq = 4;
   pdu.lamport = 5;
   pdu.is_playback = 1;
@@ -144,7 +184,7 @@ TEST(Encoding, ConstructBytesMatchTheHandBuiltVector) {
   e.v.insert(e.v.end(), {0xFF, 0xFF, 0x00, 0x02});                    // origin 65535:2
   e.v.insert(e.v.end(), {0, 0, 0, 0, 0x12, 0x34, 0x56, 0x78});        // feature_number
   e.v.insert(e.v.end(), {0x00, 0x01});                                // feature_type crater
-  e.v.insert(e.v.end(), {0xFF, 0xFF, 0x00, 0x02});                    // changed_by
+  e.v.insert(e.v.end(), {0xFF, 0xFF, 0x00, 0x02});                    // created_by
   e.U(4, 8);                                                          // change_seq
   e.U(5, 8);                                                          // lamport
   e.v.insert(e.v.end(), {0x01});                                      // is_playback

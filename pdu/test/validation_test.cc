@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <type_traits>
 
 #include <gtest/gtest.h>
 
@@ -52,12 +53,17 @@ TEST(Validation, Oversized) {
 TEST(Validation, Truncated) {
   EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>({}), RejectReason::kTruncated);
   EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>({1, 2, 3}), RejectReason::kTruncated);
-  for (const auto& full : {EncodePdu(sample::Construct()), EncodePdu(sample::Update())}) {
+  // Each type on its own channel: Construct and Update have different fingerprints.
+  auto expect_every_cut_truncated = [](const auto& pdu) {
+    using Pdu = std::remove_cvref_t<decltype(pdu)>;
+    const auto full = EncodePdu(pdu);
     for (size_t n = 8; n < full.size(); n += 5) {
       std::vector<uint8_t> cut(full.begin(), full.begin() + static_cast<long>(n));
-      EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>(cut), RejectReason::kTruncated) << n;
+      EXPECT_EQ(ReasonForBytes<Pdu>(cut), RejectReason::kTruncated) << n;
     }
-  }
+  };
+  expect_every_cut_truncated(sample::Construct());
+  expect_every_cut_truncated(sample::Update());
   const auto full = EncodePdu(sample::Playback());
   EXPECT_EQ(ReasonForBytes<dtpdu::playback_t>({full.begin(), full.end() - 1}),
             RejectReason::kTruncated);
@@ -110,13 +116,20 @@ TEST(Validation, UnknownPduType) {
 }
 
 TEST(Validation, PduTypeMismatch) {
-  // Construct and Update share their fields, hence their LCM fingerprint: only the header tells
-  // an Update published on the Construct channel apart.
-  ASSERT_EQ(dtpdu::construct_t::getHash(), dtpdu::update_t::getHash());
+  // Construct and Update share their fields but not their fingerprint (docs/pdu.md "Encoding"),
+  // so an Update published on the Construct channel is refused by the fingerprint...
+  ASSERT_NE(dtpdu::construct_t::getHash(), dtpdu::update_t::getHash());
   EXPECT_EQ(ReasonForBytes<dtpdu::construct_t>(EncodePdu(sample::Update())),
-            RejectReason::kPduTypeMismatch);
+            RejectReason::kWrongFingerprint);
   EXPECT_EQ(ReasonForBytes<dtpdu::update_t>(EncodePdu(sample::Construct())),
-            RejectReason::kPduTypeMismatch);
+            RejectReason::kWrongFingerprint);
+  // ...and a header naming another type than the channel's by the header check.
+  auto c = sample::Construct();
+  c.header.pdu_type = static_cast<uint8_t>(PduType::kUpdate);
+  EXPECT_EQ(ReasonFor(c), RejectReason::kPduTypeMismatch);
+  auto u = sample::Update();
+  u.header.pdu_type = static_cast<uint8_t>(PduType::kConstruct);
+  EXPECT_EQ(ReasonFor(u), RejectReason::kPduTypeMismatch);
 }
 
 TEST(Validation, UnknownFeatureType) {
@@ -187,6 +200,26 @@ TEST(Validation, SizesAtOrBelowZeroOrBeyondTheMaxima) {
   EXPECT_EQ(ReasonFor(c), RejectReason::kOutOfRange);
 }
 
+TEST(Validation, TheFeatureParameterBoundsRefuseAPdu) {
+  // The bounds of ValidateFeatureParams, not a rule of their own: a subnormal radius, a size just
+  // under the minimum, a direction of many turns.
+  auto c = sample::Construct();
+  c.length_m[0] = std::numeric_limits<double>::denorm_min();
+  EXPECT_EQ(ReasonFor(c), RejectReason::kOutOfRange);
+  c.length_m[0] = std::nextafter(kMinFeatureSizeM, 0.0);
+  EXPECT_EQ(ReasonFor(c), RejectReason::kOutOfRange);
+  c.length_m[0] = kMinFeatureSizeM;
+  EXPECT_EQ(ReasonFor(c), std::nullopt);
+  auto u = sample::Update();
+  u.direction_rad = 1e300;
+  EXPECT_EQ(ReasonFor(u), RejectReason::kOutOfRange);
+  u.direction_rad = -kMaxDirectionRad;
+  EXPECT_EQ(ReasonFor(u), std::nullopt);
+  u = sample::Update();
+  u.height_m[1] = std::numeric_limits<double>::denorm_min();
+  EXPECT_EQ(ReasonFor(u), RejectReason::kOutOfRange);
+}
+
 TEST(Validation, OffTerrain) {
   auto c = sample::Construct();
   c.position_m[0] = -0.001;
@@ -212,7 +245,7 @@ TEST(Validation, BadFields) {
   c.sender_seq = 0;
   EXPECT_EQ(ReasonFor(c), RejectReason::kBadField);
   c = sample::Construct();
-  c.changed_by.host = 99;  // a Construct is made by the feature's origin
+  c.created_by.host = 99;  // a Construct is made by the feature's origin
   EXPECT_EQ(ReasonFor(c), RejectReason::kBadField);
   c = sample::Construct();
   c.num_vertex_edits = 65;

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 #include <thread>
 
@@ -92,7 +93,20 @@ TEST(ControlCommandTest, RefusesBadCommandsWithTheValue) {
   EXPECT_NE(err("crater 1 2").find("takes 3 arguments, got 2"), std::string::npos);
   EXPECT_NE(err("crater 1 2 abc").find("radius_m \"abc\""), std::string::npos);
   EXPECT_NE(err("crater 1 2 nan").find("not a finite number"), std::string::npos);
+  EXPECT_NE(err("drive 0 -inf 0").find("speed_mps \"-inf\" is not a finite number"),
+            std::string::npos);
+  EXPECT_NE(err("drive 0 1 -nan").find("heading_rate_deg_s \"-nan\" is not a finite number"),
+            std::string::npos);
   EXPECT_NE(err("crater 1 2 -4").find("radius"), std::string::npos) << err("crater 1 2 -4");
+  // The documented bounds of terrain/feature_params.h reach the command's reply.
+  EXPECT_NE(err("crater 50 50 4.9e-324").find("crater radius_m = 5e-324 is outside [0.01, 200]"),
+            std::string::npos)
+      << err("crater 50 50 4.9e-324");
+  EXPECT_EQ(err("berm 10 10 1e300 30 4 2"),
+            "direction_deg=1e+300 is outside [-360, 360] (one turn either way)");
+  EXPECT_EQ(err("berm 10 10 -360 30 4 2"), "");
+  EXPECT_NE(err("bridge 100 100 0 8 20 60 20 6 0.001").find("bridge height_m[1] = 0.001"),
+            std::string::npos);
   EXPECT_NE(err("destroy 1:2").find("\"1:2\""), std::string::npos);
   EXPECT_NE(err("destroy 1:2:0").find("number 0"), std::string::npos);
   EXPECT_NE(err("destroy 1:70000:3").find("host \"70000\""), std::string::npos);
@@ -125,6 +139,34 @@ TEST(ControlCommandTest, BadFeatureCommandChangesNothing) {
                         node);
   EXPECT_TRUE(r.ok) << r.error;
   EXPECT_DOUBLE_EQ(node.features.at(id).length_m[0], 9.0);
+}
+
+TEST(ControlCommandTest, ADriveSaysWhichValuesTheVehicleClamped) {
+  const VehicleType tank = TankType();
+  MapActions node;
+  ControlReply r = RunFeatureCommand(ParseControlCommand("drive 0 1e30 0").value(), node);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.body, fmt::format("speed 1e+30 m/s clamped to {} m/s, the tank's top speed",
+                                tank.max_speed_mps));
+  EXPECT_EQ(node.vehicle.speed_mps(), tank.max_speed_mps);
+
+  r = RunFeatureCommand(ParseControlCommand("drive 0 -50 0").value(), node);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.body, fmt::format("speed -50 m/s clamped to {} m/s, the tank's top reverse speed",
+                                -tank.max_reverse_speed_mps));
+
+  r = RunFeatureCommand(ParseControlCommand("drive 0 5 -1000").value(), node);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.body, fmt::format("heading rate -1000 deg/s clamped to {:.6g} deg/s, the tank's top "
+                                "turn rate",
+                                -tank.max_turn_rate_rad_s * 180.0 / std::numbers::pi));
+  EXPECT_EQ(node.vehicle.speed_mps(), 5.0);
+
+  // Within the limits: nothing to say.
+  r = RunFeatureCommand(ParseControlCommand("drive 0 -3 20").value(), node);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.body, "");
+  EXPECT_EQ(node.vehicle.speed_mps(), -3.0);
 }
 
 TEST(ControlServerTest, AnswersRequestsOverTheSocket) {

@@ -10,6 +10,11 @@
 
 #include <unistd.h>
 
+#include <fmt/format.h>
+
+#include "runtime/toml_reader.h"
+#include "terrain/height_grid.h"
+
 namespace dt {
 namespace {
 
@@ -144,6 +149,48 @@ TEST(ExerciseConfigTest, RefusesUnknownKeysTyposAndDuplicates) {
   e = ErrorOf("[exercise\nname=1");
   EXPECT_NE(e.find("ex.toml:1"), std::string::npos) << e;
   EXPECT_NE(e.find("syntax"), std::string::npos) << e;
+}
+
+TEST(ExerciseConfigTest, AMistypedKeyIsNamedBeforeTheKeyItLeavesMissing) {
+  // "hots" for "host": the typo is reported with the key meant, not as "host: missing".
+  std::string e = ErrorOf(Replace(kGood, "host = 2", "hots = 2"));
+  EXPECT_NE(e.find("ex.toml: node[1].hots: unknown key (did you mean \"host\"?) (value 2)"),
+            std::string::npos)
+      << e;
+  e = ErrorOf(Replace(kGood, "[server]", "[srever]"));
+  EXPECT_NE(e.find("ex.toml: srever: unknown key (did you mean \"server\"?)"), std::string::npos)
+      << e;
+  e = ErrorOf(Replace(kGood, "posts_per_side = 65", "post_per_side = 65"));
+  EXPECT_NE(e.find("terrain.post_per_side: unknown key (did you mean \"posts_per_side\"?)"),
+            std::string::npos)
+      << e;
+  // Far from every key the table may hold: named without a guess.
+  e = ErrorOf(Replace(kGood, "host = 2", "address = 2"));
+  EXPECT_NE(e.find("ex.toml: node[1].address: unknown key (value 2)"), std::string::npos) << e;
+  // A key of another table is unknown here, though it is known there.
+  e = ErrorOf(Replace(kGood, "host = 100", "host = 100\nscenario = \"s.toml\""));
+  EXPECT_NE(e.find("ex.toml: server.scenario: unknown key"), std::string::npos) << e;
+}
+
+TEST(ExerciseConfigTest, NearestKeySuggestsOnlyLikelyTypos) {
+  const std::vector<std::string> keys = {"name", "site", "host", "scenario", "vehicle"};
+  EXPECT_EQ(NearestKey("hots", keys), "host");           // two letters swapped
+  EXPECT_EQ(NearestKey("scenarios", keys), "scenario");  // one letter added
+  EXPECT_EQ(NearestKey("vehcle", keys), "vehicle");      // one letter dropped
+  EXPECT_EQ(NearestKey("address", keys), std::nullopt);
+  EXPECT_EQ(NearestKey("host", keys), std::nullopt);  // the key itself is no suggestion
+  EXPECT_EQ(NearestKey("ab", {"id"}), std::nullopt);  // as many edits as letters
+}
+
+TEST(ExerciseConfigTest, AGridTooLargeForMemoryIsRefusedNamingTheKey) {
+  const std::string e = ErrorOf(Replace(kGood, "posts_per_side = 65", "posts_per_side = 65536"));
+  EXPECT_NE(e.find(fmt::format("ex.toml: terrain.posts_per_side: must be in [2, {}] (value 65536)",
+                               kMaxPostsPerSide)),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(ErrorOf(Replace(kGood, "posts_per_side = 65",
+                            fmt::format("posts_per_side = {}", kMaxPostsPerSide))),
+            "");
 }
 
 TEST(ExerciseConfigTest, NeedsServerAndANode) {

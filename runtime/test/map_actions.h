@@ -6,6 +6,7 @@
 
 #include "runtime/node_actions.h"
 #include "terrain/berm_operations.h"
+#include "terrain/vehicle.h"
 
 namespace dt {
 
@@ -43,12 +44,15 @@ class MapActions : public NodeActions {
     return ids;
   }
   int vehicle_count() const override { return 1; }
-  Status Drive(int index, double speed_mps, double rate) override {
+  // One tank on a 100 m terrain: the vehicle's own clamping decides what is applied.
+  Result<AppliedDrive> Drive(int index, double speed_mps, double rate) override {
+    if (Status s = vehicle.Command(speed_mps, rate); !s) return s.error();
     drives.push_back({index, speed_mps, rate});
-    return Status::Ok();
+    return AppliedDrive{vehicle.type().name, vehicle.speed_mps(), vehicle.heading_rate_rad_s()};
   }
 
   uint32_t number = 0;
+  Vehicle vehicle = Vehicle::Make(TankType(), 50, 50, 0, 100).value();
   std::map<FeatureId, FeatureParams> features;
   struct DriveCall {
     int index;

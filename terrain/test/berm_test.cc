@@ -216,6 +216,23 @@ TEST(BermBreach, NearAnEndLeavesOneOrNoBerm) {
   EXPECT_TRUE(all.value().empty());
 }
 
+TEST(BermBreach, APieceShorterThanTheSmallestFeatureIsDropped) {
+  // Width 6: each end piece runs 2 m. A gap centred at 2 + 2 + 0.005 m leaves a 5 mm crest
+  // before it, below kMinFeatureSizeM: no berm, so the breach leaves only the far piece.
+  const FeatureParams p = FeatureParams::Berm(10, 20, 0, 30, 6, 2);
+  const double centre_m = 2.0 + 2.0 + 0.5 * kMinFeatureSizeM;
+  auto pieces = BreachBerm(p, centre_m, 4);
+  ASSERT_TRUE(pieces.ok()) << pieces.error().message;
+  ASSERT_EQ(pieces.value().size(), 1u);
+  EXPECT_DOUBLE_EQ(pieces.value()[0].length_m[0], 30 - (centre_m + 2 + 2));
+  for (const FeatureParams& piece : pieces.value()) EXPECT_TRUE(ValidateFeatureParams(piece).ok());
+  // Twice the minimum (as computed: 4.02 - 2 - 2 is not exactly 0.02) stays.
+  pieces = BreachBerm(p, 2.0 + 2.0 + 2 * kMinFeatureSizeM, 4);
+  ASSERT_TRUE(pieces.ok());
+  ASSERT_EQ(pieces.value().size(), 2u);
+  EXPECT_NEAR(pieces.value()[0].length_m[0], 2 * kMinFeatureSizeM, 1e-12);
+}
+
 TEST(BermBreach, GapsOffTheBermAndBadInputAreRefused) {
   const FeatureParams p = FeatureParams::Berm(10, 20, 0, 30, 6, 2);
   auto expect_refused = [](const Result<std::vector<FeatureParams>>& r, const std::string& needle) {

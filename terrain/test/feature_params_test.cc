@@ -1,7 +1,10 @@
 #include "terrain/feature_params.h"
 
 #include <cmath>
+#include <limits>
+#include <string>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 namespace dt {
@@ -52,6 +55,66 @@ TEST(FeatureParams, ValidationRejectsBadValuesWithTheirNames) {
   FeatureParams off_mesh = FeatureParams::Crater(1, 1, 5);
   off_mesh.vertex_edits = {{16, 0, 1.0}};
   EXPECT_FALSE(ValidateFeatureParams(off_mesh).ok());
+}
+
+// The message of a refused parameter set, or "" if it is valid.
+std::string RefusalOf(const FeatureParams& p) {
+  const Status s = ValidateFeatureParams(p);
+  return s ? std::string() : s.error().message;
+}
+
+TEST(FeatureParams, SizesBelowTheMinimumAreRefused) {
+  const double denormal = std::numeric_limits<double>::denorm_min();
+  const double below = std::nextafter(kMinFeatureSizeM, 0.0);
+  EXPECT_EQ(RefusalOf(FeatureParams::Crater(1, 1, denormal)),
+            fmt::format("crater radius_m = {} is outside [0.01, 200]", denormal));
+  EXPECT_EQ(RefusalOf(FeatureParams::Crater(1, 1, kMinFeatureSizeM)), "");
+  EXPECT_EQ(RefusalOf(FeatureParams::Crater(1, 1, below)),
+            fmt::format("crater radius_m = {} is outside [0.01, 200]", below));
+  EXPECT_NE(RefusalOf(FeatureParams::Berm(1, 1, 0, below, 4, 2)).find("berm length_m"),
+            std::string::npos);
+  EXPECT_NE(RefusalOf(FeatureParams::Berm(1, 1, 0, 10, below, 2)).find("berm width_m"),
+            std::string::npos);
+  EXPECT_NE(RefusalOf(FeatureParams::Berm(1, 1, 0, 10, 4, denormal)).find("berm height_m"),
+            std::string::npos);
+  EXPECT_EQ(RefusalOf(FeatureParams::Bridge(1, 1, 0, 8, 10, 20, 10, 5, 5)), "");
+  EXPECT_NE(RefusalOf(FeatureParams::Bridge(1, 1, 0, below, 10, 20, 10, 5, 5)).find("width_m"),
+            std::string::npos);
+  EXPECT_NE(RefusalOf(FeatureParams::Bridge(1, 1, 0, 8, below, 20, 10, 5, 5)).find("ramp 1"),
+            std::string::npos);
+  EXPECT_NE(RefusalOf(FeatureParams::Bridge(1, 1, 0, 8, 10, below, 10, 5, 5)).find("span"),
+            std::string::npos);
+  EXPECT_NE(RefusalOf(FeatureParams::Bridge(1, 1, 0, 8, 10, 20, below, 5, 5)).find("ramp 2"),
+            std::string::npos);
+  EXPECT_NE(RefusalOf(FeatureParams::Bridge(1, 1, 0, 8, 10, 20, 10, below, 5)).find("height_m[0]"),
+            std::string::npos);
+  EXPECT_NE(RefusalOf(FeatureParams::Bridge(1, 1, 0, 8, 10, 20, 10, 5, below)).find("height_m[1]"),
+            std::string::npos);
+}
+
+TEST(FeatureParams, DirectionsAreBoundedToOneTurnEitherWay) {
+  EXPECT_EQ(RefusalOf(FeatureParams::Berm(1, 1, 1e300, 10, 4, 2)),
+            "berm direction_rad = 1e+300 is outside [-2 pi, 2 pi] (one turn either way)");
+  for (double d : {kMaxDirectionRad, -kMaxDirectionRad, 0.0, 4.0, -3.5}) {
+    EXPECT_EQ(RefusalOf(FeatureParams::Berm(1, 1, d, 10, 4, 2)), "") << d;
+    EXPECT_EQ(RefusalOf(FeatureParams::Bridge(1, 1, d, 8, 10, 20, 10, 5, 5)), "") << d;
+  }
+  EXPECT_NE(RefusalOf(FeatureParams::Bridge(1, 1, std::nextafter(kMaxDirectionRad, 7.0), 8, 10, 20,
+                                            10, 5, 5))
+                .find("bridge direction_rad"),
+            std::string::npos);
+  EXPECT_NE(RefusalOf(FeatureParams::Berm(1, 1, -7, 10, 4, 2)).find("berm direction_rad = -7"),
+            std::string::npos);
+}
+
+TEST(FeatureParams, CoordinatesAreBounded) {
+  EXPECT_EQ(RefusalOf(FeatureParams::Crater(1e300, 1, 5)),
+            fmt::format("x_m = 1e+300 is outside [{}, {}]", -kMaxFeatureCoordinateM,
+                        kMaxFeatureCoordinateM));
+  EXPECT_NE(RefusalOf(FeatureParams::Berm(1, -2e8, 0, 10, 4, 2)).find("z_m = -2"),
+            std::string::npos);
+  EXPECT_EQ(RefusalOf(FeatureParams::Crater(kMaxFeatureCoordinateM, -kMaxFeatureCoordinateM, 5)),
+            "");
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -73,6 +74,20 @@ TEST(HeightGrid, BadShapesAreRefused) {
   EXPECT_THROW(HeightGrid(2, 1.0, std::vector<float>{0, 0, 0, std::nanf("")}),
                std::invalid_argument);
   EXPECT_THROW(HeightGrid(2, 1.0, 0.0f, Material::kFromGround), std::invalid_argument);
+}
+
+TEST(HeightGrid, AGridBeyondTheMaximumIsRefusedBeforeAllocating) {
+  // (65536 posts a side would need 16 GiB of elevations alone, so it is not tried here.)
+  try {
+    HeightGrid g(kMaxPostsPerSide + 1, 10.0);
+    ADD_FAILURE() << "a grid beyond the maximum was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "posts_per_side = " + std::to_string(kMaxPostsPerSide + 1) +
+                                         " must be in [2, " + std::to_string(kMaxPostsPerSide) +
+                                         "]");
+  }
+  EXPECT_EQ(HeightGrid(kMaxPostsPerSide, 10.0).posts().size(),
+            static_cast<size_t>(kMaxPostsPerSide) * kMaxPostsPerSide);
 }
 
 TEST(HeightGrid, SetPostChangesOnlyNearbyElevations) {

@@ -149,6 +149,7 @@ TEST(RandomTerrainTest, ZeroReliefIsFlatAndSoilIsApplied) {
 TEST(RandomTerrainTest, BadParametersThrow) {
   EXPECT_THROW(MakeRandomTerrain({.posts_per_side = 1}), std::invalid_argument);
   EXPECT_THROW(MakeRandomTerrain({.posts_per_side = 65537}), std::invalid_argument);
+  EXPECT_THROW(MakeRandomTerrain({.posts_per_side = kMaxPostsPerSide + 1}), std::invalid_argument);
   EXPECT_THROW(MakeRandomTerrain({.posts_per_side = 9, .spacing_m = 0.0}), std::invalid_argument);
   EXPECT_THROW(MakeRandomTerrain({.posts_per_side = 9, .relief_m = -1.0}), std::invalid_argument);
   EXPECT_THROW(MakeRandomTerrain({.posts_per_side = 9, .relief_m = std::nan("")}),

@@ -228,7 +228,7 @@ TEST(TerrainFileTest, ResealedStructuralErrorsAreStillRefused) {
     auto b = bytes;
     PutU32(b, kGroundAt, 1);
     Reseal(b);
-    ExpectRefused(b, "byte 28: posts_per_side 1 is outside [2, 65536]");
+    ExpectRefused(b, "byte 28: posts_per_side 1 is outside [2, 4097]");
   }
   {
     auto b = bytes;
@@ -270,6 +270,21 @@ TEST(TerrainFileTest, ResealedStructuralErrorsAreStillRefused) {
     Reseal(b);
     ExpectRefused(b, fmt::format("byte {}: feature 1:1:2 follows 1:1:5", kFeaturesAt + 4 + 12 +
                                                                              /*crater record*/ 82));
+  }
+  {
+    auto b = bytes;
+    PutU32(b, kFeaturesAt + 4, 0);  // origin 0:0 (site and host of the first record)
+    Reseal(b);
+    ExpectRefused(b, fmt::format("byte {}: feature 0:0:1: origin site is 0, which is no node's",
+                                 kFeaturesAt + 4));
+  }
+  {
+    auto b = bytes;
+    b[kFeaturesAt + 4 + 2] = 0;  // origin 1:0
+    b[kFeaturesAt + 4 + 3] = 0;
+    Reseal(b);
+    ExpectRefused(b, fmt::format("byte {}: feature 1:0:1: origin host is 0, which is no node's",
+                                 kFeaturesAt + 4 + 2));
   }
   {
     // Number 0 means "no feature".

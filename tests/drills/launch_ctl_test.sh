@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # dt_launch starts the demo exercise (real dt_server and dt_node processes); dt_ctl then places a
-# crater, is refused a bad command, reads status; SIGTERM stops everything with exit 0.
+# crater, is refused a bad command, drives (told of a clamped speed, refused -inf), reads status;
+# SIGTERM stops everything with exit 0.
 # Run inside tests/run_in_netns.sh.
 #   launch_ctl_test.sh <dt_launch> <dt_ctl> <exercise.toml> <run_dir>
 set -euo pipefail
@@ -43,6 +44,19 @@ ctl_ --name node-9 status >/dev/null 2>&1
 rc=$?
 set -e
 [[ $rc == 2 ]] || fail "an unknown process exited $rc, not 2"
+
+# node-2 drives a truck (25 m/s top speed, docs/terrain.md "Vehicles"): a clamped speed is said,
+# and -inf reaches the command parser as an argument, which refuses it.
+out=$(ctl_ --name node-2 drive 0 1e30 0)
+[[ "$out" == "speed 1e+30 m/s clamped to 25 m/s, the truck's top speed" ]] ||
+  fail "a clamped drive said '$out'"
+set +e
+err=$(ctl_ --name node-2 drive 0 -inf 0 2>&1)
+rc=$?
+set -e
+[[ $rc == 1 ]] || fail "drive with -inf exited $rc, not 1"
+[[ "$err" == 'error: speed_mps "-inf" is not a finite number' ]] || fail "drive -inf said '$err'"
+ctl_ --name node-2 drive 0 0 0 >/dev/null
 
 ctl_ --name node-1 status | grep -q '^signed_on 1$' || fail "node-1 status lacks signed_on 1"
 ctl_ --name server status | grep -q '^role server$' || fail "server status lacks role server"

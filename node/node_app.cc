@@ -91,8 +91,8 @@ ControlReply NodeApp::Handle(std::string_view line) {
     quit_ = true;
     return ControlReply::Ok("bye");
   }
-  if (auto r = AnswerCommonCommand(c.value(), process_.name, NodeRole::kNode, *replica_,
-                                   *transport_.faults, vehicles_)) {
+  if (auto r = AnswerCommonCommand(c.value(), process_.name, NodeRole::kNode, *replica_, transport_,
+                                   vehicles_)) {
     return *r;
   }
   ControlReply reply = RunFeatureCommand(c.value(), *this);

@@ -8,8 +8,8 @@
 
 #include <fmt/format.h>
 
-#include "runtime/toml_reader.h"
 #include "pdu/transport.h"
+#include "runtime/toml_reader.h"
 #include "terrain/vehicle_type.h"
 
 namespace dt {
@@ -51,6 +51,35 @@ ProcessConfig ReadProcess(const TomlReader& r, const std::filesystem::path& base
   }
   r.Finish();
   return p;
+}
+
+AuthSettings ReadAuth(const TomlReader& top, const std::filesystem::path& base_dir) {
+  const std::optional<TomlReader> a = top.OptionalTable("auth");
+  if (!a) {
+    top.Fail("auth",
+             "missing: name the exercise key with [auth] key_file = \"<file>\" (make one: head -c "
+             "32 /dev/urandom > <file>), or run without authentication with [auth] mode = "
+             "\"none\"");
+  }
+  AuthSettings auth;
+  const std::string mode = a->String("mode", "key");
+  if (mode != "key" && mode != "none") a->Fail("mode", "expected \"key\" or \"none\"");
+  auth.keyless = mode == "none";
+  if (auth.keyless) {
+    if (a->Has("key_file")) a->Fail("key_file", "mode = \"none\" runs without a key: remove it");
+  } else {
+    const std::string file = a->String("key_file");
+    if (file.empty()) a->Fail("key_file", "must name a file");
+    auth.key_file = std::filesystem::absolute(base_dir / file).lexically_normal();
+    try {
+      auth.key = ExerciseKey::FromFile(auth.key_file);
+    } catch (const std::invalid_argument& e) {
+      a->Fail("key_file", e.what());
+    }
+  }
+  auth.clock_tolerance_ms = static_cast<int>(a->Int("clock_tolerance_ms", 30000, 100, 3600000));
+  a->Finish();
+  return auth;
 }
 
 bool KnownTransport(std::string_view url) {
@@ -128,6 +157,9 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     p->Finish();
   }
 
+  const std::filesystem::path base = std::filesystem::absolute(base_dir);
+  c.auth = ReadAuth(top, base);
+
   if (auto f = top.OptionalTable("faults")) {
     c.faults.drop_probability = f->Double("drop_probability", 0.0, 0.0, 1.0);
     c.faults.duplicate_probability = f->Double("duplicate_probability", 0.0, 0.0, 1.0);
@@ -137,7 +169,6 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     f->Finish();
   }
 
-  const std::filesystem::path base = std::filesystem::absolute(base_dir);
   c.server = ReadProcess(top.Table("server"), base, false, c.terrain_size_m());
   if (auto s = top.OptionalTable("standby")) c.standby = ReadProcess(*s, base, false, 0.0);
   for (const TomlReader& n : top.TableArray("node")) {

@@ -54,7 +54,19 @@ ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise,
   bus.exercise_id = exercise.exercise_id;
   bus.local = process.address;
   bus.terrain_size_m = exercise.terrain_size_m();
+  bus.auth.key = exercise.auth.key;
+  bus.auth.clock_tolerance = std::chrono::milliseconds(exercise.auth.clock_tolerance_ms);
   t.bus = std::make_unique<PduBus>(*t.transport, bus);
+  if (const PduAuthenticator* a = t.bus->authenticator()) {
+    DT_LOG_INFO(
+        "PDUs authenticated with the exercise key {} (incarnation {}, clock tolerance {} ms)",
+        exercise.auth.key_file.string(), a->incarnation(), exercise.auth.clock_tolerance_ms);
+  } else {
+    DT_LOG_WARN(
+        "exercise \"{}\" runs WITHOUT PDU authentication ([auth] mode = \"none\" in {}): any "
+        "program on {} can create, change or destroy features and replay old PDUs",
+        exercise.name, exercise.source.string(), t.transport->Url());
+  }
   return t;
 }
 
@@ -83,7 +95,8 @@ int64_t MonotonicMs() {
 }
 
 std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
-                       const FaultyTransport& faults, const std::vector<Vehicle>& vehicles) {
+                       const ProcessTransport& transport, const std::vector<Vehicle>& vehicles) {
+  const FaultyTransport& faults = *transport.faults;
   const Replica::Counters c = replica.counters();
   std::string s = fmt::format(
       "name {}\naddress {}\nrole {}\nsigned_on {}\ncaught_up {}\nfeatures {}\ndigest {}\n"
@@ -95,6 +108,16 @@ std::string StatusText(const std::string& name, NodeRole role, const Replica& re
       replica.own_feature_number(), replica.own_change_seq(), replica.acknowledged_change_seq(),
       c.sent, c.received, c.rejected, c.played_back, c.applied, c.ignored_stale, faults.dropped(),
       const_cast<FaultyTransport&>(faults).faults().config().drop_probability);
+  // The bus's rejections by reason (validation and authentication), all of them, zeros too.
+  const RejectCounters& rejects = transport.bus->rejects();
+  for (size_t i = 0; i < kRejectReasonCount; ++i) {
+    const auto reason = static_cast<RejectReason>(i);
+    s += fmt::format("\nrejected_{} {}", RejectReasonName(reason), rejects.count(reason));
+  }
+  // Senders whose authenticated PDUs this process tracks for replays (itself included).
+  const PduAuthenticator* auth = transport.bus->authenticator();
+  s += fmt::format("\nauthenticated {}\nauth_senders {}", auth != nullptr ? 1 : 0,
+                   auth != nullptr ? auth->senders_tracked() : 0);
   for (const auto& [origin, max] : replica.max_feature_known()) {
     s += fmt::format("\nmax_feature {} {}", origin.ToString(), max);
   }
@@ -127,13 +150,14 @@ Status RenderMapPng(const Terrain& terrain, const std::vector<Vehicle>& vehicles
 
 std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
                                                 const std::string& name, NodeRole role,
-                                                const Replica& replica, FaultyTransport& faults,
+                                                const Replica& replica, ProcessTransport& transport,
                                                 const std::vector<Vehicle>& vehicles) {
+  FaultyTransport& faults = *transport.faults;
   switch (command.verb) {
     case ControlVerb::kPing:
       return ControlReply::Ok("pong");
     case ControlVerb::kStatus:
-      return ControlReply::Ok(StatusText(name, role, replica, faults, vehicles));
+      return ControlReply::Ok(StatusText(name, role, replica, transport, vehicles));
     case ControlVerb::kDigest:
       return ControlReply::Ok(replica.Digest());
     case ControlVerb::kFeatures: {

@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "runtime/control_command.h"
-#include "runtime/control_server.h"
-#include "runtime/exercise_config.h"
 #include "engine/replica.h"
 #include "pdu/faulty_transport.h"
 #include "pdu/pdu_bus.h"
+#include "runtime/control_command.h"
+#include "runtime/control_server.h"
+#include "runtime/exercise_config.h"
 #include "terrain/vehicle.h"
 
 namespace dt {
@@ -25,6 +25,7 @@ struct ProcessTransport {
   std::unique_ptr<Transport> transport;
   std::unique_ptr<PduBus> bus;
 };
+// PDUs are authenticated with the exercise's key ([auth]); a keyless exercise logs a warning.
 // Throws like MakeTransport.
 ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise, const ProcessConfig& process);
 
@@ -41,15 +42,16 @@ void WaitForWork(int transport_fd, bool messages_held, const ControlServer& cont
 int64_t MonotonicMs();
 
 // "key value" lines: name, address, role, signed_on, caught_up, features, digest, own numbers,
-// acknowledged sequence, counters, max_feature per origin, vehicles (docs/node.md "status").
+// acknowledged sequence, counters, rejected_<reason> per PDU rejection reason, authenticated,
+// auth_senders, max_feature per origin, vehicles (docs/node.md "status").
 std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
-                       const FaultyTransport& faults, const std::vector<Vehicle>& vehicles);
+                       const ProcessTransport& transport, const std::vector<Vehicle>& vehicles);
 
 // Answers status, digest, features, render, loss, partition, heal and ping; nullopt for the
 // others (feature commands, quit), which the process handles itself.
 std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
                                                 const std::string& name, NodeRole role,
-                                                const Replica& replica, FaultyTransport& faults,
+                                                const Replica& replica, ProcessTransport& transport,
                                                 const std::vector<Vehicle>& vehicles);
 
 // Renders the terrain and vehicles as a 512-pixel map PNG. Error if the file cannot be written

@@ -16,7 +16,7 @@
 namespace {
 
 dt::ControlReply Handle(std::string_view line, const std::string& name, dt::NodeRole role,
-                        dt::ServerReplica& server, dt::FaultyTransport& faults, bool& quit) {
+                        dt::ServerReplica& server, dt::ProcessTransport& transport, bool& quit) {
   static const std::vector<dt::Vehicle> kNoVehicles;
   dt::Result<dt::ControlCommand> c = dt::ParseControlCommand(line);
   if (!c) return dt::ControlReply::Fail(c.error().message);
@@ -37,8 +37,8 @@ dt::ControlReply Handle(std::string_view line, const std::string& name, dt::Node
     default:
       break;
   }
-  if (auto r =
-          dt::AnswerCommonCommand(c.value(), name, role, server.replica(), faults, kNoVehicles)) {
+  if (auto r = dt::AnswerCommonCommand(c.value(), name, role, server.replica(), transport,
+                                       kNoVehicles)) {
     return *r;
   }
   return dt::ControlReply::Fail(fmt::format(
@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
                 server.replica().live_feature_count(), dt::MonotonicMs() - t0);
     bool quit = false;
     dt::ControlServer control(exercise.SocketPath(name), [&](std::string_view line) {
-      return Handle(line, name, role, server, *transport.faults, quit);
+      return Handle(line, name, role, server, transport, quit);
     });
 
     const int64_t tick_ms = 1000 / exercise.tick_hz;

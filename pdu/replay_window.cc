@@ -12,8 +12,7 @@ ReplayWindow::Verdict ReplayWindow::Accept(uint64_t incarnation, uint64_t sequen
     has_ = true;
     incarnation_ = incarnation;
     highest_ = sequence;
-    bits_.fill(0);
-    Set(sequence);
+    bits_.fill(~uint64_t{0});  // the first sequence heard and everything before it
     return Verdict::kNew;
   }
   if (sequence > highest_) {

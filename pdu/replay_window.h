@@ -11,7 +11,10 @@ namespace dt {
 // when its incarnation is newer than the one held (the window restarts), or it is the same
 // incarnation and its sequence is above the highest, or within the window and not yet seen.
 // Everything else is a replay: an older incarnation, a sequence seen before, or one so far
-// behind that the window no longer says whether it was seen.
+// behind that the window no longer says whether it was seen. When the window (re)starts, every
+// sequence below the first one heard counts as seen: a receiver that joins late never takes
+// what the sender sent before it was heard (a recording of it, replayed), at the price of
+// refusing a PDU that overtook its predecessor just then (the protocol recovers it by playback).
 class ReplayWindow {
  public:
   // Sequences kept behind the highest: reordering deeper than this is refused. Large enough for

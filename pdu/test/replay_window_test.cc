@@ -29,19 +29,26 @@ TEST(ReplayWindow, AcceptsReorderingWithinTheWindowOnce) {
   EXPECT_EQ(w.Accept(1, 99), V::kBehindWindow);  // highest - 99 = kSize
 }
 
-TEST(ReplayWindow, AcceptsSequencesBelowTheFirstHeardOnce) {
-  // A receiver that starts late first hears some sequence; earlier ones still in flight were
-  // never seen and are accepted once.
+TEST(ReplayWindow, RefusesSequencesBelowTheFirstHeard) {
+  // A receiver that starts late first hears some sequence; what the sender sent before it (a
+  // recording of it) is refused, but gaps opened after the first are filled once.
   ReplayWindow w;
   EXPECT_EQ(w.Accept(1, 100), V::kNew);
-  EXPECT_EQ(w.Accept(1, 90), V::kNew);
   EXPECT_EQ(w.Accept(1, 90), V::kSeen);
-  EXPECT_EQ(w.highest(), 100u);
+  EXPECT_EQ(w.Accept(1, 99), V::kSeen);
+  EXPECT_EQ(w.Accept(1, 103), V::kNew);
+  EXPECT_EQ(w.Accept(1, 101), V::kNew);
+  EXPECT_EQ(w.Accept(1, 101), V::kSeen);
+  EXPECT_EQ(w.highest(), 103u);
+  // The same after a restart: the new incarnation's window starts at its first sequence heard.
+  EXPECT_EQ(w.Accept(2, 7), V::kNew);
+  EXPECT_EQ(w.Accept(2, 6), V::kSeen);
 }
 
 TEST(ReplayWindow, RefusesWhatIsTooFarBehind) {
   ReplayWindow w;
-  EXPECT_EQ(w.Accept(1, 5000), V::kNew);
+  EXPECT_EQ(w.Accept(1, 1), V::kNew);
+  EXPECT_EQ(w.Accept(1, 5000), V::kNew);  // a jump past the whole window: none of it was seen
   EXPECT_EQ(w.Accept(1, 5000 - ReplayWindow::kSize + 1), V::kNew);  // the oldest slot kept
   EXPECT_EQ(w.Accept(1, 5000 - ReplayWindow::kSize), V::kBehindWindow);
   EXPECT_EQ(w.Accept(1, 1), V::kBehindWindow);

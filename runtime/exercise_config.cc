@@ -157,7 +157,9 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     p->Finish();
   }
 
-  const std::filesystem::path base = std::filesystem::absolute(base_dir);
+  // A file named without a folder ("ex.toml") has an empty parent: the current directory.
+  const std::filesystem::path base =
+      base_dir.empty() ? std::filesystem::current_path() : std::filesystem::absolute(base_dir);
   c.auth = ReadAuth(top, base);
 
   if (auto f = top.OptionalTable("faults")) {

@@ -65,7 +65,7 @@ ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise,
     DT_LOG_WARN(
         "exercise \"{}\" runs WITHOUT PDU authentication ([auth] mode = \"none\" in {}): any "
         "program on {} can create, change or destroy features and replay old PDUs",
-        exercise.name, exercise.source.string(), t.transport->Url());
+        exercise.name, exercise.source.string(), exercise.transport_url);
   }
   return t;
 }

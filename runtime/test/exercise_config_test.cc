@@ -207,6 +207,24 @@ TEST_F(AuthConfigTest, ReadsTheKeyFileBesideTheExerciseFile) {
   EXPECT_EQ(Load("[auth]\nkey_file = \"keys/ex.key\"\n").auth.clock_tolerance_ms, 30000);
 }
 
+TEST_F(AuthConfigTest, AFileNamedWithoutAFolderResolvesInTheCurrentDirectory) {
+  WriteKey("ex.key", 32);
+  Load("[auth]\nkey_file = \"keys/ex.key\"\n");
+  const std::filesystem::path cwd = std::filesystem::current_path();
+  std::filesystem::current_path(dir_);
+  std::string error;
+  ExerciseConfig c;
+  try {
+    c = LoadExerciseConfig("e.toml");
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  std::filesystem::current_path(cwd);
+  ASSERT_EQ(error, "");
+  EXPECT_EQ(c.auth.key_file, dir_ / "keys" / "ex.key");
+  EXPECT_EQ(c.nodes[0].scenario, dir_ / "scen/a.toml");
+}
+
 TEST_F(AuthConfigTest, KeylessIsAnExplicitChoice) {
   const ExerciseConfig c = Load("[auth]\nmode = \"none\"\n");
   EXPECT_TRUE(c.auth.keyless);

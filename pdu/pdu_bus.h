@@ -23,7 +23,8 @@ struct PduBusConfig {
   uint8_t exercise_id = 0;
   NodeAddress local;            // this node: stamped as every PDU's sender
   double terrain_size_m = 0.0;  // > 0; positions outside [0, size] are dropped
-  // Transports echo a node's own PDUs back to it; by default the bus drops them.
+  // Transports echo a node's own PDUs back to it; by default the bus drops them (by the sender
+  // field, first, before authentication and decoding).
   bool deliver_own = false;
   // Source of header.timestamp_dis; simulations pass a deterministic one.
   std::function<uint32_t()> clock = [] { return DisTimestampNow(); };
@@ -126,6 +127,14 @@ void PduBus::Subscribe(std::function<void(const Pdu&)> handler) {
 
 template <AnyPdu Pdu>
 void PduBus::Receive(std::span<const uint8_t> bytes) noexcept {
+  // Its own PDUs, echoed by the transport, could reach no handler: dropped before they cost a
+  // MAC or a decode (so a forgery naming this node as sender counts as an echo).
+  if (!config_.deliver_own) {
+    if (const auto sender = PeekSender(bytes); sender && *sender == config_.local) {
+      ++own_echoes_;
+      return;
+    }
+  }
   if (auth_) {
     if (auto r = auth_->Verify(bytes, bytes)) {
       reject_log_.Record(PduTraits<Pdu>::kType, *r);
@@ -135,11 +144,6 @@ void PduBus::Receive(std::span<const uint8_t> bytes) noexcept {
   Pdu pdu;
   if (auto r = DecodeAndValidate(bytes, validation_context(), pdu)) {
     reject_log_.Record(PduTraits<Pdu>::kType, *r);
-    return;
-  }
-  if (!config_.deliver_own && static_cast<uint16_t>(pdu.sender.site) == config_.local.site &&
-      static_cast<uint16_t>(pdu.sender.host) == config_.local.host) {
-    ++own_echoes_;
     return;
   }
   ++accepted_;

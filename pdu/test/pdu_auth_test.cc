@@ -223,6 +223,18 @@ TEST_F(AuthTest, ForgetsASenderSilentForTwiceTheTolerance) {
   EXPECT_EQ(count(RejectReason::kReplayed), 1u);
 }
 
+TEST_F(AuthTest, ItsOwnEchoesAreDroppedBeforeAuthentication) {
+  // They can reach no handler, so no MAC is spent on them; a forgery naming this node (2:2) as
+  // its sender is dropped the same way.
+  dtpdu::construct_t pdu = sample::Construct();
+  pdu.sender = ToPdu(NodeAddress{2, 2});
+  Inject(EncodePdu(pdu));
+  EXPECT_EQ(bus_.own_echoes(), 1u);
+  EXPECT_EQ(bus_.rejects().total(), 0u);
+  EXPECT_EQ(handled_, 0);
+  EXPECT_EQ(bus_.authenticator()->senders_tracked(), 0u);
+}
+
 TEST_F(AuthTest, ValidationStillRunsOnAuthenticPdus) {
   PduAuthenticator member({1, 2}, Auth(key_, &now_ms_));
   dtpdu::construct_t pdu = sample::Construct();

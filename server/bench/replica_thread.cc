@@ -11,10 +11,13 @@
 
 namespace dt::bench {
 ReplicaThread::ReplicaThread(const std::string& url, const HeightGrid& ground, ReplicaConfig config,
-                             ChangeStore* store, int64_t epoch_ns)
+                             ChangeStore* store, int64_t epoch_ns,
+                             std::shared_ptr<const ExerciseKey> key)
     : epoch_ns_(epoch_ns) {
   transport_ = MakeTransport(url, kBenchExercise);
-  bus_ = std::make_unique<PduBus>(*transport_, BenchBusConfig(config.address, ground));
+  PduBusConfig bc = BenchBusConfig(config.address, ground);
+  bc.auth.key = std::move(key);
+  bus_ = std::make_unique<PduBus>(*transport_, bc);
   config.store = store;
   replica_ = std::make_unique<Replica>(config, ground, *bus_);
   wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);

@@ -1,6 +1,7 @@
 #include "server/bench/replica_thread.h"
 
 #include <poll.h>
+#include <pthread.h>
 #include <sys/eventfd.h>
 #include <unistd.h>
 
@@ -88,6 +89,16 @@ void ReplicaThread::Loop() {
     }
     busy = dispatched && dispatched.value() > 0;
   }
+}
+
+int64_t ReplicaThread::CpuNs() {
+  clockid_t clock{};
+  timespec t{};
+  if (pthread_getcpuclockid(thread_.native_handle(), &clock) != 0 ||
+      clock_gettime(clock, &t) != 0) {
+    return -1;
+  }
+  return int64_t{t.tv_sec} * 1000000000 + t.tv_nsec;
 }
 
 }  // namespace dt::bench

@@ -42,6 +42,8 @@ class ReplicaThread {
   std::future<int64_t> Post(Step step);
   // Runs `fn` on the replica's thread once and waits for it.
   void Run(const std::function<void(Replica&)>& fn);
+  // CPU time the replica's thread has used so far, ns (work done, not time waited for a core).
+  int64_t CpuNs();
 
  private:
   struct Pending {

@@ -51,11 +51,11 @@ int main(int argc, char** argv) {
       .write(reinterpret_cast<const char*>(captured.data()),
              static_cast<std::streamsize>(captured.size()));
   const std::string trailer =
-      argc == 3 ? fmt::format(
-                      R"(, "lcm_bytes": {}, "trailer": {{"sender": [1, 2], "incarnation": {},)"
-                      R"( "sequence": 1, "send_time_ms": {}}})",
-                      EncodePdu(pdu).size(), kIncarnation, kSendMs)
-                : std::string();
+      argc == 3
+          ? fmt::format(R"(, "lcm_bytes": {}, "trailer": {{"sender": [1, 2], "incarnation": {},)"
+                        R"( "sequence": 1, "send_time_ms": {}}})",
+                        EncodePdu(pdu).size(), kIncarnation, kSendMs)
+          : std::string();
   // %.17g: enough digits that Python's float() gives back the same double.
   std::ofstream(std::string(argv[1]) + ".json")
       << fmt::format(

@@ -11,6 +11,7 @@ PduBus::PduBus(Transport& transport, PduBusConfig config)
         fmt::format("PduBus: terrain_size_m = {} must be positive", config_.terrain_size_m));
   }
   if (!config_.clock) throw std::invalid_argument("PduBus: clock is empty");
+  if (config_.auth.key) auth_.emplace(config_.local, config_.auth);
 }
 
 }  // namespace dt

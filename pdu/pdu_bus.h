@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <tuple>
 #include <vector>
@@ -12,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "pdu/dis_time.h"
+#include "pdu/pdu_auth.h"
 #include "pdu/transport.h"
 #include "pdu/validation.h"
 
@@ -21,24 +23,31 @@ struct PduBusConfig {
   uint8_t exercise_id = 0;
   NodeAddress local;            // this node: stamped as every PDU's sender
   double terrain_size_m = 0.0;  // > 0; positions outside [0, size] are dropped
-  // Transports echo a node's own PDUs back to it; by default the bus drops them.
+  // Transports echo a node's own PDUs back to it; by default the bus drops them (by the sender
+  // field, first, before authentication and decoding).
   bool deliver_own = false;
   // Source of header.timestamp_dis; simulations pass a deterministic one.
   std::function<uint32_t()> clock = [] { return DisTimestampNow(); };
   std::chrono::milliseconds reject_log_interval{1000};
+  // Authentication (pdu/pdu_auth.h). With a key every PDU sent carries a trailer and every PDU
+  // received must carry a valid one; without (auth.key null) neither. Processes set it from the
+  // exercise file's [auth] table.
+  PduAuthConfig auth;
 };
 
 // Publishes typed PDUs (stamping the header, sender and sender_seq) and subscribes typed
-// handlers. Every received message is decoded and validated; a rejected one is dropped, counted
-// per reason, logged rate-limited and never reaches a handler. Same threading as Transport.
+// handlers. Every received message is authenticated (with a key), then decoded and validated; a
+// rejected one is dropped, counted per reason, logged rate-limited and never reaches a handler.
+// Same threading as Transport.
 class PduBus {
  public:
-  // Throws std::invalid_argument if terrain_size_m is not a positive finite number.
+  // Throws std::invalid_argument if terrain_size_m is not a positive finite number, or for a bad
+  // authentication config (PduAuthenticator).
   PduBus(Transport& transport, PduBusConfig config);
 
   // Sets header (protocol version, exercise, type, time stamp), sender = local and the next
-  // sender_seq, validates what will be sent (a bad PDU is refused, never sent), encodes and
-  // publishes. Returns the sender_seq used.
+  // sender_seq, validates what will be sent (a bad PDU is refused, never sent), encodes, signs
+  // (with a key) and publishes. Returns the sender_seq used.
   template <AnyPdu Pdu>
   Result<int64_t> Publish(Pdu pdu);
 
@@ -55,6 +64,8 @@ class PduBus {
   uint64_t own_echoes() const { return own_echoes_; }
   int64_t last_sender_seq() const { return sender_seq_; }
   const PduBusConfig& config() const { return config_; }
+  // The authenticator; null when the bus runs without a key.
+  const PduAuthenticator* authenticator() const { return auth_ ? &*auth_ : nullptr; }
   ValidationContext validation_context() const {
     return {config_.exercise_id, config_.terrain_size_m};
   }
@@ -70,6 +81,7 @@ class PduBus {
   Transport& transport_;
   PduBusConfig config_;
   RejectLog reject_log_;
+  std::optional<PduAuthenticator> auth_;
   std::vector<uint8_t> encode_buffer_;  // reused: no allocation per published PDU
   int64_t sender_seq_ = 0;
   uint64_t accepted_ = 0;
@@ -98,6 +110,7 @@ Result<int64_t> PduBus::Publish(Pdu pdu) {
                              r->detail)};
   }
   EncodePduInto(pdu, encode_buffer_);
+  if (auth_) auth_->Sign(encode_buffer_);
   if (auto s = transport_.Publish(PduTraits<Pdu>::kType, encode_buffer_); !s) return s.error();
   return ++sender_seq_;
 }
@@ -114,14 +127,23 @@ void PduBus::Subscribe(std::function<void(const Pdu&)> handler) {
 
 template <AnyPdu Pdu>
 void PduBus::Receive(std::span<const uint8_t> bytes) noexcept {
+  // Its own PDUs, echoed by the transport, could reach no handler: dropped before they cost a
+  // MAC or a decode (so a forgery naming this node as sender counts as an echo).
+  if (!config_.deliver_own) {
+    if (const auto sender = PeekSender(bytes); sender && *sender == config_.local) {
+      ++own_echoes_;
+      return;
+    }
+  }
+  if (auth_) {
+    if (auto r = auth_->Verify(bytes, bytes)) {
+      reject_log_.Record(PduTraits<Pdu>::kType, *r);
+      return;
+    }
+  }
   Pdu pdu;
   if (auto r = DecodeAndValidate(bytes, validation_context(), pdu)) {
     reject_log_.Record(PduTraits<Pdu>::kType, *r);
-    return;
-  }
-  if (!config_.deliver_own && static_cast<uint16_t>(pdu.sender.site) == config_.local.site &&
-      static_cast<uint16_t>(pdu.sender.host) == config_.local.host) {
-    ++own_echoes_;
     return;
   }
   ++accepted_;

@@ -97,10 +97,13 @@ std::optional<Rejection> ValidateFeature(const Pdu& pdu, const ValidationContext
 
 std::string_view RejectReasonName(RejectReason reason) {
   static constexpr std::array<std::string_view, kRejectReasonCount> kNames = {
-      "oversized",       "truncated",        "wrong_fingerprint", "trailing_bytes",
-      "wrong_protocol",  "foreign_exercise", "unknown_pdu_type",  "pdu_type_mismatch",
-      "unknown_feature", "unknown_material", "not_finite",        "out_of_range",
-      "off_terrain",     "bad_field",        "inverted_range",    "huge_range"};
+      "oversized",        "truncated",         "wrong_fingerprint",
+      "trailing_bytes",   "wrong_protocol",    "foreign_exercise",
+      "unknown_pdu_type", "pdu_type_mismatch", "unknown_feature",
+      "unknown_material", "not_finite",        "out_of_range",
+      "off_terrain",      "bad_field",         "inverted_range",
+      "huge_range",       "unauthenticated",   "bad_mac",
+      "sender_mismatch",  "replayed",          "stale"};
   const auto i = static_cast<size_t>(reason);
   return i < kNames.size() ? kNames[i] : "unknown";
 }

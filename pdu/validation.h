@@ -31,8 +31,15 @@ enum class RejectReason : uint8_t {
   kBadField,              // a counter, enumeration or flag outside its range
   kInvertedRange,         // playback start > end
   kHugeRange,             // playback range longer than kMaxPlaybackSpan
+  // Authentication (pdu/pdu_auth.h), checked before any of the above:
+  kUnauthenticated,  // no authentication trailer (sent without the exercise key, or not by us)
+  kBadMac,           // the trailer's MAC is not the exercise key's MAC of the bytes
+  kSenderMismatch,   // the trailer's sender is not the PDU's sender field
+  kReplayed,         // an older incarnation of the sender, or a sequence seen or out of the window
+  kStale,            // send time further from the receiver's clock than the tolerance
 };
-inline constexpr size_t kRejectReasonCount = 16;
+inline constexpr size_t kRejectReasonCount = 21;
+static_assert(static_cast<size_t>(RejectReason::kStale) + 1 == kRejectReasonCount);
 
 // "oversized", "truncated", ... as used in logs and reports.
 std::string_view RejectReasonName(RejectReason reason);

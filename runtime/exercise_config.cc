@@ -58,6 +58,36 @@ ProcessConfig ReadProcess(const TomlReader& r, const std::filesystem::path& base
   return p;
 }
 
+AuthSettings ReadAuth(const TomlReader& top, const std::filesystem::path& base_dir) {
+  const std::optional<TomlReader> a =
+      top.OptionalTable("auth", {"mode", "key_file", "clock_tolerance_ms"});
+  if (!a) {
+    top.Fail("auth",
+             "missing: name the exercise key with [auth] key_file = \"<file>\" (make one: head -c "
+             "32 /dev/urandom > <file>), or run without authentication with [auth] mode = "
+             "\"none\"");
+  }
+  AuthSettings auth;
+  const std::string mode = a->String("mode", "key");
+  if (mode != "key" && mode != "none") a->Fail("mode", "expected \"key\" or \"none\"");
+  auth.keyless = mode == "none";
+  if (auth.keyless) {
+    if (a->Has("key_file")) a->Fail("key_file", "mode = \"none\" runs without a key: remove it");
+  } else {
+    const std::string file = a->String("key_file");
+    if (file.empty()) a->Fail("key_file", "must name a file");
+    auth.key_file = std::filesystem::absolute(base_dir / file).lexically_normal();
+    try {
+      auth.key = ExerciseKey::FromFile(auth.key_file);
+    } catch (const std::invalid_argument& e) {
+      a->Fail("key_file", e.what());
+    }
+  }
+  auth.clock_tolerance_ms = static_cast<int>(a->Int("clock_tolerance_ms", 30000, 100, 3600000));
+  a->Finish();
+  return auth;
+}
+
 bool KnownTransport(std::string_view url) {
   return url.rfind("udpm://", 0) == 0 || url.rfind("dds://", 0) == 0 ||
          url.rfind("memq://", 0) == 0;
@@ -100,7 +130,8 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
                                    const std::filesystem::path& base_dir) {
   const toml::table root = TomlReader::ParseText(toml_text, source_name);
   const TomlReader top(root, std::string(source_name), "",
-                       {"exercise", "terrain", "protocol", "faults", "server", "standby", "node"});
+                       {"exercise", "terrain", "protocol", "faults", "server", "standby", "node",
+                        "auth"});
   ExerciseConfig c;
   c.source = std::string(source_name);
 
@@ -139,6 +170,11 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     p->Finish();
   }
 
+  // A file named without a folder ("ex.toml") has an empty parent: the current directory.
+  const std::filesystem::path base =
+      base_dir.empty() ? std::filesystem::current_path() : std::filesystem::absolute(base_dir);
+  c.auth = ReadAuth(top, base);
+
   if (auto f = top.OptionalTable("faults", {"drop_probability", "duplicate_probability",
                                             "reorder_probability", "reorder_window", "seed"})) {
     c.faults.drop_probability = f->Double("drop_probability", 0.0, 0.0, 1.0);
@@ -149,7 +185,6 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     f->Finish();
   }
 
-  const std::filesystem::path base = std::filesystem::absolute(base_dir);
   if (require_server) {
     top.FailOnUnknownKeys();  // a mistyped [srever] is named, not "server: missing"
     if (!top.Has("server")) {

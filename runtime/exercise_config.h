@@ -4,11 +4,13 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "pdu/exercise_key.h"
 #include "pdu/fault_model.h"
 #include "terrain/feature_id.h"
 #include "terrain/random_terrain.h"
@@ -39,6 +41,15 @@ struct ProtocolTiming {
   int playback_window = 256;
 };
 
+// How the exercise's PDUs are authenticated (docs/pdu.md "Authentication"): [auth] names a key
+// file, or says mode = "none" to run without one. There is no default: the table is required.
+struct AuthSettings {
+  bool keyless = false;                    // mode = "none"
+  std::filesystem::path key_file;          // absolute; empty when keyless
+  std::shared_ptr<const ExerciseKey> key;  // read when the file is loaded; null when keyless
+  int clock_tolerance_ms = 30000;          // PduAuthConfig::clock_tolerance
+};
+
 struct ExerciseConfig {
   std::filesystem::path source;  // the file read
   std::string name;
@@ -48,6 +59,7 @@ struct ExerciseConfig {
   int tick_hz = 30;
   RandomTerrainParams terrain;
   ProtocolTiming protocol;
+  AuthSettings auth;
   FaultConfig faults;  // injected on receipt by every process (pdu/faulty_transport.h)
   uint64_t fault_seed = 1;
   // Absent exactly when the file says [protocol] require_server = false: an exercise without a
@@ -67,11 +79,13 @@ struct ExerciseConfig {
   std::filesystem::path SocketPath(std::string_view name) const;
 };
 
-// Parses TOML text. Relative paths (scenarios) resolve against base_dir; a relative run_dir
-// resolves against the current directory. Throws std::invalid_argument naming `source_name`, the
-// key and the offending value for a syntax error, a missing or mistyped key, a value out of
-// range, an unknown key, duplicate process names or addresses, a missing [server] (unless
-// [protocol] require_server = false) or a [server] or [standby] in an exercise without a server.
+// Parses TOML text. Relative paths (scenarios, the key file) resolve against base_dir; a relative
+// run_dir resolves against the current directory. The key file is read here. Throws
+// std::invalid_argument naming `source_name`, the key and the offending value for a syntax
+// error, a missing or mistyped key, a value out of range, an unknown key, duplicate process names
+// or addresses, a missing [server] (unless [protocol] require_server = false) or a [server] or
+// [standby] in an exercise without a server, a missing [auth] table, or a key file that cannot be
+// read or is too short (the message names its path and length).
 ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,
                                    const std::filesystem::path& base_dir);
 

@@ -44,7 +44,19 @@ ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise,
   bus.exercise_id = exercise.exercise_id;
   bus.local = process.address;
   bus.terrain_size_m = exercise.terrain_size_m();
+  bus.auth.key = exercise.auth.key;
+  bus.auth.clock_tolerance = std::chrono::milliseconds(exercise.auth.clock_tolerance_ms);
   t.bus = std::make_unique<PduBus>(*t.transport, bus);
+  if (const PduAuthenticator* a = t.bus->authenticator()) {
+    DT_LOG_INFO(
+        "PDUs authenticated with the exercise key {} (incarnation {}, clock tolerance {} ms)",
+        exercise.auth.key_file.string(), a->incarnation(), exercise.auth.clock_tolerance_ms);
+  } else {
+    DT_LOG_WARN(
+        "exercise \"{}\" runs WITHOUT PDU authentication ([auth] mode = \"none\" in {}): any "
+        "program on {} can create, change or destroy features and replay old PDUs",
+        exercise.name, exercise.source.string(), exercise.transport_url);
+  }
   return t;
 }
 
@@ -109,6 +121,16 @@ std::string StatusText(const std::string& name, NodeRole role, const Replica& re
   s += fmt::format(
       "\nvoided {}\nrefused_stranger {}\nrefused_role {}\nrefused_claim {}\nrefused_lamport {}",
       c.voided, c.refused_stranger, c.refused_role, c.refused_claim, c.refused_lamport);
+  // The bus's rejections by reason (validation and authentication), all of them, zeros too.
+  const RejectCounters& rejects = transport.bus->rejects();
+  for (size_t i = 0; i < kRejectReasonCount; ++i) {
+    const auto reason = static_cast<RejectReason>(i);
+    s += fmt::format("\nrejected_{} {}", RejectReasonName(reason), rejects.count(reason));
+  }
+  // Senders whose authenticated PDUs this process tracks for replays (itself included).
+  const PduAuthenticator* auth = transport.bus->authenticator();
+  s += fmt::format("\nauthenticated {}\nauth_senders {}", auth != nullptr ? 1 : 0,
+                   auth != nullptr ? auth->senders_tracked() : 0);
   for (const auto& [origin, max] : replica.max_feature_known()) {
     s += fmt::format("\nmax_feature {} {}", origin.ToString(), max);
   }

@@ -32,6 +32,7 @@ struct ProcessTransport {
   // quiet.
   bool needs_handling() const { return faults->held() > 0 || retrying->queued() > 0; }
 };
+// PDUs are authenticated with the exercise's key ([auth]); a keyless exercise logs a warning.
 // Throws like MakeTransport.
 ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise, const ProcessConfig& process);
 
@@ -55,7 +56,8 @@ int64_t MonotonicMs();
 
 // "key value" lines: name, address, role, require_server, signed_on, caught_up, features, digest,
 // own numbers, acknowledged sequence, counters, fault and write-retry counters, refusals by the
-// protocol's rules, max_feature per origin, vehicles (docs/node.md "status").
+// protocol's rules, rejected_<reason> per PDU rejection reason, authenticated, auth_senders,
+// max_feature per origin, vehicles (docs/node.md "status").
 std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
                        const ProcessTransport& transport, const std::vector<Vehicle>& vehicles);
 

@@ -11,7 +11,7 @@ packages=(
   libosmesa6-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev libtomlplusplus-dev libspdlog-dev libfmt-dev
-  libsqlite3-dev libpng-dev libxxhash-dev
+  libsqlite3-dev libpng-dev libxxhash-dev libsodium-dev
   clang libclang-rt-14-dev clang-format
   python3 python3-pip
 )

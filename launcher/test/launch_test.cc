@@ -22,11 +22,12 @@ std::filesystem::path WriteExercise(const std::string& tag) {
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("dt-launch-" + tag + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  std::ofstream(dir / "ex.toml") << "[exercise]\nname = \"fakes\"\nrun_dir = \"" << dir.string()
-                                 << "\"\n[terrain]\n[server]\nname = \"server\"\nsite = 1\n"
-                                    "host = 100\n[standby]\nname = \"standby\"\nsite = 1\n"
-                                    "host = 101\n[[node]]\nname = \"node-1\"\nsite = 1\nhost = 1\n"
-                                    "[[node]]\nname = \"node-2\"\nsite = 1\nhost = 2\n";
+  std::ofstream(dir / "ex.toml")
+      << "[exercise]\nname = \"fakes\"\nrun_dir = \"" << dir.string()
+      << "\"\n[auth]\nmode = \"none\"\n[terrain]\n[server]\nname = \"server\"\nsite = 1\n"
+         "host = 100\n[standby]\nname = \"standby\"\nsite = 1\n"
+         "host = 101\n[[node]]\nname = \"node-1\"\nsite = 1\nhost = 1\n"
+         "[[node]]\nname = \"node-2\"\nsite = 1\nhost = 2\n";
   return dir / "ex.toml";
 }
 
@@ -61,7 +62,8 @@ TEST(LaunchTest, StartsOnlyNodesInAnExerciseWithoutAServer) {
       std::filesystem::temp_directory_path() / ("dt-launch-nosrv" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "ex.toml") << "[exercise]\nname = \"fakes\"\nrun_dir = \"" << dir.string()
-                                 << "\"\n[terrain]\n[protocol]\nrequire_server = false\n"
+                                 << "\"\n[auth]\nmode = \"none\"\n[terrain]\n[protocol]\n"
+                                    "require_server = false\n"
                                     "[[node]]\nname = \"node-1\"\nsite = 1\nhost = 1\n"
                                     "[[node]]\nname = \"node-2\"\nsite = 1\nhost = 2\n";
   // No server program at all: starting one would fail the launch.

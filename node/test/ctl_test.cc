@@ -45,10 +45,11 @@ class CtlTest : public ::testing::Test {
   void SetUp() override {
     dir_ = std::filesystem::temp_directory_path() / fmt::format("dt-ctl-test-{}", ::getpid());
     std::filesystem::create_directories(dir_);
-    std::ofstream(dir_ / "ex.toml") << "[exercise]\nname = \"ctl\"\nrun_dir = \"" << dir_.string()
-                                    << "\"\n[terrain]\n[server]\nname = \"server\"\nsite = 1\n"
-                                       "host = 100\n[[node]]\nname = \"node-1\"\nsite = 1\n"
-                                       "host = 1\n";
+    std::ofstream(dir_ / "ex.toml")
+        << "[exercise]\nname = \"ctl\"\nrun_dir = \"" << dir_.string()
+        << "\"\n[auth]\nmode = \"none\"\n[terrain]\n[server]\nname = \"server\"\nsite = 1\n"
+           "host = 100\n[[node]]\nname = \"node-1\"\nsite = 1\n"
+           "host = 1\n";
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 

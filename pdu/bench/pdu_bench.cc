@@ -1,5 +1,6 @@
-// PDU benchmarks: encode and decode+validate time per PDU, and PDUs/s through PduBus over memq,
-// udpm and DDS against raw LCM publish/receive of same-size messages in the same run.
+// PDU benchmarks: encode, decode+validate, sign and verify time per PDU, and PDUs/s through
+// PduBus (with and without authentication) over memq, udpm and DDS against raw LCM
+// publish/receive of same-size messages in the same run.
 // Runs inside a private network namespace it makes itself, like the network tests.
 #include <chrono>
 
@@ -40,6 +41,60 @@ void BM_DecodeValidate(benchmark::State& state, Pdu pdu) {
   state.counters["bytes"] = static_cast<double>(bytes.size());
 }
 
+std::shared_ptr<const ExerciseKey> BenchKey() {
+  return std::make_shared<const ExerciseKey>(std::vector<uint8_t>(32, 0x42));
+}
+
+// Appends the authentication trailer (sequence, wall-clock time, HMAC-SHA512-256) to the
+// encoded PDU, as PduBus::Publish does after encoding.
+template <typename Pdu>
+void BM_Sign(benchmark::State& state, Pdu pdu) {
+  PduAuthenticator signer({1, 2}, PduAuthConfig{.key = BenchKey()});
+  const auto encoded = EncodePdu(pdu);
+  std::vector<uint8_t> bytes;
+  bytes.reserve(encoded.size() + kAuthTrailerBytes);
+  for (auto _ : state) {
+    bytes.assign(encoded.begin(), encoded.end());
+    signer.Sign(bytes);
+    benchmark::DoNotOptimize(bytes.data());
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["bytes"] = static_cast<double>(encoded.size() + kAuthTrailerBytes);
+}
+
+// Verifies one received signed PDU (trailer, MAC, sender, clock, replay window), as PduBus
+// does before decoding. Every PDU carries a new sequence (a replay would be refused), so a
+// batch is signed ahead; a fresh receiver per batch is made outside the timing.
+template <typename Pdu>
+void BM_Verify(benchmark::State& state, Pdu pdu) {
+  constexpr size_t kSigned = 4096;
+  PduAuthenticator signer({1, 2}, PduAuthConfig{.key = BenchKey()});
+  std::vector<std::vector<uint8_t>> batch(kSigned);
+  for (auto& b : batch) {
+    b = EncodePdu(pdu);
+    signer.Sign(b);
+  }
+  auto receiver =
+      std::make_unique<PduAuthenticator>(NodeAddress{2, 2}, PduAuthConfig{.key = BenchKey()});
+  size_t i = 0;
+  int64_t rejected = 0;
+  for (auto _ : state) {
+    if (i == kSigned) {
+      state.PauseTiming();
+      receiver =
+          std::make_unique<PduAuthenticator>(NodeAddress{2, 2}, PduAuthConfig{.key = BenchKey()});
+      i = 0;
+      state.ResumeTiming();
+    }
+    std::span<const uint8_t> out;
+    if (receiver->Verify(batch[i++], out)) ++rejected;
+    benchmark::DoNotOptimize(out);
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["bytes"] = static_cast<double>(batch[0].size());
+  state.counters["rejected"] = static_cast<double>(rejected);
+}
+
 BENCHMARK_CAPTURE(BM_Encode, construct, sample::Construct());
 BENCHMARK_CAPTURE(BM_Encode, update, sample::Update());
 BENCHMARK_CAPTURE(BM_Encode, destruct, sample::Destruct());
@@ -50,6 +105,12 @@ BENCHMARK_CAPTURE(BM_DecodeValidate, update, sample::Update());
 BENCHMARK_CAPTURE(BM_DecodeValidate, destruct, sample::Destruct());
 BENCHMARK_CAPTURE(BM_DecodeValidate, max_feature, sample::MaxFeature());
 BENCHMARK_CAPTURE(BM_DecodeValidate, playback, sample::Playback());
+BENCHMARK_CAPTURE(BM_Sign, construct, sample::Construct());
+BENCHMARK_CAPTURE(BM_Sign, update, sample::Update());
+BENCHMARK_CAPTURE(BM_Sign, max_feature, sample::MaxFeature());
+BENCHMARK_CAPTURE(BM_Verify, construct, sample::Construct());
+BENCHMARK_CAPTURE(BM_Verify, update, sample::Update());
+BENCHMARK_CAPTURE(BM_Verify, max_feature, sample::MaxFeature());
 
 // Handles until `target` messages arrived or 2 s passed (a lost datagram must not hang the run).
 template <typename HandleFn>
@@ -63,7 +124,8 @@ bool ReceiveUntil(const int64_t& received, int64_t target, HandleFn handle) {
 }
 
 // The PDU layer: PduBus stamps, validates and encodes; the receiver decodes and validates.
-void BM_PduBusThroughput(benchmark::State& state, std::string url) {
+// Authenticated: the sender also signs and the receiver verifies first.
+void BM_PduBusThroughput(benchmark::State& state, std::string url, bool authenticated = false) {
   auto tx = MakeTransport(url, sample::kSampleExercise);
   std::unique_ptr<Transport> rx_owned;
   Transport* rx = tx.get();
@@ -78,6 +140,7 @@ void BM_PduBusThroughput(benchmark::State& state, std::string url) {
   PduBusConfig rc = tc;
   rc.local = {2, 2};
   rc.deliver_own = true;
+  if (authenticated) tc.auth.key = rc.auth.key = BenchKey();
   PduBus sender(*tx, tc);
   PduBus receiver(*rx, rc);
   int64_t received = 0;
@@ -115,8 +178,10 @@ void BM_RawLcmThroughput(benchmark::State& state, std::string url) {
 
 BENCHMARK_CAPTURE(BM_RawLcmThroughput, memq, std::string("memq://"))->UseRealTime();
 BENCHMARK_CAPTURE(BM_PduBusThroughput, memq, std::string("memq://"))->UseRealTime();
+BENCHMARK_CAPTURE(BM_PduBusThroughput, memq_auth, std::string("memq://"), true)->UseRealTime();
 BENCHMARK_CAPTURE(BM_RawLcmThroughput, udpm, std::string(kUdpm))->UseRealTime();
 BENCHMARK_CAPTURE(BM_PduBusThroughput, udpm, std::string(kUdpm))->UseRealTime();
+BENCHMARK_CAPTURE(BM_PduBusThroughput, udpm_auth, std::string(kUdpm), true)->UseRealTime();
 BENCHMARK_CAPTURE(BM_PduBusThroughput, dds,
                   std::string("dds://0?config=") + DT_SOURCE_DIR +
                       "/configs/cyclonedds-loopback.xml")

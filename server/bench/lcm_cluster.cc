@@ -130,7 +130,9 @@ Replica& LcmCluster::Start(NodeAddress address, NodeRole role, ChangeStore* stor
   } else {
     m->transport = MakeTransport(url_, kBenchExercise);
   }
-  m->bus = std::make_unique<PduBus>(*m->transport, BenchBusConfig(address, ground_));
+  PduBusConfig bc = BenchBusConfig(address, ground_);
+  bc.auth.key = key_;
+  m->bus = std::make_unique<PduBus>(*m->transport, bc);
   config.address = address;
   config.role = role;
   config.store = store;

@@ -53,6 +53,9 @@ class LcmCluster {
   LcmCluster(const LcmCluster&) = delete;
   LcmCluster& operator=(const LcmCluster&) = delete;
 
+  // Members started from now on authenticate their PDUs with `key` (null: none, the default).
+  void set_key(std::shared_ptr<const ExerciseKey> key) { key_ = std::move(key); }
+
   // A new replica that signs on at once; `config` overrides the defaults (address, role and
   // store are set here).
   Replica& Start(NodeAddress address, NodeRole role, ChangeStore* store = nullptr);
@@ -95,6 +98,7 @@ class LcmCluster {
   int64_t start_ns_;
   int64_t tick_period_ms_ = 0;
   int64_t last_tick_ms_ = -1;
+  std::shared_ptr<const ExerciseKey> key_;
   std::unique_ptr<MemqHub> hub_;  // memq only
   std::map<NodeAddress, std::unique_ptr<Member>> members_;
 };

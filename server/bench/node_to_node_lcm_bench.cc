@@ -1,5 +1,8 @@
 // Benchmarks of the protocol engine over real LCM: features/s from node A to node B against raw
-// LCM of same-size messages in the same run, and the latency from create on A to applied on B.
+// LCM of same-size messages in the same run, authenticated against unauthenticated PDUs in the
+// same run, and the latency from create on A to applied on B.
+#include <time.h>
+
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -21,6 +24,8 @@ constexpr const char* kMemq = "memq://";
 constexpr const char* kUdpm = "udpm://239.255.76.67:7667?ttl=0";
 // The raw baseline gets its own port so its datagrams never queue on the replicas' sockets.
 constexpr const char* kUdpmRaw = "udpm://239.255.76.67:7668?ttl=0";
+// The authenticated exercise of the auth-vs-plain run: another port again.
+constexpr const char* kUdpmAuth = "udpm://239.255.76.67:7669?ttl=0";
 const NodeAddress kA{1, 1}, kB{1, 2}, kServer{1, 100};
 
 // Protocol defaults (docs/protocol.md): A may have 256 unacknowledged changes and the server
@@ -36,10 +41,13 @@ double Percentile(std::vector<double> v, double p) {
 
 // A server (changes in memory), node A and node B, signed on, and a tap on B's bus that runs
 // right after B's replica has handled each Construct: the moment the feature is applied on B.
+// With a key every PDU is authenticated (pdu/pdu_auth.h), as in an exercise with [auth].
 class ThreeReplicas {
  public:
-  ThreeReplicas(const std::string& url, ReplicaConfig rc)
+  ThreeReplicas(const std::string& url, ReplicaConfig rc,
+                std::shared_ptr<const ExerciseKey> key = nullptr)
       : cluster_(url, bench::BenchGround(), rc) {
+    cluster_.set_key(std::move(key));
     cluster_.Start(kServer, NodeRole::kServer, &store_);
     cluster_.Start(kA, NodeRole::kNode);
     Replica& b = cluster_.Start(kB, NodeRole::kNode);
@@ -104,6 +112,39 @@ bool PumpUntilApplied(ThreeReplicas& r, int64_t target) {
   return true;
 }
 
+// CPU time of the calling thread, ns: on a shared machine it counts the work done, not the time
+// the thread waited for a core.
+int64_t ThreadCpuNs() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return int64_t{t.tv_sec} * 1000000000 + t.tv_nsec;
+}
+
+// Creates kBatch craters on A (numbers from *n on), waiting for acknowledgements whenever A's
+// window is full, then pumps until B has applied them all. Returns the wall time in ns, or -1
+// with *error set.
+int64_t CreateBatch(ThreeReplicas& r, int64_t* n, int64_t* window_waits, std::string* error) {
+  const int64_t t = bench::SteadyNowNs();
+  const int64_t target = r.applied_on_b() + kBatch;
+  for (int created = 0; created < kBatch;) {
+    if (r.Create(*n, error)) {
+      ++*n;
+      ++created;
+    } else if (error->find("not acknowledged") != std::string::npos) {
+      ++*window_waits;
+      r.cluster().Pump(1);
+    } else {
+      *error = "create refused: " + *error;
+      return -1;
+    }
+  }
+  if (!PumpUntilApplied(r, target)) {
+    *error = "B did not apply every feature within 10 s";
+    return -1;
+  }
+  return bench::SteadyNowNs() - t;
+}
+
 // Per iteration: kBatch raw LCM messages of a Construct's size (lcm_publish, a counting handler),
 // then kBatch craters created on A until B has applied them all (A waits for acknowledgements
 // whenever its window is full). Time (manual) is the engine's; counters give both rates, their
@@ -138,29 +179,15 @@ void BM_NodeToNodeVsRawLcm(benchmark::State& state, std::string url, bool fast_a
 
   int64_t raw_ns = 0, engine_ns = 0, raw_lost = 0, window_waits = 0, n = 1;
   for (auto _ : state) {
-    int64_t t = bench::SteadyNowNs();
+    const int64_t t = bench::SteadyNowNs();
     raw_lost += raw.Send(bytes, kBatch);
     raw_ns += bench::SteadyNowNs() - t;
 
-    t = bench::SteadyNowNs();
-    const int64_t target = r.applied_on_b() + kBatch;
-    for (int created = 0; created < kBatch;) {
-      if (r.Create(n, &error)) {
-        ++n;
-        ++created;
-      } else if (error.find("not acknowledged") != std::string::npos) {
-        ++window_waits;
-        r.cluster().Pump(1);
-      } else {
-        state.SkipWithError(("create refused: " + error).c_str());
-        return;
-      }
-    }
-    if (!PumpUntilApplied(r, target)) {
-      state.SkipWithError("B did not apply every feature within 10 s");
+    const int64_t dt_ns = CreateBatch(r, &n, &window_waits, &error);
+    if (dt_ns < 0) {
+      state.SkipWithError(error.c_str());
       return;
     }
-    const int64_t dt_ns = bench::SteadyNowNs() - t;
     engine_ns += dt_ns;
     state.SetIterationTime(static_cast<double>(dt_ns) / 1e9);
   }
@@ -189,6 +216,78 @@ void BM_NodeToNodeVsRawLcm(benchmark::State& state, std::string url, bool fast_a
   state.counters["final_lost"] =
       static_cast<double>(r.a().live_feature_count() - r.b().live_feature_count());
   if (!equal) state.SkipWithError("B does not hold every feature A created");
+}
+
+// Authenticated ÷ unauthenticated, same run, interleaved: two exercises of a server, A and B,
+// one with every PDU signed and verified (the exercise key), one without, on separate LCM
+// queues (memq) or ports (udpm). Per iteration kBatch craters from A to B in each, the order
+// alternating; time (manual) is the sum. Counters give both rates and their ratio, by wall time
+// and by this thread's CPU time (everything runs on it: over udpm the system calls too).
+void BM_NodeToNodeAuthVsPlain(benchmark::State& state, std::string plain_url,
+                              std::string auth_url) {
+  if (plain_url != kMemq && dt::testing::NetnsSkipReason()) {
+    state.SkipWithError("udpm runs only inside a private network namespace");
+    return;
+  }
+  auto key = std::make_shared<const ExerciseKey>(std::vector<uint8_t>(32, 0x42));
+  ThreeReplicas plain(plain_url, bench::FastAckConfig());
+  ThreeReplicas authed(auth_url, bench::FastAckConfig(), key);
+  if (!plain.ready() || !authed.ready()) {
+    state.SkipWithError("A and B did not sign on");
+    return;
+  }
+  std::string error;
+  int64_t n_plain = 0, n_auth = 0, waits = 0, plain_ns = 0, auth_ns = 0, i = 0;
+  int64_t plain_cpu = 0, auth_cpu = 0;
+  // Warm-up: a first batch in each, so both have every peer's reports again.
+  if (CreateBatch(plain, &n_plain, &waits, &error) < 0 ||
+      CreateBatch(authed, &n_auth, &waits, &error) < 0) {
+    state.SkipWithError(("warm-up: " + error).c_str());
+    return;
+  }
+  for (auto _ : state) {
+    int64_t p = 0, a = 0;
+    auto timed = [&](ThreeReplicas& r, int64_t* n, int64_t* cpu) {
+      const int64_t c = ThreadCpuNs();
+      const int64_t wall = CreateBatch(r, n, &waits, &error);
+      *cpu += ThreadCpuNs() - c;
+      return wall;
+    };
+    if (i++ % 2 == 0) {
+      p = timed(plain, &n_plain, &plain_cpu);
+      a = p < 0 ? -1 : timed(authed, &n_auth, &auth_cpu);
+    } else {
+      a = timed(authed, &n_auth, &auth_cpu);
+      p = a < 0 ? -1 : timed(plain, &n_plain, &plain_cpu);
+    }
+    if (p < 0 || a < 0) {
+      state.SkipWithError(error.c_str());
+      return;
+    }
+    plain_ns += p;
+    auth_ns += a;
+    state.SetIterationTime(static_cast<double>(p + a) / 1e9);
+  }
+  const double features = static_cast<double>(state.iterations()) * kBatch;
+  const double plain_rate = features / (static_cast<double>(plain_ns) / 1e9);
+  const double auth_rate = features / (static_cast<double>(auth_ns) / 1e9);
+  state.SetItemsProcessed(static_cast<int64_t>(2 * features));
+  state.counters["plain_per_s"] = plain_rate;
+  state.counters["auth_per_s"] = auth_rate;
+  state.counters["ratio"] = auth_rate / plain_rate;
+  state.counters["cpu_ratio"] = static_cast<double>(plain_cpu) / static_cast<double>(auth_cpu);
+  state.counters["plain_cpu_us"] = static_cast<double>(plain_cpu) / features / 1000.0;
+  state.counters["auth_cpu_us"] = static_cast<double>(auth_cpu) / features / 1000.0;
+  state.counters["window_waits"] = static_cast<double>(waits);
+  const PduBus& b = authed.cluster().bus(kB);
+  state.counters["auth_rejected"] = static_cast<double>(b.rejects().total());
+  const bool equal = plain.b().caught_up() && authed.b().caught_up() &&
+                     plain.b().live_feature_count() == plain.a().live_feature_count() &&
+                     authed.b().live_feature_count() == authed.a().live_feature_count();
+  if (!equal) state.SkipWithError("B does not hold every feature A created");
+  if (b.authenticator() == nullptr || b.rejects().total() != 0) {
+    state.SkipWithError("the authenticated exercise is not authenticating, or rejected PDUs");
+  }
 }
 
 // One crater at a time on an otherwise idle exercise: create on A, then pump until B has applied
@@ -230,6 +329,14 @@ BENCHMARK_CAPTURE(BM_NodeToNodeVsRawLcm, memq_defaults, std::string(kMemq), fals
 BENCHMARK_CAPTURE(BM_NodeToNodeVsRawLcm, udpm_fast_acks, std::string(kUdpm), true)
     ->UseManualTime()
     ->Iterations(100)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_NodeToNodeAuthVsPlain, memq, std::string(kMemq), std::string(kMemq))
+    ->UseManualTime()
+    ->Iterations(200)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_NodeToNodeAuthVsPlain, udpm, std::string(kUdpm), std::string(kUdpmAuth))
+    ->UseManualTime()
+    ->Iterations(60)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_CreateToAppliedLatency, memq, std::string(kMemq))
     ->UseManualTime()

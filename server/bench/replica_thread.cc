@@ -1,6 +1,7 @@
 #include "server/bench/replica_thread.h"
 
 #include <poll.h>
+#include <pthread.h>
 #include <sys/eventfd.h>
 #include <unistd.h>
 
@@ -11,10 +12,13 @@
 
 namespace dt::bench {
 ReplicaThread::ReplicaThread(const std::string& url, const HeightGrid& ground, ReplicaConfig config,
-                             ChangeStore* store, int64_t epoch_ns)
+                             ChangeStore* store, int64_t epoch_ns,
+                             std::shared_ptr<const ExerciseKey> key)
     : epoch_ns_(epoch_ns) {
   transport_ = MakeTransport(url, kBenchExercise);
-  bus_ = std::make_unique<PduBus>(*transport_, BenchBusConfig(config.address, ground));
+  PduBusConfig bc = BenchBusConfig(config.address, ground);
+  bc.auth.key = std::move(key);
+  bus_ = std::make_unique<PduBus>(*transport_, bc);
   config.store = store;
   replica_ = std::make_unique<Replica>(config, ground, *bus_);
   wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
@@ -85,6 +89,16 @@ void ReplicaThread::Loop() {
     }
     busy = dispatched && dispatched.value() > 0;
   }
+}
+
+int64_t ReplicaThread::CpuNs() {
+  clockid_t clock{};
+  timespec t{};
+  if (pthread_getcpuclockid(thread_.native_handle(), &clock) != 0 ||
+      clock_gettime(clock, &t) != 0) {
+    return -1;
+  }
+  return int64_t{t.tv_sec} * 1000000000 + t.tv_nsec;
 }
 
 }  // namespace dt::bench

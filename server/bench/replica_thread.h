@@ -28,8 +28,10 @@ class ReplicaThread {
   // Builds the transport (`url`, e.g. udpm://...: its own socket), bus and replica, signs on and
   // starts the loop: wait up to 1 ms for traffic, dispatch it, tick, run the pending steps.
   // Every replica's clock is milliseconds since `epoch_ns` (SteadyNowNs of the caller).
+  // With a key the bus authenticates every PDU (pdu/pdu_auth.h).
   ReplicaThread(const std::string& url, const HeightGrid& ground, ReplicaConfig config,
-                ChangeStore* store, int64_t epoch_ns);
+                ChangeStore* store, int64_t epoch_ns,
+                std::shared_ptr<const ExerciseKey> key = nullptr);
   // Stops the loop, then destroys replica, bus and transport: a crash, its state is gone.
   ~ReplicaThread();
   ReplicaThread(const ReplicaThread&) = delete;
@@ -40,6 +42,8 @@ class ReplicaThread {
   std::future<int64_t> Post(Step step);
   // Runs `fn` on the replica's thread once and waits for it.
   void Run(const std::function<void(Replica&)>& fn);
+  // CPU time the replica's thread has used so far, ns (work done, not time waited for a core).
+  int64_t CpuNs();
 
  private:
   struct Pending {

@@ -1,6 +1,7 @@
 // The protocol benchmarks with every replica on its own thread and its own udpm socket, as an
 // exercise runs them (one process per node): node A to node B throughput and a rejoin catch-up,
-// each against raw LCM over udpm with the receiver on its own thread, in the same run.
+// each against raw LCM over udpm with the receiver on its own thread, in the same run; and node
+// A to node B authenticated against unauthenticated.
 #include <future>
 #include <memory>
 #include <string>
@@ -26,6 +27,8 @@ constexpr const char* kUdpm = "udpm://239.255.76.67:7667?ttl=0";
 // other's.
 constexpr const char* kUdpmRaw = "udpm://239.255.76.67:7668?ttl=0";
 constexpr const char* kUdpmRawGroup = "udpm://239.255.76.67:7669?ttl=0";
+// The authenticated exercise of the auth-vs-plain run.
+constexpr const char* kUdpmAuth = "udpm://239.255.76.67:7670?ttl=0";
 const NodeAddress kA{1, 1}, kB{1, 2}, kServer{1, 100};
 constexpr int kBurst = 500;
 constexpr size_t kRawWindow = 256;  // the raw rejoin baseline's batch: the playback window
@@ -153,6 +156,122 @@ void BM_NodeToNodeThreads(benchmark::State& state) {
   if (!b_caught_up || a_live != b_live) state.SkipWithError("B does not hold every feature");
 }
 
+// A server, A and B, each on its own thread and udpm socket, signed on; with a key, every PDU
+// authenticated.
+struct ThreadedExercise {
+  ThreadedExercise(const std::string& url, const ReplicaConfig& rc, int64_t epoch,
+                   std::shared_ptr<const ExerciseKey> key) {
+    auto start = [&](NodeAddress address, NodeRole role, ChangeStore* s) {
+      return std::make_unique<ReplicaThread>(url, bench::BenchGround(), Config(rc, address, role),
+                                             s, epoch, key);
+    };
+    server = start(kServer, NodeRole::kServer, &store);
+    a = start(kA, NodeRole::kNode, nullptr);
+    b = start(kB, NodeRole::kNode, nullptr);
+  }
+  bool SignOn() {
+    auto a_on = a->Post([](Replica& r) { return r.signed_on(); });
+    auto b_on = b->Post([](Replica& r) { return r.signed_on(); });
+    return WaitFor(a_on, 20) && WaitFor(b_on, 20);
+  }
+  // kBurst craters created on A's thread until B's thread has applied them all: wall ns, or -1
+  // with *error set.
+  int64_t Burst(std::string* error) {
+    const auto target = static_cast<size_t>(n + kBurst);
+    const int64_t t = SteadyNowNs();
+    auto created = a->Post(CreateCraters(n, kBurst, error));
+    auto applied = b->Post([target](Replica& r) { return r.live_feature_count() >= target; });
+    if (!WaitFor(created, 10)) {
+      *error = "A did not create its burst within 10 s";
+      return -1;
+    }
+    if (!error->empty()) return -1;  // written on A's thread before `created` became ready
+    if (!WaitFor(applied, 10)) {
+      *error = "B did not apply every feature within 10 s";
+      return -1;
+    }
+    n += kBurst;
+    return applied.get() - t;
+  }
+  // CPU time of the three replicas' threads so far.
+  int64_t CpuNs() { return server->CpuNs() + a->CpuNs() + b->CpuNs(); }
+  bool Complete() {
+    size_t a_live = 0, b_live = 0;
+    bool b_caught_up = false;
+    a->Run([&](Replica& r) { a_live = r.live_feature_count(); });
+    b->Run([&](Replica& r) {
+      b_live = r.live_feature_count();
+      b_caught_up = r.caught_up();
+    });
+    return b_caught_up && a_live == b_live;
+  }
+
+  MemoryChangeStore store;
+  std::unique_ptr<ReplicaThread> server, a, b;  // after the store they use
+  int64_t n = 0;
+};
+
+// Authenticated ÷ unauthenticated with one thread per replica, same run, interleaved: two
+// exercises (server, A, B) on separate ports, one with every PDU signed and verified. Per
+// iteration a burst of kBurst craters from A to B in each, the order alternating; time (manual)
+// is the sum; counters give both rates and their ratio, by wall time and by the CPU time the
+// three replica threads used (robust to other load on the machine).
+void BM_NodeToNodeThreadsAuthVsPlain(benchmark::State& state) {
+  if (auto reason = testing::NetnsSkipReason()) {
+    state.SkipWithError(("udpm runs only in a private network namespace: " + *reason).c_str());
+    return;
+  }
+  const int64_t epoch = SteadyNowNs();
+  const ReplicaConfig rc = bench::FastAckConfig();
+  std::string error;  // before the threads: a step that outlives a timed-out wait may write it
+  ThreadedExercise plain(kUdpm, rc, epoch, nullptr);
+  ThreadedExercise authed(kUdpmAuth, rc, epoch,
+                          std::make_shared<const ExerciseKey>(std::vector<uint8_t>(32, 0x42)));
+  if (!plain.SignOn() || !authed.SignOn()) {
+    state.SkipWithError("A and B did not sign on");
+    return;
+  }
+  if (plain.Burst(&error) < 0 || authed.Burst(&error) < 0) {  // warm-up
+    state.SkipWithError(("warm-up: " + error).c_str());
+    return;
+  }
+  int64_t plain_ns = 0, auth_ns = 0, plain_cpu = 0, auth_cpu = 0, i = 0;
+  auto burst = [&](ThreadedExercise& ex, int64_t* cpu) {
+    const int64_t c = ex.CpuNs();
+    const int64_t wall = ex.Burst(&error);
+    *cpu += ex.CpuNs() - c;
+    return wall;
+  };
+  for (auto _ : state) {
+    int64_t p = 0, a = 0;
+    if (i++ % 2 == 0) {
+      p = burst(plain, &plain_cpu);
+      a = p < 0 ? -1 : burst(authed, &auth_cpu);
+    } else {
+      a = burst(authed, &auth_cpu);
+      p = a < 0 ? -1 : burst(plain, &plain_cpu);
+    }
+    if (p < 0 || a < 0) {
+      state.SkipWithError(error.c_str());
+      return;
+    }
+    plain_ns += p;
+    auth_ns += a;
+    state.SetIterationTime(static_cast<double>(p + a) / 1e9);
+  }
+  const double features = static_cast<double>(state.iterations()) * kBurst;
+  const double plain_rate = features / (static_cast<double>(plain_ns) / 1e9);
+  const double auth_rate = features / (static_cast<double>(auth_ns) / 1e9);
+  state.SetItemsProcessed(static_cast<int64_t>(2 * features));
+  state.counters["plain_per_s"] = plain_rate;
+  state.counters["auth_per_s"] = auth_rate;
+  state.counters["ratio"] = auth_rate / plain_rate;
+  state.counters["plain_cpu_us"] = static_cast<double>(plain_cpu) / features / 1000.0;
+  state.counters["auth_cpu_us"] = static_cast<double>(auth_cpu) / features / 1000.0;
+  state.counters["cpu_ratio"] = static_cast<double>(plain_cpu) / static_cast<double>(auth_cpu);
+  if (!plain.Complete() || !authed.Complete()) state.SkipWithError("B does not hold every feature");
+}
+
 // range(0) features; range(1) = 0: origin A alive (asked first), 1: A gone, the server answers.
 // Protocol defaults (playback window 256) but for A's window of unacknowledged changes, raised
 // so the setup is quick. Setup (not timed): server, A and B sign on, B crashes, A creates the
@@ -252,6 +371,10 @@ void BM_RejoinThreads(benchmark::State& state) {
 }
 
 BENCHMARK(BM_NodeToNodeThreads)->UseManualTime()->Iterations(200)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NodeToNodeThreadsAuthVsPlain)
+    ->UseManualTime()
+    ->Iterations(100)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RejoinThreads)
     ->ArgNames({"features", "from_server"})
     ->Args({10000, 0})

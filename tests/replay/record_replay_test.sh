@@ -48,6 +48,10 @@ transport = "$url"
 run_dir = "$run_dir/$1"
 tick_hz = 30
 
+# Keyless: a keyed recording replays only within the receivers' clock tolerance (docs/pdu.md).
+[auth]
+mode = "none"
+
 [terrain]
 posts_per_side = 65
 spacing_m = 10.0

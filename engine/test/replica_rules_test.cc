@@ -9,6 +9,7 @@
 
 #include "engine/memory_change_store.h"
 #include "engine/replica.h"
+#include "engine/test/replica_test_config.h"
 #include "engine/test/sim_cluster.h"
 
 namespace dt {
@@ -16,19 +17,15 @@ namespace {
 
 using testing::SimCluster;
 
-const NodeAddress kServer{1, 100};
-const NodeAddress kStandby{1, 101};
-const NodeAddress kA{1, 1};
-const NodeAddress kB{1, 2};
+constexpr NodeAddress kServer = testing::kTestServer;
+constexpr NodeAddress kStandby = testing::kTestStandby;
+constexpr NodeAddress kA = testing::kTestA;
+constexpr NodeAddress kB = testing::kTestB;
 const NodeAddress kC{1, 3};  // a member node with no replica: its PDUs are forged by the tests
 const NodeAddress kStranger{77, 77};
 
 ReplicaConfig Defaults() {
-  ReplicaConfig c;
-  c.max_feature_period_ms = 200;
-  c.silence_ms = 800;
-  c.playback_retry_ms = 300;
-  c.playback_window = 64;
+  ReplicaConfig c = testing::TestReplicaConfig();
   c.members = {{kServer, NodeRole::kServer},
                {kStandby, NodeRole::kStandby},
                {kA, NodeRole::kNode},

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/memory_change_store.h"
+#include "engine/test/replica_test_config.h"
 #include "engine/test/sim_cluster.h"
 
 namespace dt {
@@ -12,19 +13,12 @@ namespace {
 
 using testing::SimCluster;
 
-const NodeAddress kServer{1, 100};
-const NodeAddress kStandby{1, 101};
-const NodeAddress kA{1, 1};
-const NodeAddress kB{1, 2};
+constexpr NodeAddress kServer = testing::kTestServer;
+constexpr NodeAddress kStandby = testing::kTestStandby;
+constexpr NodeAddress kA = testing::kTestA;
+constexpr NodeAddress kB = testing::kTestB;
 
-ReplicaConfig Defaults() {
-  ReplicaConfig c;
-  c.max_feature_period_ms = 200;
-  c.silence_ms = 800;
-  c.playback_retry_ms = 300;
-  c.playback_window = 64;
-  return c;
-}
+ReplicaConfig Defaults() { return testing::TestReplicaConfig(); }
 
 class ReplicaTest : public ::testing::Test {
  protected:

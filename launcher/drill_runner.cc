@@ -435,15 +435,20 @@ int DrillRunner::Run() {
 
     if (!fatal_ && !interrupted) {
       std::string detail;
+      const double converge_start_s = ElapsedS();
       const bool converged = Converge(detail);
-      Check("equal digests on every live process, all caught up and acknowledged", converged,
-            detail);
+      Check(fmt::format("equal digests on every live process, all caught up and acknowledged "
+                        "({:.1f} s after the timeline)",
+                        ElapsedS() - converge_start_s),
+            converged, detail);
       uint64_t dropped = 0;
       for (const auto& [n, d] : dropped_) dropped += d;
       report_.push_back(
           fmt::format("  {} messages dropped by fault injection (live processes)", dropped));
       CheckFeatures();
+      const double renders_start_s = ElapsedS();
       Renders();
+      report_.push_back(fmt::format("  renders took {:.1f} s", ElapsedS() - renders_start_s));
     }
   } catch (const std::exception& e) {
     Check("drill ran", false, e.what());

@@ -278,6 +278,50 @@ bool DrillRunner::Converge(std::string& detail) {
   }
 }
 
+std::set<FeatureId> DrillRunner::Features(const std::string& name) {
+  std::set<FeatureId> out;
+  Result<ControlReply> r = Call(name, "features", 10000);
+  if (r && r.value().ok) {
+    std::istringstream in(r.value().body);
+    for (std::string l; std::getline(in, l);) {
+      if (auto id = ParseFeatureId(l)) out.insert(id.value());
+    }
+  }
+  return out;
+}
+
+void DrillRunner::ReportDivergence() {
+  const std::vector<std::string> live = Live();
+  if (live.size() < 2) return;
+  const std::set<FeatureId> first = Features(live.front());
+  auto some = [](const std::vector<std::string>& ids) {
+    const size_t shown = std::min<size_t>(ids.size(), 10);
+    return fmt::format("{}{}", fmt::join(ids.begin(), ids.begin() + static_cast<long>(shown), ", "),
+                       ids.size() > shown ? fmt::format(" and {} more", ids.size() - shown) : "");
+  };
+  for (size_t i = 1; i < live.size(); ++i) {
+    const std::set<FeatureId> other = Features(live[i]);
+    std::vector<std::string> extra, missing;
+    for (const FeatureId& id : other) {
+      if (first.count(id) == 0) extra.push_back(id.ToString());
+    }
+    for (const FeatureId& id : first) {
+      if (other.count(id) == 0) missing.push_back(id.ToString());
+    }
+    if (extra.empty() && missing.empty()) {
+      report_.push_back(
+          fmt::format("  {} holds the live feature IDs {} holds ({}): parameters "
+                      "differ",
+                      live[i], live.front(), other.size()));
+      continue;
+    }
+    report_.push_back(
+        fmt::format("  {} beside {}: {} live features only on {}{}{}, {} only on {}{}{}", live[i],
+                    live.front(), extra.size(), live[i], extra.empty() ? "" : ": ", some(extra),
+                    missing.size(), live.front(), missing.empty() ? "" : ": ", some(missing)));
+  }
+}
+
 void DrillRunner::CheckFeatures() {
   std::vector<std::string> reused;
   for (const FeatureId& id : reused_ids_) reused.push_back(id.ToString());
@@ -308,16 +352,7 @@ void DrillRunner::CheckFeatures() {
   for (const FeatureId& id : must_be_gone) must_live.erase(id);
   for (const FeatureId& id : maybe_gone_) must_live.erase(id);
   const std::vector<std::string> live = Live();
-  std::set<FeatureId> present;
-  if (!live.empty()) {
-    Result<ControlReply> r = Call(live.front(), "features", 10000);
-    if (r && r.value().ok) {
-      std::istringstream in(r.value().body);
-      for (std::string l; std::getline(in, l);) {
-        if (auto id = ParseFeatureId(l)) present.insert(id.value());
-      }
-    }
-  }
+  const std::set<FeatureId> present = live.empty() ? std::set<FeatureId>{} : Features(live.front());
   const long expected = static_cast<long>(alive_.size());
   // Only IDs the drill issued count: not features of scenarios, nor of creates it had no reply to.
   long have = 0;
@@ -441,6 +476,7 @@ int DrillRunner::Run() {
                         "({:.1f} s after the timeline)",
                         ElapsedS() - converge_start_s),
             converged, detail);
+      if (!digests_equal_) ReportDivergence();
       uint64_t dropped = 0;
       for (const auto& [n, d] : dropped_) dropped += d;
       report_.push_back(

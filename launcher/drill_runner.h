@@ -102,6 +102,10 @@ class DrillRunner {
   bool Converge(std::string& detail);
   // Checks 2-4 (docs/launcher.md "Checks") against the features a live process holds.
   void CheckFeatures();
+  // The live feature IDs a process holds (empty if the call fails).
+  std::set<FeatureId> Features(const std::string& name);
+  // After unequal digests: which feature IDs each live process holds beside the first's.
+  void ReportDivergence();
   void Check(const std::string& what, bool ok, const std::string& detail);
   void Renders();
 

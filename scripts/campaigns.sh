@@ -5,7 +5,7 @@
 # Seeds are first_seed, first_seed + 100, ... (default first_seed 1000); a failed campaign is
 # rerun with the same choices by `dt_drill --drill <drill> --seed <seed>` (docs/launcher.md).
 # The build is DT_BUILD_DIR (default build/dev); each campaign's output and run dir are kept in
-# <build>/tests/drills/run/campaign-<transport>-<seed>{.log,/}.
+# <build>/tests/drills/run/campaign-<transport>-<seed>-<date>-<time>{.log,/}.
 # Exits 0 if every campaign passed, 1 otherwise.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -39,7 +39,7 @@ mkdir -p "$runs"
 failed=0
 for ((i = 0; i < count; ++i)); do
   seed=$((first_seed + 100 * i))
-  name="campaign-$transport-$seed"
+  name="campaign-$transport-$seed-$(date +%Y%m%d-%H%M%S)"  # a rerun keeps the earlier run
   log="$runs/$name.log"
   rc=0
   tests/run_in_netns.sh "$build/launcher/dt_drill" --drill "$drill" --seed "$seed" \
@@ -50,7 +50,12 @@ for ((i = 0; i < count; ++i)); do
   echo "campaign $((i + 1))/$count transport=$transport seed=$seed $summary log=$log"
   if [[ $rc -ne 0 ]]; then
     failed=$((failed + 1))
-    grep '\[FAIL\]' "$log" | sed 's/^/    /' || true
+    # The report's failed checks with their detail lines, and what it says of diverged replicas.
+    sed -n '/^== drill /,$p' "$log" |
+      awk '/^  \[FAIL\]/ {show = 1; print "    " $0; next}
+           /^  \[/ {show = 0; next}
+           /^    / && show {print "    " $0; next}
+           / beside / || / parameters differ/ {print "    " $0}' || true
   fi
 done
 echo "campaigns: $count run, $failed failed ($transport, $drill)"

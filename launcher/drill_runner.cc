@@ -266,6 +266,7 @@ bool DrillRunner::Converge(std::string& detail) {
     std::set<std::string> distinct;
     for (const auto& [n, d] : digests) distinct.insert(d);
     digests_equal_ = distinct.size() == 1;
+    last_digests_ = digests;
     detail.clear();
     for (const auto& [n, d] : digests) detail += fmt::format("\n    {:10} {}", n, d);
     if (distinct.size() == 1 && all_caught_up && all_acked) return true;
@@ -300,6 +301,7 @@ void DrillRunner::ReportDivergence() {
                        ids.size() > shown ? fmt::format(" and {} more", ids.size() - shown) : "");
   };
   for (size_t i = 1; i < live.size(); ++i) {
+    if (last_digests_[live[i]] == last_digests_[live.front()]) continue;
     const std::set<FeatureId> other = Features(live[i]);
     std::vector<std::string> extra, missing;
     for (const FeatureId& id : other) {
@@ -310,8 +312,8 @@ void DrillRunner::ReportDivergence() {
     }
     if (extra.empty() && missing.empty()) {
       report_.push_back(
-          fmt::format("  {} holds the live feature IDs {} holds ({}): parameters "
-                      "differ",
+          fmt::format("  {} holds the live feature IDs {} holds ({}), with other "
+                      "parameters",
                       live[i], live.front(), other.size()));
       continue;
     }

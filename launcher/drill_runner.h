@@ -133,8 +133,9 @@ class DrillRunner {
   int kills_ = 0;               // SIGKILLs sent by the drill (kill actions and chaos)
   int restarts_ = 0;            // starts after the first
   bool digests_equal_ = false;  // at the last convergence poll
-  size_t acked_ops_ = 0;        // operations found acknowledged (CheckFeatures)
-  size_t lost_count_ = 0;       // acknowledged operations found undone (CheckFeatures)
+  std::map<std::string, std::string> last_digests_;  // per live process, at that poll
+  size_t acked_ops_ = 0;   // operations found acknowledged (CheckFeatures)
+  size_t lost_count_ = 0;  // acknowledged operations found undone (CheckFeatures)
   std::vector<std::string> failures_;
   std::vector<std::string> report_;
   int ops_failed_ = 0;                   // refused by the node

@@ -55,7 +55,7 @@ for ((i = 0; i < count; ++i)); do
       awk '/^  \[FAIL\]/ {show = 1; print "    " $0; next}
            /^  \[/ {show = 0; next}
            /^    / && show {print "    " $0; next}
-           / beside / || / parameters differ/ {print "    " $0}' || true
+           / beside / || / with other parameters/ {print "    " $0}' || true
   fi
 done
 echo "campaigns: $count run, $failed failed ($transport, $drill)"

@@ -44,6 +44,25 @@ DrillConfig ParseDrillConfig(std::string_view toml_text, std::string_view source
                : kind == "stop" ? DrillActionKind::kStop
                                 : DrillActionKind::kRestart;
       if (a.targets.empty()) r.Fail("targets", fmt::format("{} needs targets", kind));
+    } else if (kind == "chaos") {
+      a.kind = DrillActionKind::kChaos;
+      a.duration_s = r.Double("duration_s", 0.1, 3600.0);
+      a.seed = static_cast<uint64_t>(r.Int("seed", 1, 0, INT64_MAX));
+      a.period_s = r.Double("period_s", 10.0, 0.1, 3600.0);
+      a.max_down = static_cast<int>(r.Int("max_down", 1, 1, 64));
+      a.down_min_s = r.Double("down_min_s", 1.0, 0.0, 3600.0);
+      a.down_max_s = r.Double("down_max_s", std::max(5.0, a.down_min_s), 0.0, 3600.0);
+      if (a.down_max_s < a.down_min_s) {
+        r.Fail("down_max_s",
+               fmt::format("down_max_s {} is below down_min_s {}", a.down_max_s, a.down_min_s));
+      }
+      if (a.at_s + a.duration_s > d.deadline_s) {
+        r.Fail("duration_s", fmt::format("chaos from {} s for {} s ends after deadline_s {}",
+                                         a.at_s, a.duration_s, d.deadline_s));
+      }
+      if (a.targets.size() == 1 && a.max_down > 1) {
+        r.Fail("max_down", fmt::format("max_down {} with one target", a.max_down));
+      }
     } else if (kind == "loss") {
       a.kind = DrillActionKind::kLoss;
       a.drop_probability = r.Double("drop_probability", 0.0, 1.0);
@@ -59,7 +78,8 @@ DrillConfig ParseDrillConfig(std::string_view toml_text, std::string_view source
       a.kind = DrillActionKind::kCommand;
       a.line = r.String("line");
     } else {
-      r.Fail("do", "expected random_ops, kill, stop, restart, loss, partition, heal or command");
+      r.Fail("do",
+             "expected random_ops, chaos, kill, stop, restart, loss, partition, heal or command");
     }
     r.Finish();
     d.actions.push_back(std::move(a));
@@ -75,6 +95,15 @@ DrillConfig LoadDrillConfig(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   return ParseDrillConfig(text.str(), path.string(), path.parent_path());
+}
+
+void OverrideSeeds(DrillConfig& drill, uint64_t seed) {
+  uint64_t k = 0;
+  for (DrillAction& a : drill.actions) {
+    if (a.kind == DrillActionKind::kRandomOps || a.kind == DrillActionKind::kChaos) {
+      a.seed = seed + k++;
+    }
+  }
 }
 
 }  // namespace dt

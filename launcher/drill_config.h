@@ -19,6 +19,7 @@ enum class DrillActionKind {
   kPartition,  // cut `targets` off from `from`, both ways
   kHeal,       // end every partition
   kCommand,    // one control command on some processes (must succeed)
+  kChaos,      // rounds of SIGKILL on random processes, each restarted after a random downtime
 };
 
 struct DrillAction {
@@ -27,11 +28,15 @@ struct DrillAction {
   std::vector<std::string> targets;  // process names; empty: every process
   std::vector<std::string> from;     // partition
   int count = 0;                     // random ops
-  double duration_s = 0.0;           // random ops
-  uint64_t seed = 1;                 // random ops
-  double drop_probability = 0.0;     // loss
-  std::string line;                  // command
-  std::string where;                 // "<file> action <n>"
+  double duration_s = 0.0;           // random ops, chaos
+  uint64_t seed = 1;                 // random ops, chaos
+  double period_s = 10.0;            // chaos: mean time between kill rounds (jittered +-50 %)
+  int max_down = 1;                  // chaos: at most this many processes down at once
+  double down_min_s = 1.0;           // chaos: each kill's downtime, uniform in [min, max]
+  double down_max_s = 5.0;
+  double drop_probability = 0.0;  // loss
+  std::string line;               // command
+  std::string where;              // "<file> action <n>"
 };
 
 struct DrillConfig {
@@ -49,5 +54,9 @@ struct DrillConfig {
 DrillConfig ParseDrillConfig(std::string_view toml_text, std::string_view source_name,
                              const std::filesystem::path& base_dir);
 DrillConfig LoadDrillConfig(const std::filesystem::path& path);
+
+// Gives the k-th seeded action of the timeline (random_ops, chaos; in time order, from 0) the
+// seed `seed + k`, so one number reproduces a whole campaign's choices (dt_drill --seed).
+void OverrideSeeds(DrillConfig& drill, uint64_t seed);
 
 }  // namespace dt

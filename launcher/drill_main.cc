@@ -1,5 +1,7 @@
 // dt_drill: runs a recovery drill (configs/drills/*.toml) and exits non-zero if a check fails.
+#include <cstdint>
 #include <cstdio>
+#include <optional>
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
@@ -17,11 +19,14 @@ int main(int argc, char** argv) {
   std::string node_bin = programs.node.string();
   std::string server_bin = programs.server.string();
   bool verbose = false;
+  std::optional<uint64_t> seed;
   app.add_option("--drill", drill_path, "drill TOML (configs/drills/*.toml)")->required();
   app.add_option("--transport", transport, "override the exercise's transport URL");
   app.add_option("--run-dir", run_dir, "override the exercise's run_dir (emptied first)");
   app.add_option("--node-bin", node_bin, "the dt_node program")->capture_default_str();
   app.add_option("--server-bin", server_bin, "the dt_server program")->capture_default_str();
+  app.add_option("--seed", seed,
+                 "seed every random_ops and chaos action: the k-th (in time order) gets seed + k");
   app.add_flag("--verbose", verbose, "show every line of every process");
   CLI11_PARSE(app, argc, argv);
 
@@ -29,6 +34,7 @@ int main(int argc, char** argv) {
   dt::ExerciseConfig exercise;
   try {
     drill = dt::LoadDrillConfig(drill_path);
+    if (seed) dt::OverrideSeeds(drill, *seed);
     exercise = dt::LoadExerciseConfig(drill.exercise);
     dt::ApplyOverrides(exercise, transport, run_dir);
     if (!exercise.server) {
@@ -44,6 +50,13 @@ int main(int argc, char** argv) {
             throw std::invalid_argument(fmt::format("{}: {} has no process named \"{}\"", a.where,
                                                     exercise.source.string(), n));
           }
+        }
+      }
+      if (a.kind == dt::DrillActionKind::kChaos) {
+        const size_t targets = a.targets.empty() ? exercise.Processes().size() : a.targets.size();
+        if (static_cast<size_t>(a.max_down) > targets) {
+          throw std::invalid_argument(fmt::format("{}: chaos max_down {} exceeds its {} targets",
+                                                  a.where, a.max_down, targets));
         }
       }
     }

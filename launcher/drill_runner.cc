@@ -33,10 +33,6 @@ bool SanitizerReport(std::string_view line) {
          line.find("ERROR: LeakSanitizer") != std::string_view::npos;
 }
 
-double Uniform(std::mt19937_64& rng, double lo, double hi) {
-  return lo + (hi - lo) * static_cast<double>(rng() >> 11) * (1.0 / 9007199254740992.0);
-}
-
 }  // namespace
 
 DrillRunner::DrillRunner(DrillConfig drill, ExerciseConfig exercise, DrillOptions options)
@@ -118,20 +114,45 @@ std::map<std::string, std::string> DrillRunner::Status(const std::string& name) 
   }
   if (out.count("acknowledged_change_seq") != 0) {
     const int64_t ack = std::stoll(out["acknowledged_change_seq"]);
-    acked_[name] = std::max(acked_[name], ack);
+    int64_t& seen = acked_[{name, incarnation_[name]}];
+    seen = std::max(seen, ack);
   }
   return out;
+}
+
+void DrillRunner::StartProcess(const std::string& name) {
+  // Nothing in run_dir is touched: a server reopens its database, a node its own files (such as
+  // its feature-number reservation); a node's terrain is in memory only, so it starts without it.
+  sup_.Start(name, Command(name));
+  if (incarnation_[name]++ > 0) ++restarts_;
+  stopped_.erase(name);
+}
+
+void DrillRunner::KillNow(const std::string& n) {
+  const bool was_running = sup_.running(n);
+  sup_.Signal(n, SIGKILL);
+  kills_ += was_running ? 1 : 0;
+  if (!sup_.WaitExit(n, 10000)) {
+    Check("kill " + n, false, "still running");
+  } else if (was_running) {
+    // Only this kill may end it: an earlier exit is a crash the kill would hide.
+    const int st = sup_.last_wait_status(n);
+    if (!WIFSIGNALED(st) || WTERMSIG(st) != SIGKILL) {
+      Check("kill " + n, false, "it had already " + DescribeWaitStatus(st));
+    }
+  }
+  stopped_.insert(n);
 }
 
 void DrillRunner::StartAll() {
   std::vector<std::string> servers = {exercise_.server->name};  // dt_drill refuses none
   if (exercise_.standby) servers.push_back(exercise_.standby->name);
-  for (const std::string& s : servers) sup_.Start(s, Command(s));
+  for (const std::string& s : servers) StartProcess(s);
   dt::Status st = sup_.WaitReady(servers, static_cast<int>(drill_.ready_timeout_s * 1000));
   std::vector<std::string> all = servers;
   if (st) {
     for (const ProcessConfig& n : exercise_.nodes) {
-      sup_.Start(n.name, Command(n.name));
+      StartProcess(n.name);
       all.push_back(n.name);
     }
     st = sup_.WaitReady(all, static_cast<int>(drill_.ready_timeout_s * 1000));
@@ -145,25 +166,18 @@ void DrillRunner::RunAction(const DrillAction& a) {
   std::fflush(stdout);
   switch (a.kind) {
     case DrillActionKind::kRandomOps: {
+      std::printf("[drill] random_ops: seed %llu, %d operations over %.0f s\n",
+                  static_cast<unsigned long long>(a.seed), a.count, a.duration_s);
+      std::fflush(stdout);
       Burst b{&a, ElapsedS(), 0, std::mt19937_64(a.seed)};
       bursts_.push_back(std::move(b));
       return;
     }
+    case DrillActionKind::kChaos:
+      StartChaos(a);
+      return;
     case DrillActionKind::kKill:
-      for (const std::string& n : a.targets) {
-        const bool was_running = sup_.running(n);
-        sup_.Signal(n, SIGKILL);
-        if (!sup_.WaitExit(n, 10000)) {
-          Check("kill " + n, false, "still running");
-        } else if (was_running) {
-          // Only this kill may end it: an earlier exit is a crash the kill would hide.
-          const int st = sup_.last_wait_status(n);
-          if (!WIFSIGNALED(st) || WTERMSIG(st) != SIGKILL) {
-            Check("kill " + n, false, "it had already " + DescribeWaitStatus(st));
-          }
-        }
-        stopped_.insert(n);
-      }
+      for (const std::string& n : a.targets) KillNow(n);
       return;
     case DrillActionKind::kStop:
       for (const std::string& n : a.targets) {
@@ -176,10 +190,7 @@ void DrillRunner::RunAction(const DrillAction& a) {
       }
       return;
     case DrillActionKind::kRestart: {
-      for (const std::string& n : a.targets) {
-        sup_.Start(n, Command(n));
-        stopped_.erase(n);
-      }
+      for (const std::string& n : a.targets) StartProcess(n);
       dt::Status st = sup_.WaitReady(a.targets, static_cast<int>(drill_.ready_timeout_s * 1000));
       Check(fmt::format("restart {} READY", fmt::join(a.targets, ", ")), st.ok(),
             st ? "" : st.error().message);
@@ -218,63 +229,15 @@ void DrillRunner::RunAction(const DrillAction& a) {
       return;
     case DrillActionKind::kCommand:
       for (const std::string& n : Expand(a.targets)) {
-        Result<ControlReply> r = Call(n, a.line, 10000);
+        Result<ControlReply> r = Call(n, a.line, kOpTimeoutMs);
         Check(fmt::format("{} on {}", a.line, n), r && r.value().ok,
               r ? r.value().error : r.error().message);
+        // A create's IDs count like those of random operations (no ID issued twice, etc.).
+        if (r && r.value().ok) RecordAccepted(n, a.line, r.value());
+        if (!r) RecordUnanswered(n, a.line, r.error().message);
       }
       return;
   }
-}
-
-void DrillRunner::RandomOp(Burst& b) {
-  const DrillAction& a = *b.action;
-  std::vector<std::string> candidates;
-  for (const std::string& n : a.targets.empty() ? LiveNodes() : a.targets) {
-    if (sup_.running(n)) candidates.push_back(n);
-  }
-  ++b.issued;
-  if (candidates.empty()) return;
-  const std::string node = candidates[b.rng() % candidates.size()];
-  const double size_m = exercise_.terrain_size_m();
-  const int dice = static_cast<int>(b.rng() % 10);
-  Op op{node, OpKind::kCreate, {}, -1};
-  std::string line;
-  if (dice < 6 || alive_.empty()) {
-    const double r = Uniform(b.rng, 2.0, 8.0);
-    line = fmt::format("crater {:.2f} {:.2f} {:.2f}", Uniform(b.rng, 20.0, size_m - 20.0),
-                       Uniform(b.rng, 20.0, size_m - 20.0), r);
-  } else {
-    auto it = alive_.begin();
-    std::advance(it, static_cast<long>(b.rng() % alive_.size()));
-    op.id = *it;
-    if (dice < 8) {
-      op.kind = OpKind::kUpdate;
-      line = fmt::format("update {} radius_m={:.2f}", op.id.ToString(), Uniform(b.rng, 2.0, 8.0));
-    } else {
-      op.kind = OpKind::kDestroy;
-      line = "destroy " + op.id.ToString();
-    }
-  }
-  Result<ControlReply> r = Call(node, line);
-  if (!r || !r.value().ok) {
-    ++ops_failed_;  // a killed node, or a feature another node destroyed: not an error
-    return;
-  }
-  if (op.kind == OpKind::kCreate) {
-    Result<FeatureId> id = ParseFeatureId(r.value().body);
-    if (!id) {
-      Check("create reply", false, r.value().body);
-      return;
-    }
-    op.id = id.value();
-    if (!issued_ids_.insert(op.id).second) reused_ids_.push_back(op.id);
-    alive_.insert(op.id);
-  } else if (op.kind == OpKind::kDestroy) {
-    alive_.erase(op.id);
-  }
-  const auto st = Status(node);
-  if (st.count("own_change_seq") != 0) op.seq = std::stoll(st.at("own_change_seq"));
-  ops_.push_back(op);
 }
 
 bool DrillRunner::Converge(std::string& detail) {
@@ -302,6 +265,8 @@ bool DrillRunner::Converge(std::string& detail) {
     }
     std::set<std::string> distinct;
     for (const auto& [n, d] : digests) distinct.insert(d);
+    digests_equal_ = distinct.size() == 1;
+    last_digests_ = digests;
     detail.clear();
     for (const auto& [n, d] : digests) detail += fmt::format("\n    {:10} {}", n, d);
     if (distinct.size() == 1 && all_caught_up && all_acked) return true;
@@ -312,6 +277,118 @@ bool DrillRunner::Converge(std::string& detail) {
     }
     if (sup_.Poll(250)) return false;  // interrupted
   }
+}
+
+std::set<FeatureId> DrillRunner::Features(const std::string& name) {
+  std::set<FeatureId> out;
+  Result<ControlReply> r = Call(name, "features", 10000);
+  if (r && r.value().ok) {
+    std::istringstream in(r.value().body);
+    for (std::string l; std::getline(in, l);) {
+      if (auto id = ParseFeatureId(l)) out.insert(id.value());
+    }
+  }
+  return out;
+}
+
+void DrillRunner::ReportDivergence() {
+  const std::vector<std::string> live = Live();
+  if (live.size() < 2) return;
+  const std::set<FeatureId> first = Features(live.front());
+  auto some = [](const std::vector<std::string>& ids) {
+    const size_t shown = std::min<size_t>(ids.size(), 10);
+    return fmt::format("{}{}", fmt::join(ids.begin(), ids.begin() + static_cast<long>(shown), ", "),
+                       ids.size() > shown ? fmt::format(" and {} more", ids.size() - shown) : "");
+  };
+  for (size_t i = 1; i < live.size(); ++i) {
+    if (last_digests_[live[i]] == last_digests_[live.front()]) continue;
+    const std::set<FeatureId> other = Features(live[i]);
+    std::vector<std::string> extra, missing;
+    for (const FeatureId& id : other) {
+      if (first.count(id) == 0) extra.push_back(id.ToString());
+    }
+    for (const FeatureId& id : first) {
+      if (other.count(id) == 0) missing.push_back(id.ToString());
+    }
+    if (extra.empty() && missing.empty()) {
+      report_.push_back(
+          fmt::format("  {} holds the live feature IDs {} holds ({}), with other "
+                      "parameters",
+                      live[i], live.front(), other.size()));
+      continue;
+    }
+    report_.push_back(
+        fmt::format("  {} beside {}: {} live features only on {}{}{}, {} only on {}{}{}", live[i],
+                    live.front(), extra.size(), live[i], extra.empty() ? "" : ": ", some(extra),
+                    missing.size(), live.front(), missing.empty() ? "" : ": ", some(missing)));
+  }
+}
+
+void DrillRunner::CheckFeatures() {
+  std::vector<std::string> reused;
+  for (const FeatureId& id : reused_ids_) reused.push_back(id.ToString());
+  Check("no feature ID issued twice", reused_ids_.empty(),
+        reused_ids_.empty() ? fmt::format("{} IDs issued", issued_ids_.size())
+                            : fmt::format("reused: {}", fmt::join(reused, ", ")));
+  // Acknowledged = at or below the highest acknowledged sequence the issuing incarnation of
+  // the node reported.
+  std::set<FeatureId> must_live, must_be_gone;
+  int unacked_creates = 0, unacked_destroys = 0;
+  for (const Op& op : ops_) {
+    const auto ack = acked_.find({op.node, op.incarnation});
+    const bool acked = op.seq >= 0 && ack != acked_.end() && op.seq <= ack->second;
+    acked_ops_ += acked ? 1 : 0;
+    if (op.kind == OpKind::kCreate) {
+      if (acked)
+        must_live.insert(op.id);
+      else
+        ++unacked_creates;
+    } else if (op.kind == OpKind::kDestroy) {
+      must_live.erase(op.id);
+      if (acked)
+        must_be_gone.insert(op.id);
+      else
+        ++unacked_destroys;
+    }
+  }
+  for (const FeatureId& id : must_be_gone) must_live.erase(id);
+  for (const FeatureId& id : maybe_gone_) must_live.erase(id);
+  const std::vector<std::string> live = Live();
+  const std::set<FeatureId> present = live.empty() ? std::set<FeatureId>{} : Features(live.front());
+  const long expected = static_cast<long>(alive_.size());
+  // Only IDs the drill issued count: not features of scenarios, nor of creates it had no reply to.
+  long have = 0;
+  for (const FeatureId& id : present) have += issued_ids_.count(id) != 0 ? 1 : 0;
+  long maybe_gone = 0;
+  for (const FeatureId& id : maybe_gone_) maybe_gone += alive_.count(id) != 0 ? 1 : 0;
+  report_.push_back(fmt::format("  {} features live in all ({} not issued to the drill)",
+                                present.size(), static_cast<long>(present.size()) - have));
+  if (ops_unanswered_ > 0) {
+    report_.push_back(fmt::format(
+        "  {} commands unanswered within {} s (outcome unknown: what they destroy is left out "
+        "of the checks), first: {}",
+        ops_unanswered_, kOpTimeoutMs / 1000, fmt::join(unanswered_, "; ")));
+  }
+  report_.push_back(fmt::format("  slowest reply to a random operation: {:.2f} s ({})",
+                                slowest_reply_s_,
+                                slowest_reply_.empty() ? "none" : slowest_reply_));
+  Check("expected feature count (of the drill's own operations)",
+        have >= expected - unacked_creates - maybe_gone && have <= expected + unacked_destroys,
+        fmt::format("{} live, {} expected ({} unacknowledged creates, {} destroys may be lost, "
+                    "{} maybe destroyed; {} operations ran, {} refused, {} unanswered)",
+                    have, expected, unacked_creates, unacked_destroys, maybe_gone, ops_.size(),
+                    ops_failed_, ops_unanswered_));
+  std::vector<std::string> lost;
+  for (const FeatureId& id : must_live) {
+    if (!present.count(id)) lost.push_back(id.ToString());
+  }
+  for (const FeatureId& id : must_be_gone) {
+    if (present.count(id)) lost.push_back(id.ToString() + " (destroyed, came back)");
+  }
+  lost_count_ = lost.size();
+  Check("nothing acknowledged lost", lost.empty(),
+        lost.empty() ? fmt::format("{} acknowledged live features checked", must_live.size())
+                     : fmt::format("{}", fmt::join(lost, ", ")));
 }
 
 void DrillRunner::Check(const std::string& what, bool ok, const std::string& detail) {
@@ -365,7 +442,7 @@ int DrillRunner::Run() {
       while (next < drill_.actions.size() && drill_.actions[next].at_s <= now_s) {
         RunAction(drill_.actions[next++]);
       }
-      bool bursting = false;
+      bool busy = false;
       double next_due_s = 1e300;
       for (Burst& b : bursts_) {
         const DrillAction& a = *b.action;
@@ -373,11 +450,12 @@ int DrillRunner::Run() {
           RandomOp(b);
         }
         if (b.issued < a.count) {
-          bursting = true;
+          busy = true;
           next_due_s = std::min(next_due_s, b.start_s + a.duration_s * b.issued / a.count);
         }
       }
-      if (next >= drill_.actions.size() && !bursting) break;
+      for (Chaos& c : chaos_) busy |= ChaosStep(c, next_due_s);
+      if (next >= drill_.actions.size() && !busy) break;
       if (Expired()) {
         Check("timeline within the deadline", false,
               fmt::format("{} s passed with the timeline unfinished", drill_.deadline_s));
@@ -394,69 +472,21 @@ int DrillRunner::Run() {
 
     if (!fatal_ && !interrupted) {
       std::string detail;
+      const double converge_start_s = ElapsedS();
       const bool converged = Converge(detail);
-      Check("equal digests on every live process, all caught up and acknowledged", converged,
-            detail);
+      Check(fmt::format("equal digests on every live process, all caught up and acknowledged "
+                        "({:.1f} s after the timeline)",
+                        ElapsedS() - converge_start_s),
+            converged, detail);
+      if (!digests_equal_) ReportDivergence();
       uint64_t dropped = 0;
       for (const auto& [n, d] : dropped_) dropped += d;
       report_.push_back(
           fmt::format("  {} messages dropped by fault injection (live processes)", dropped));
-      Check("no feature ID issued twice", reused_ids_.empty(),
-            reused_ids_.empty() ? fmt::format("{} IDs issued", issued_ids_.size())
-                                : fmt::format("reused: {}", reused_ids_.front().ToString()));
-      // Acknowledged = at or below the highest acknowledged sequence seen for the node.
-      std::set<FeatureId> must_live, must_be_gone;
-      int unacked_creates = 0, unacked_destroys = 0;
-      for (const Op& op : ops_) {
-        const bool acked = op.seq >= 0 && op.seq <= acked_[op.node];
-        if (op.kind == OpKind::kCreate) {
-          if (acked)
-            must_live.insert(op.id);
-          else
-            ++unacked_creates;
-        } else if (op.kind == OpKind::kDestroy) {
-          must_live.erase(op.id);
-          if (acked)
-            must_be_gone.insert(op.id);
-          else
-            ++unacked_destroys;
-        }
-      }
-      for (const FeatureId& id : must_be_gone) must_live.erase(id);
-      const std::vector<std::string> live = Live();
-      std::set<FeatureId> present;
-      if (!live.empty()) {
-        Result<ControlReply> r = Call(live.front(), "features", 10000);
-        if (r && r.value().ok) {
-          std::istringstream in(r.value().body);
-          for (std::string l; std::getline(in, l);) {
-            if (auto id = ParseFeatureId(l)) present.insert(id.value());
-          }
-        }
-      }
-      const long expected = static_cast<long>(alive_.size());
-      // Features of scenarios are not the drill's to count: only IDs the drill issued.
-      long have = 0;
-      for (const FeatureId& id : present) have += issued_ids_.count(id) != 0 ? 1 : 0;
-      report_.push_back(fmt::format("  {} features live in all ({} from scenarios)", present.size(),
-                                    static_cast<long>(present.size()) - have));
-      Check(
-          "expected feature count (of the drill's own operations)",
-          have >= expected - unacked_creates && have <= expected + unacked_destroys,
-          fmt::format("{} live, {} expected ({} unacknowledged creates, {} destroys may be lost; "
-                      "{} operations ran, {} refused)",
-                      have, expected, unacked_creates, unacked_destroys, ops_.size(), ops_failed_));
-      std::vector<std::string> lost;
-      for (const FeatureId& id : must_live) {
-        if (!present.count(id)) lost.push_back(id.ToString());
-      }
-      for (const FeatureId& id : must_be_gone) {
-        if (present.count(id)) lost.push_back(id.ToString() + " (destroyed, came back)");
-      }
-      Check("nothing acknowledged lost", lost.empty(),
-            lost.empty() ? fmt::format("{} acknowledged live features checked", must_live.size())
-                         : fmt::format("{}", fmt::join(lost, ", ")));
+      CheckFeatures();
+      const double renders_start_s = ElapsedS();
       Renders();
+      report_.push_back(fmt::format("  renders took {:.1f} s", ElapsedS() - renders_start_s));
     }
   } catch (const std::exception& e) {
     Check("drill ran", false, e.what());
@@ -485,6 +515,12 @@ int DrillRunner::Run() {
   std::printf("\n== drill %s: %s in %.1f s ==\n", drill_.name.c_str(),
               failures_.empty() ? "PASS" : "FAIL", ElapsedS());
   for (const std::string& l : report_) std::printf("%s\n", l.c_str());
+  // One line for scripts (scripts/campaigns.sh).
+  std::printf(
+      "[drill] summary result=%s kills=%d restarts=%d ops=%zu acknowledged=%zu refused=%d "
+      "unanswered=%d lost=%zu ids_twice=%zu digests_equal=%s\n",
+      failures_.empty() ? "PASS" : "FAIL", kills_, restarts_, ops_.size(), acked_ops_, ops_failed_,
+      ops_unanswered_, lost_count_, reused_ids_.size(), digests_equal_ ? "yes" : "no");
   std::fflush(stdout);
   return failures_.empty() ? 0 : 1;
 }

@@ -9,12 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "launcher/chaos_plan.h"
 #include "launcher/drill_config.h"
 #include "launcher/exercise_commands.h"
 #include "launcher/supervisor.h"
 #include "runtime/control_protocol.h"
 #include "runtime/exercise_config.h"
 #include "terrain/feature_id.h"
+#include "terrain/feature_params.h"
 #include "terrain/result.h"
 
 namespace dt {
@@ -38,7 +40,8 @@ class DrillRunner {
   enum class OpKind { kCreate, kUpdate, kDestroy };
   struct Op {
     std::string node;
-    OpKind kind;
+    int incarnation = 0;  // which start of the node issued it (1 = the first)
+    OpKind kind = OpKind::kCreate;
     FeatureId id;
     int64_t seq = -1;  // the node's own_change_seq right after the op; -1 unknown
   };
@@ -48,6 +51,19 @@ class DrillRunner {
     int issued = 0;
     std::mt19937_64 rng;
   };
+  // A running chaos action (drill_chaos.cc).
+  struct Chaos {
+    const DrillAction* action;
+    double start_s;
+    std::vector<ChaosRound> plan;
+    size_t next = 0;                        // the next round of the plan
+    std::map<std::string, double> down;     // killed by it: name -> restart time (elapsed s)
+    std::map<std::string, double> waiting;  // restarted, not READY yet: name -> restart time
+  };
+  using Incarnation = std::pair<std::string, int>;
+  // Long enough that a node held up for seconds still answers: an unanswered command's outcome
+  // is unknown and weakens the checks.
+  static constexpr int kOpTimeoutMs = 10000;
 
   double ElapsedS() const;
   bool Expired() const;
@@ -61,10 +77,35 @@ class DrillRunner {
   // Reads status; records the acknowledged sequence. Empty map if the call fails.
   std::map<std::string, std::string> Status(const std::string& name);
 
+  // Starts (or restarts) a process: a new incarnation, no longer counted as stopped.
+  void StartProcess(const std::string& name);
+  // SIGKILL, wait for the exit, and check that the kill (not a crash before it) ended it.
+  void KillNow(const std::string& name);
   void StartAll();
   void RunAction(const DrillAction& a);
+
+  // drill_ops.cc: random operations and the drill's model of the features it made.
   void RandomOp(Burst& b);
+  // Records a feature command a node accepted (create, update, destroy, breach): the IDs it
+  // issued, the model, and the operations with the node's change sequence after them.
+  void RecordAccepted(const std::string& node, const std::string& line, const ControlReply& reply);
+  // A feature command with no reply in time: its outcome is unknown (left out of the checks).
+  void RecordUnanswered(const std::string& node, const std::string& line, const std::string& error);
+  void NoteIssued(const FeatureId& id);
+
+  // drill_chaos.cc: the chaos action.
+  void StartChaos(const DrillAction& a);
+  // Restarts, readiness, due rounds; lowers next_due_s to its next event. False once finished.
+  bool ChaosStep(Chaos& c, double& next_due_s);
+  void KillRound(Chaos& c, size_t index);
+
   bool Converge(std::string& detail);
+  // Checks 2-4 (docs/launcher.md "Checks") against the features a live process holds.
+  void CheckFeatures();
+  // The live feature IDs a process holds (empty if the call fails).
+  std::set<FeatureId> Features(const std::string& name);
+  // After unequal digests: which feature IDs each live process holds beside the first's.
+  void ReportDivergence();
   void Check(const std::string& what, bool ok, const std::string& detail);
   void Renders();
 
@@ -77,15 +118,31 @@ class DrillRunner {
   std::vector<Op> ops_;
   std::set<FeatureId> issued_ids_;
   std::vector<FeatureId> reused_ids_;
-  std::set<FeatureId> alive_;                // the drill's model
-  std::map<std::string, uint64_t> dropped_;  // fault_dropped per process, last seen
-  std::map<std::string, int64_t> acked_;     // highest acknowledged_change_seq seen per node
+  std::set<FeatureId> alive_;                 // the drill's model
+  std::set<FeatureId> maybe_gone_;            // targets of unanswered destroys and breaches
+  std::map<FeatureId, FeatureParams> berms_;  // live berms the drill made (breach candidates)
+  std::map<std::string, uint64_t> dropped_;   // fault_dropped per process, last seen
+  // Highest acknowledged_change_seq seen per node incarnation: a new incarnation may reuse the
+  // sequence of a change its predecessor lost, so only the issuing incarnation's ack counts.
+  std::map<Incarnation, int64_t> acked_;
+  std::map<std::string, int> incarnation_;  // starts per process
   std::set<std::string> stopped_;  // killed or stopped by the drill and not restarted since
   std::vector<std::string> sanitizer_reports_;  // "name: line" of every ASan/UBSan/LSan report
   std::vector<Burst> bursts_;
+  std::vector<Chaos> chaos_;
+  int kills_ = 0;               // SIGKILLs sent by the drill (kill actions and chaos)
+  int restarts_ = 0;            // starts after the first
+  bool digests_equal_ = false;  // at the last convergence poll
+  std::map<std::string, std::string> last_digests_;  // per live process, at that poll
+  size_t acked_ops_ = 0;   // operations found acknowledged (CheckFeatures)
+  size_t lost_count_ = 0;  // acknowledged operations found undone (CheckFeatures)
   std::vector<std::string> failures_;
   std::vector<std::string> report_;
-  int ops_failed_ = 0;
+  int ops_failed_ = 0;                   // refused by the node
+  int ops_unanswered_ = 0;               // no reply within kOpTimeoutMs
+  std::vector<std::string> unanswered_;  // the first few, for the report
+  double slowest_reply_s_ = 0.0;         // of random operations
+  std::string slowest_reply_;
   bool fatal_ = false;
 };
 

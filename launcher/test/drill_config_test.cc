@@ -59,6 +59,63 @@ TEST(DrillConfigTest, RefusesBadDrills) {
             std::string::npos);
 }
 
+TEST(DrillConfigTest, ReadsChaosWithDefaults) {
+  const DrillConfig d = ParseDrillConfig(
+      kHead +
+          "[[action]]\ndo = \"chaos\"\nduration_s = 20\nseed = 9\n"
+          "[[action]]\nat_s = 1\ndo = \"chaos\"\nduration_s = 20\nperiod_s = 4\nmax_down = 2\n"
+          "down_min_s = 0.5\ndown_max_s = 2\ntargets = [\"server\", \"node-1\"]\n",
+      "d.toml", "/base");
+  ASSERT_EQ(d.actions.size(), 2u);
+  const DrillAction& a = d.actions[0];
+  EXPECT_EQ(a.kind, DrillActionKind::kChaos);
+  EXPECT_DOUBLE_EQ(a.duration_s, 20.0);
+  EXPECT_EQ(a.seed, 9u);
+  EXPECT_DOUBLE_EQ(a.period_s, 10.0);
+  EXPECT_EQ(a.max_down, 1);
+  EXPECT_DOUBLE_EQ(a.down_min_s, 1.0);
+  EXPECT_DOUBLE_EQ(a.down_max_s, 5.0);
+  EXPECT_TRUE(a.targets.empty());
+  const DrillAction& b = d.actions[1];
+  EXPECT_DOUBLE_EQ(b.period_s, 4.0);
+  EXPECT_EQ(b.max_down, 2);
+  EXPECT_DOUBLE_EQ(b.down_min_s, 0.5);
+  EXPECT_DOUBLE_EQ(b.down_max_s, 2.0);
+  EXPECT_EQ(b.targets.size(), 2u);
+}
+
+TEST(DrillConfigTest, RefusesBadChaos) {
+  const std::string chaos = "[[action]]\ndo = \"chaos\"\n";
+  EXPECT_NE(ErrorOf(kHead + chaos).find("duration_s"), std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + chaos + "duration_s = 10\ndown_min_s = 3\ndown_max_s = 2\n")
+                .find("below down_min_s"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + chaos + "at_s = 20\nduration_s = 20\n").find("after deadline_s"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + chaos + "duration_s = 10\nmax_down = 2\ntargets = \"node-1\"\n")
+                .find("one target"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + chaos + "duration_s = 10\nperiod_s = 0\n").find("period_s"),
+            std::string::npos);
+}
+
+TEST(DrillConfigTest, OneSeedReseedsEveryRandomAction) {
+  DrillConfig d = ParseDrillConfig(
+      kHead +
+          "[[action]]\nat_s = 2\ndo = \"chaos\"\nduration_s = 5\nseed = 100\n"
+          "[[action]]\nat_s = 0\ndo = \"random_ops\"\ncount = 5\nduration_s = 5\nseed = 200\n"
+          "[[action]]\nat_s = 1\ndo = \"kill\"\ntargets = \"node-1\"\n",
+      "d.toml", "/base");
+  OverrideSeeds(d, 40);
+  ASSERT_EQ(d.actions.size(), 3u);
+  EXPECT_EQ(d.actions[0].kind, DrillActionKind::kRandomOps);
+  EXPECT_EQ(d.actions[0].seed, 40u);
+  EXPECT_EQ(d.actions[1].kind, DrillActionKind::kKill);
+  EXPECT_EQ(d.actions[1].seed, 1u);  // untouched
+  EXPECT_EQ(d.actions[2].kind, DrillActionKind::kChaos);
+  EXPECT_EQ(d.actions[2].seed, 41u);
+}
+
 TEST(DrillConfigTest, ShippedDrillsParseAndNameRealProcesses) {
   const std::filesystem::path dir = std::filesystem::path(DT_SOURCE_DIR) / "configs/drills";
   int count = 0;

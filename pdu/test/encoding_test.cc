@@ -190,7 +190,15 @@ TEST(Encoding, SenderSitsAtTheSameOffsetInEveryType) {
   check(sample::Destruct());
   check(sample::MaxFeature());
   check(sample::Playback());
+  check(sample::AntiEntropySummary());
   EXPECT_EQ(PeekSender(std::vector<uint8_t>(18, 0)), std::nullopt);
+}
+
+TEST(Encoding, AntiEntropySizesAreTheDocumentedOnes) {
+  // docs/pdu.md: 58 bytes, 20 per summary entry, 8 per hash.
+  EXPECT_EQ(EncodePdu(sample::AntiEntropySummary()).size(), 58u + 2 * 20u);
+  EXPECT_EQ(EncodePdu(sample::AntiEntropyHashes()).size(), 58u + 32 * 8u);
+  EXPECT_EQ(EncodePdu(sample::AntiEntropyCopies()).size(), 58u + 2 * 8u);
 }
 
 TEST(Encoding, TheBiggestConstructFitsInOneDatagram) {

@@ -44,6 +44,7 @@ SqliteChangeStore::SqliteChangeStore(std::filesystem::path path, sqlite3* db)
 
 SqliteChangeStore::~SqliteChangeStore() {
   sqlite3_finalize(insert_);
+  sqlite3_finalize(replace_);
   sqlite3_close(db_);
 }
 
@@ -58,12 +59,16 @@ Status SqliteChangeStore::Exec(const char* sql) {
 }
 
 Status SqliteChangeStore::Prepare() {
-  const char* sql =
-      "INSERT OR IGNORE INTO changes (author_site, author_host, seq, lamport, kind, origin_site,"
+  constexpr const char* kColumns =
+      " INTO changes (author_site, author_host, seq, lamport, kind, origin_site,"
       " origin_host, number, feature_type, params) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?);";
-  if (sqlite3_prepare_v2(db_, sql, -1, &insert_, nullptr) != SQLITE_OK) {
-    return Error{
-        fmt::format("{}: not a dynterrain change database: {}", path_.string(), SqlError(db_))};
+  const std::string insert = std::string("INSERT OR IGNORE") + kColumns;
+  const std::string replace = std::string("INSERT OR REPLACE") + kColumns;
+  for (auto [sql, statement] : {std::pair{&insert, &insert_}, std::pair{&replace, &replace_}}) {
+    if (sqlite3_prepare_v2(db_, sql->c_str(), -1, statement, nullptr) != SQLITE_OK) {
+      return Error{
+          fmt::format("{}: not a dynterrain change database: {}", path_.string(), SqlError(db_))};
+    }
   }
   return Status::Ok();
 }
@@ -73,37 +78,45 @@ Status SqliteChangeStore::LimitPages(int64_t max_pages) {
 }
 
 Status SqliteChangeStore::Append(std::span<const Change> changes) {
+  return Write(insert_, changes);
+}
+
+Status SqliteChangeStore::Replace(std::span<const Change> changes) {
+  return Write(replace_, changes);
+}
+
+Status SqliteChangeStore::Write(sqlite3_stmt* statement, std::span<const Change> changes) {
   if (changes.empty()) return Status::Ok();
   if (auto s = Exec("BEGIN IMMEDIATE;"); !s) return s;
   for (const Change& c : changes) {
-    sqlite3_reset(insert_);
-    sqlite3_clear_bindings(insert_);
-    sqlite3_bind_int(insert_, 1, c.stamp.changed_by.site);
-    sqlite3_bind_int(insert_, 2, c.stamp.changed_by.host);
-    sqlite3_bind_int64(insert_, 3, c.stamp.change_seq);
-    sqlite3_bind_int64(insert_, 4, static_cast<sqlite3_int64>(c.stamp.lamport));
-    sqlite3_bind_int(insert_, 5, static_cast<int>(c.kind));
-    sqlite3_bind_int(insert_, 6, c.id.site);
-    sqlite3_bind_int(insert_, 7, c.id.host);
-    sqlite3_bind_int64(insert_, 8, c.id.number);
-    sqlite3_bind_int(insert_, 9, static_cast<int>(c.params.type));
+    sqlite3_reset(statement);
+    sqlite3_clear_bindings(statement);
+    sqlite3_bind_int(statement, 1, c.stamp.changed_by.site);
+    sqlite3_bind_int(statement, 2, c.stamp.changed_by.host);
+    sqlite3_bind_int64(statement, 3, c.stamp.change_seq);
+    sqlite3_bind_int64(statement, 4, static_cast<sqlite3_int64>(c.stamp.lamport));
+    sqlite3_bind_int(statement, 5, static_cast<int>(c.kind));
+    sqlite3_bind_int(statement, 6, c.id.site);
+    sqlite3_bind_int(statement, 7, c.id.host);
+    sqlite3_bind_int64(statement, 8, c.id.number);
+    sqlite3_bind_int(statement, 9, static_cast<int>(c.params.type));
     ByteWriter w;
     if (c.kind != ChangeKind::kDestruct) {
       EncodeFeatureParams(c.params, w);
-      sqlite3_bind_blob(insert_, 10, w.bytes().data(), static_cast<int>(w.bytes().size()),
+      sqlite3_bind_blob(statement, 10, w.bytes().data(), static_cast<int>(w.bytes().size()),
                         SQLITE_TRANSIENT);
     } else {
-      sqlite3_bind_null(insert_, 10);
+      sqlite3_bind_null(statement, 10);
     }
-    if (sqlite3_step(insert_) != SQLITE_DONE) {
+    if (sqlite3_step(statement) != SQLITE_DONE) {
       std::string msg = SqlError(db_);
-      sqlite3_reset(insert_);
+      sqlite3_reset(statement);
       (void)Exec("ROLLBACK;");
       return Error{fmt::format("{}: storing change {}:{} failed: {}", path_.string(),
                                c.stamp.changed_by.ToString(), c.stamp.change_seq, msg)};
     }
   }
-  sqlite3_reset(insert_);
+  sqlite3_reset(statement);
   if (auto s = Exec("COMMIT;"); !s) {
     (void)Exec("ROLLBACK;");
     return s;

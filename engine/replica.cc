@@ -17,6 +17,10 @@ void CheckConfig(const ReplicaConfig& c) {
         "replica {}: max_feature_period_ms {}, silence_ms {} and playback_retry_ms {} must be > 0",
         c.address.ToString(), c.max_feature_period_ms, c.silence_ms, c.playback_retry_ms));
   }
+  if (c.anti_entropy_period_ms < 0) {
+    throw std::invalid_argument(fmt::format("replica {}: anti_entropy_period_ms {} must be >= 0",
+                                            c.address.ToString(), c.anti_entropy_period_ms));
+  }
   if (c.playback_window < 1 || c.playback_window > kMaxPlaybackSpan) {
     throw std::invalid_argument(fmt::format("replica {}: playback_window {} is outside [1, {}]",
                                             c.address.ToString(), c.playback_window,
@@ -57,6 +61,21 @@ Replica::Replica(ReplicaConfig config, HeightGrid ground, PduBus& bus)
       }
     }
   }
+  anti_entropy_ = std::make_unique<AntiEntropy>(
+      AntiEntropyConfig{config_.address, config_.role, config_.anti_entropy_period_ms,
+                        config_.playback_retry_ms, config_.silence_ms, config_.store},
+      logs_, records_, bus_,
+      [this](const Change& c, NodeAddress requester) {
+        Publish(c, requester);
+        ++counters_.played_back;
+      },
+      [this](const Change& /*old_copy*/, const Change& now_held) {
+        // What Accept notes for a change it logs, for the copy that took the slot.
+        ObserveLamport(now_held.stamp.lamport);
+        NoteOwn(now_held);
+        auto& max = max_feature_[OriginOf(now_held.id)];
+        max = std::max<int64_t>(max, now_held.id.number);
+      });
 }
 
 Replica::~Replica() = default;
@@ -502,6 +521,7 @@ void Replica::Tick(int64_t now_ms) {
   }
   ForgetSilentReporters();
   RequestMissing();
+  anti_entropy_->Tick(now_ms_);
 }
 
 // ---- queries ----
@@ -509,6 +529,7 @@ void Replica::Tick(int64_t now_ms) {
 std::string Replica::Digest() const { return ComputeDigest(records_.terrain()).ToHex(); }
 
 bool Replica::caught_up() const {
+  if (anti_entropy_->diverged()) return false;
   for (const auto& [author, log] : logs_) {
     if (log.has_gap()) return false;
   }

@@ -12,6 +12,7 @@
 
 #include "dtpdu/max_feature_t.hpp"
 #include "dtpdu/playback_t.hpp"
+#include "engine/anti_entropy.h"
 #include "engine/change.h"
 #include "engine/change_log.h"
 #include "engine/change_store.h"
@@ -37,6 +38,9 @@ struct ReplicaConfig {
   int playback_retry_ms =
       1000;                   // a request unanswered this long is sent again (then to the server)
   int playback_window = 256;  // changes outstanding per author
+  // A summary of the logs held every period, so slots held differently are found and repaired
+  // (docs/protocol.md, "Anti-entropy"); 0: off.
+  int anti_entropy_period_ms = 1000;
   // A node signs on only once a server (or standby) has told it its own last numbers. False: an
   // exercise without a server; the node signs on after silence_ms with whatever it heard.
   bool require_server = true;
@@ -77,7 +81,15 @@ class Replica {
   const Terrain& terrain() const { return records_.terrain(); }
   std::string Digest() const;  // terrain digest (terrain_digest.h), hex
   bool signed_on() const { return signed_on_; }
-  bool caught_up() const;  // no known gap for any author, nothing outstanding
+  bool caught_up() const;  // no known gap for any author, nothing outstanding, not diverged
+  // A peer holds another change in a slot this replica holds (docs/protocol.md, "Anti-entropy"):
+  // since when (the Tick time it was found at; -1 when not diverged), and with whom in which
+  // author's log, which changes.
+  bool diverged() const { return anti_entropy_->diverged(); }
+  int64_t diverged_since_ms() const { return anti_entropy_->diverged_since_ms(); }
+  std::vector<AntiEntropy::Divergence> divergences() const { return anti_entropy_->divergences(); }
+  const AntiEntropy& anti_entropy() const { return *anti_entropy_; }
+  AntiEntropy& anti_entropy() { return *anti_entropy_; }
   const ReplicaConfig& config() const { return config_; }
 
   struct Counters {
@@ -173,6 +185,7 @@ class Replica {
   int64_t now_ms_ = 0;
   int64_t last_report_ms_ = -1;
   Counters counters_;
+  std::unique_ptr<AntiEntropy> anti_entropy_;  // made last: its handlers run after ours
 };
 
 }  // namespace dt

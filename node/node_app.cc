@@ -29,6 +29,7 @@ NodeApp::NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process)
   rc.silence_ms = exercise.protocol.silence_ms;
   rc.playback_retry_ms = exercise.protocol.playback_retry_ms;
   rc.playback_window = exercise.protocol.playback_window;
+  rc.anti_entropy_period_ms = exercise.protocol.anti_entropy_period_ms;
   replica_ = std::make_unique<Replica>(rc, std::move(ground), *transport_.bus);
   for (size_t i = 0; i < process.vehicles.size(); ++i) {
     const VehicleConfig& vc = process.vehicles[i];

@@ -121,6 +121,8 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     c.protocol.silence_ms = static_cast<int>(p->Int("silence_ms", 2000, 10, 3600000));
     c.protocol.playback_retry_ms = static_cast<int>(p->Int("playback_retry_ms", 500, 10, 600000));
     c.protocol.playback_window = static_cast<int>(p->Int("playback_window", 256, 1, 1000000));
+    c.protocol.anti_entropy_period_ms =
+        static_cast<int>(p->Int("anti_entropy_period_ms", 1000, 0, 600000));
     if (c.protocol.silence_ms <= c.protocol.max_feature_period_ms) {
       p->Fail("silence_ms", fmt::format("must exceed max_feature_period_ms ({})",
                                         c.protocol.max_feature_period_ms));

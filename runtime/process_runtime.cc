@@ -86,17 +86,24 @@ std::string StatusText(const std::string& name, NodeRole role, const Replica& re
                        const FaultyTransport& faults, const std::vector<Vehicle>& vehicles) {
   const Replica::Counters c = replica.counters();
   std::string s = fmt::format(
-      "name {}\naddress {}\nrole {}\nsigned_on {}\ncaught_up {}\nfeatures {}\ndigest {}\n"
+      "name {}\naddress {}\nrole {}\nsigned_on {}\ncaught_up {}\ndiverged {}\n"
+      "diverged_since_ms {}\nfeatures {}\ndigest {}\n"
       "own_feature_number {}\nown_change_seq {}\nacknowledged_change_seq {}\n"
       "sent {}\nreceived {}\nrejected {}\nplayed_back {}\napplied {}\nignored_stale {}\n"
       "fault_dropped {}\ndrop_probability {}",
       name, replica.config().address.ToString(), RoleName(role), replica.signed_on() ? 1 : 0,
-      replica.caught_up() ? 1 : 0, replica.live_feature_count(), replica.Digest(),
-      replica.own_feature_number(), replica.own_change_seq(), replica.acknowledged_change_seq(),
-      c.sent, c.received, c.rejected, c.played_back, c.applied, c.ignored_stale, faults.dropped(),
+      replica.caught_up() ? 1 : 0, replica.diverged() ? 1 : 0, replica.diverged_since_ms(),
+      replica.live_feature_count(), replica.Digest(), replica.own_feature_number(),
+      replica.own_change_seq(), replica.acknowledged_change_seq(), c.sent, c.received, c.rejected,
+      c.played_back, c.applied, c.ignored_stale, faults.dropped(),
       const_cast<FaultyTransport&>(faults).faults().config().drop_probability);
   for (const auto& [origin, max] : replica.max_feature_known()) {
     s += fmt::format("\nmax_feature {} {}", origin.ToString(), max);
+  }
+  for (const AntiEntropy::Divergence& d : replica.divergences()) {
+    s += fmt::format("\ndivergence {} with {} changes {}..{}{} since_ms {}", d.author.ToString(),
+                     d.peer.ToString(), d.first_seq, d.last_seq, d.located ? "" : " (not located)",
+                     d.since_ms);
   }
   for (size_t i = 0; i < vehicles.size(); ++i) {
     const Vehicle& v = vehicles[i];

@@ -40,8 +40,9 @@ void WaitForWork(int transport_fd, bool messages_held, const ControlServer& cont
 // Milliseconds since the first call (steady clock).
 int64_t MonotonicMs();
 
-// "key value" lines: name, address, role, signed_on, caught_up, features, digest, own numbers,
-// acknowledged sequence, counters, max_feature per origin, vehicles (docs/node.md "status").
+// "key value" lines: name, address, role, signed_on, caught_up, diverged, diverged_since_ms,
+// features, digest, own numbers, acknowledged sequence, counters, max_feature per origin,
+// divergences, vehicles (docs/node.md "status").
 std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
                        const FaultyTransport& faults, const std::vector<Vehicle>& vehicles);
 

@@ -79,6 +79,7 @@ int main(int argc, char** argv) {
     rc.silence_ms = exercise.protocol.silence_ms;
     rc.playback_retry_ms = exercise.protocol.playback_retry_ms;
     rc.playback_window = exercise.protocol.playback_window;
+    rc.anti_entropy_period_ms = exercise.protocol.anti_entropy_period_ms;
     const std::filesystem::path db = exercise.run_dir / (name + ".db");
     const int64_t t0 = dt::MonotonicMs();
     auto opened =

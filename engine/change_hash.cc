@@ -5,6 +5,7 @@
 #include <array>
 #include <bit>
 #include <cstdlib>
+#include <cstring>
 
 namespace dt {
 namespace {
@@ -21,20 +22,26 @@ class Bytes {
   void F64(double v) { Put(std::bit_cast<uint64_t>(v)); }
   const uint8_t* data() const { return buf_.data(); }
   size_t size() const { return n_; }
+  // Encode checks the size once: a change is at most 107 bytes plus 10 per vertex edit.
+  static constexpr size_t kCapacity = 107 + 10 * kCraterSpokes * kCraterRings;
 
  private:
   template <typename T>
   void Put(T v) {
-    if (n_ + sizeof(T) > buf_.size()) std::abort();  // a valid change is at most 747 bytes
-    // Compilers turn this into one store on a little-endian machine.
-    for (size_t i = 0; i < sizeof(T); ++i) buf_[n_ + i] = static_cast<uint8_t>(v >> (8 * i));
+    if constexpr (std::endian::native == std::endian::little) {
+      std::memcpy(buf_.data() + n_, &v, sizeof(T));
+    } else {
+      for (size_t i = 0; i < sizeof(T); ++i) buf_[n_ + i] = static_cast<uint8_t>(v >> (8 * i));
+    }
     n_ += sizeof(T);
   }
-  std::array<uint8_t, 1024> buf_;
+  std::array<uint8_t, kCapacity> buf_;
   size_t n_ = 0;
 };
 
 void Encode(const Change& c, Bytes& w) {
+  // Validated parameters hold at most one edit per vertex; more is a broken invariant.
+  if (c.params.vertex_edits.size() > size_t{kCraterSpokes * kCraterRings}) std::abort();
   w.U8(static_cast<uint8_t>(c.kind));
   w.U16(c.id.site);
   w.U16(c.id.host);

@@ -4,6 +4,7 @@
 //
 //   DT_SIM_SEEDS=<n>       seeds to run (default 1000), starting at DT_SIM_FIRST_SEED (default 1)
 //   DT_SIM_SEED=<s>        run only seed s (reproduces a failure exactly)
+//   DT_SIM_TRACE=1         print the schedule's events; DT_SIM_LOG=info the replicas' log lines
 #include <cstdlib>
 #include <filesystem>
 #include <map>

@@ -22,6 +22,21 @@ bool ChangeLog::Insert(const Change& change) {
   return true;
 }
 
+bool ChangeLog::Replace(const Change& change) {
+  const int64_t seq = change.stamp.change_seq;
+  if (seq >= 1 && seq <= static_cast<int64_t>(slots_.size())) {
+    auto& slot = slots_[static_cast<size_t>(seq - 1)];
+    if (slot) {
+      *slot = change;
+      return true;
+    }
+  }
+  auto it = aside_.find(seq);
+  if (it == aside_.end()) return false;
+  it->second = change;
+  return true;
+}
+
 const Change* ChangeLog::Find(int64_t seq) const {
   if (seq >= 1 && seq <= static_cast<int64_t>(slots_.size())) {
     const auto& slot = slots_[static_cast<size_t>(seq - 1)];

@@ -25,6 +25,10 @@ class ChangeLog {
  public:
   // False (and nothing changes) if the sequence is already held.
   bool Insert(const Change& change);
+  // Puts `change` in the slot of its sequence in place of the change held there (anti-entropy's
+  // repair, docs/protocol.md); the gap-free point and pointers to the slot are unchanged. False
+  // (and nothing changes) if the sequence is not held.
+  bool Replace(const Change& change);
   const Change* Find(int64_t seq) const;
   // Held changes with start <= seq <= end, in sequence order.
   std::vector<const Change*> Range(int64_t start, int64_t end) const;

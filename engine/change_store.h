@@ -15,8 +15,13 @@ namespace dt {
 class ChangeStore {
  public:
   virtual ~ChangeStore() = default;
-  // All or nothing: on Error nothing of the batch is stored.
+  // All or nothing: on Error nothing of the batch is stored. A change whose (author,
+  // change_seq) is already stored is ignored (a replay), whatever its content.
   virtual Status Append(std::span<const Change> changes) = 0;
+  // Stores each change in place of the one stored with its (author, change_seq), or as a new one
+  // if there is none: anti-entropy repaired that slot (docs/protocol.md, "Anti-entropy"). All or
+  // nothing, durable on Ok, like Append.
+  virtual Status Replace(std::span<const Change> changes) = 0;
   // Every stored change, in the order stored.
   virtual Result<std::vector<Change>> LoadAll() = 0;
 };

@@ -60,6 +60,37 @@ RecordStore::Outcome RecordStore::Apply(const Change& change) {
   return Outcome::kApplied;
 }
 
+void RecordStore::Rebuild(FeatureId id, std::span<const Change* const> changes) {
+  bool bridge_involved = false;
+  if (auto it = records_.find(id); it != records_.end()) {
+    Record& r = it->second;
+    if (r.placed && !terrain_.Remove(id)) std::abort();  // placed means the terrain holds it
+    if (!r.destroyed) {
+      --live_;
+      if (r.params.type == FeatureType::kBridge) {
+        live_bridges_.erase(id);
+        bridge_involved = true;
+      }
+    }
+    const NodeAddress origin = OriginOf(id);
+    if (auto n = newest_.find(origin); n != newest_.end() && n->second == it) {
+      // The origin's newest record goes: the one before it, if of the same origin, is newest now.
+      if (it != records_.begin() && OriginOf(std::prev(it)->first) == origin) {
+        n->second = std::prev(it);
+      } else {
+        newest_.erase(n);
+      }
+    }
+    records_.erase(it);
+  }
+  for (const Change* c : changes) {
+    if (c->id != id) std::abort();  // the caller gathers the changes of this feature only
+    Apply(*c);
+  }
+  // A bridge that was there may have kept a later one out: place the live bridges again.
+  if (bridge_involved) RematerialiseBridges();
+}
+
 void RecordStore::Materialise(FeatureId id, Record& r, bool bridge_involved) {
   if (r.placed) {
     if (!terrain_.Remove(id)) std::abort();  // placed means the terrain holds it

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <map>
 #include <set>
+#include <span>
 #include <utility>
 
 #include "engine/change.h"
@@ -29,6 +30,12 @@ class RecordStore {
   enum class Outcome { kApplied, kStale };
   // Last writer wins by Version; a Destruct always wins and is final.
   Outcome Apply(const Change& change);
+
+  // Makes the record of `id` what applying `changes` (every change of `id` held, in any order) to
+  // no record gives, and the terrain follow: a held change was replaced (anti-entropy's repair,
+  // docs/protocol.md), and last-writer-wins cannot be undone one change at a time. With no
+  // changes the record is gone, as if never seen.
+  void Rebuild(FeatureId id, std::span<const Change* const> changes);
 
   const Record* Find(FeatureId id) const;
   const Terrain& terrain() const { return terrain_; }

@@ -17,6 +17,10 @@ void CheckConfig(const ReplicaConfig& c) {
         "replica {}: max_feature_period_ms {}, silence_ms {} and playback_retry_ms {} must be > 0",
         c.address.ToString(), c.max_feature_period_ms, c.silence_ms, c.playback_retry_ms));
   }
+  if (c.anti_entropy_period_ms < 0) {
+    throw std::invalid_argument(fmt::format("replica {}: anti_entropy_period_ms {} must be >= 0",
+                                            c.address.ToString(), c.anti_entropy_period_ms));
+  }
   if (c.playback_window < 1 || c.playback_window > kMaxPlaybackSpan) {
     throw std::invalid_argument(fmt::format("replica {}: playback_window {} is outside [1, {}]",
                                             c.address.ToString(), c.playback_window,
@@ -78,6 +82,28 @@ Replica::Replica(ReplicaConfig config, HeightGrid ground, PduBus& bus)
       own_feature_number_ = std::max(own_feature_number_, reserved_feature_number_);
     }
   }
+  anti_entropy_ = std::make_unique<AntiEntropy>(
+      AntiEntropyConfig{config_.address, config_.role, config_.anti_entropy_period_ms,
+                        config_.playback_retry_ms, config_.silence_ms, config_.store},
+      logs_, records_, bus_,
+      [this](const Change& c, NodeAddress requester) {
+        Publish(c, requester);
+        ++counters_.played_back;
+      },
+      [this](const Change& /*old_copy*/, const Change& now_held) {
+        // What Accept notes for a change it logs, for the copy that took the slot.
+        ObserveLamport(now_held.stamp.lamport);
+        NoteOwn(now_held);
+        auto& max = max_feature_[OriginOf(now_held.id)];
+        max = std::max<int64_t>(max, now_held.id.number);
+      },
+      AntiEntropy::Admission{[this](NodeAddress sender, NodeRole role) {
+                               return AdmitsSender(sender) &&
+                                      AdmitsRole(sender, role, "an AntiEntropy");
+                             },
+                             [this](NodeAddress sender, const Change& copy) {
+                               return Admits(sender, copy.author(), copy.stamp.lamport);
+                             }});
 }
 
 Replica::~Replica() = default;
@@ -195,6 +221,14 @@ bool Replica::AdmitsClock(NodeAddress sender, uint64_t lamport) {
   return true;
 }
 
+bool Replica::AdmitsRole(NodeAddress sender, NodeRole role, std::string_view what) {
+  if (RoleOf(sender, role) == role) return true;
+  Refused(counters_.refused_role,
+          fmt::format("{} from {} claiming role {}; the exercise file says {}", what,
+                      sender.ToString(), NodeRoleName(role), NodeRoleName(RoleOf(sender, role))));
+  return false;
+}
+
 bool Replica::AdmitsSender(NodeAddress sender) {
   if (IsMember(sender)) return true;
   Refused(counters_.refused_stranger,
@@ -249,12 +283,7 @@ void Replica::OnMaxFeature(const dtpdu::max_feature_t& pdu) {
   const NodeAddress sender = FromPdu(pdu.sender);
   if (!AdmitsSender(sender)) return;
   const auto role = static_cast<NodeRole>(pdu.role);
-  if (RoleOf(sender, role) != role) {
-    Refused(counters_.refused_role,
-            fmt::format("a MaxFeature from {} claiming role {}; the exercise file says {}",
-                        sender.ToString(), NodeRoleName(role), NodeRoleName(RoleOf(sender, role))));
-    return;
-  }
+  if (!AdmitsRole(sender, role, "a MaxFeature")) return;
   if (!AdmitsClock(sender, static_cast<uint64_t>(pdu.lamport))) return;
   HeardFrom(sender, role);
   ObserveLamport(static_cast<uint64_t>(pdu.lamport));
@@ -631,6 +660,7 @@ void Replica::Tick(int64_t now_ms) {
   }
   ForgetSilentReporters();
   RequestMissing();
+  anti_entropy_->Tick(now_ms_);
 }
 
 void Replica::CompleteSignOn() {
@@ -685,6 +715,7 @@ Status Replica::ReserveFeatureNumbers(int64_t number) {
 std::string Replica::Digest() const { return ComputeDigest(records_.terrain()).ToHex(); }
 
 bool Replica::caught_up() const {
+  if (anti_entropy_->diverged()) return false;
   for (const auto& [author, log] : logs_) {
     if (log.has_gap()) return false;
   }

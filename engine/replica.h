@@ -8,10 +8,12 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "dtpdu/max_feature_t.hpp"
 #include "dtpdu/playback_t.hpp"
+#include "engine/anti_entropy.h"
 #include "engine/change.h"
 #include "engine/change_log.h"
 #include "engine/change_store.h"
@@ -38,6 +40,9 @@ struct ReplicaConfig {
   int playback_retry_ms =
       1000;                   // a request unanswered this long is sent again (then to the server)
   int playback_window = 256;  // changes outstanding per author
+  // A summary of the logs held every period, so slots held differently are found and repaired
+  // (docs/protocol.md, "Anti-entropy"); 0: off.
+  int anti_entropy_period_ms = 1000;
   // A node signs on only once a server (or standby) has told it its own last numbers. False: an
   // exercise without a server; the node signs on after silence_ms with whatever it heard.
   bool require_server = true;
@@ -93,7 +98,15 @@ class Replica {
   const Terrain& terrain() const { return records_.terrain(); }
   std::string Digest() const;  // terrain digest (terrain_digest.h), hex
   bool signed_on() const { return signed_on_; }
-  bool caught_up() const;  // no known gap for any author, nothing outstanding
+  bool caught_up() const;  // no known gap for any author, nothing outstanding, not diverged
+  // A peer holds another change in a slot this replica holds (docs/protocol.md, "Anti-entropy"):
+  // since when (the Tick time it was found at; -1 when not diverged), and with whom in which
+  // author's log, which changes.
+  bool diverged() const { return anti_entropy_->diverged(); }
+  int64_t diverged_since_ms() const { return anti_entropy_->diverged_since_ms(); }
+  std::vector<AntiEntropy::Divergence> divergences() const { return anti_entropy_->divergences(); }
+  const AntiEntropy& anti_entropy() const { return *anti_entropy_; }
+  AntiEntropy& anti_entropy() { return *anti_entropy_; }
   const ReplicaConfig& config() const { return config_; }
 
   struct Counters {
@@ -148,6 +161,8 @@ class Replica {
   // Membership and clock rules for a received change; false (and counted) if it is refused.
   bool Admits(NodeAddress sender, NodeAddress author, uint64_t lamport);
   bool AdmitsSender(NodeAddress sender);
+  // A role claim that disagrees with the exercise file is refused; `what` names the PDU.
+  bool AdmitsRole(NodeAddress sender, NodeRole role, std::string_view what);
   bool AdmitsClock(NodeAddress sender, uint64_t lamport);
   // Counts a refusal and logs it, at most one line a second.
   void Refused(uint64_t& counter, const std::string& what);
@@ -220,6 +235,7 @@ class Replica {
   int64_t last_refusal_log_ms_ = -1;
   uint64_t refusals_since_log_ = 0;
   Counters counters_;
+  std::unique_ptr<AntiEntropy> anti_entropy_;  // made last: its handlers run after ours
 };
 
 }  // namespace dt

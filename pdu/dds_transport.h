@@ -94,7 +94,7 @@ class DdsTransport final : public Transport {
   int32_t domain_ = 0;  // non-zero when this transport created the domain
   int32_t participant_ = 0;
   int event_fd_ = -1;
-  std::array<PerType, 5> types_;
+  std::array<PerType, kAllPduTypes.size()> types_;
 };
 
 }  // namespace dt

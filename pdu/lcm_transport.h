@@ -42,7 +42,7 @@ class LcmTransport final : public Transport {
   std::string lcm_url_;
   uint8_t exercise_id_;
   _lcm_t* lcm_ = nullptr;
-  std::array<std::string, 5> channels_;
+  std::array<std::string, kAllPduTypes.size()> channels_;
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   int dispatched_ = 0;
 };

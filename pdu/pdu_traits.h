@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "dtpdu/anti_entropy_t.hpp"
 #include "dtpdu/construct_t.hpp"
 #include "dtpdu/destruct_t.hpp"
 #include "dtpdu/max_feature_t.hpp"
@@ -37,6 +38,10 @@ struct PduTraits<dtpdu::max_feature_t> {
 template <>
 struct PduTraits<dtpdu::playback_t> {
   static constexpr PduType kType = PduType::kPlayback;
+};
+template <>
+struct PduTraits<dtpdu::anti_entropy_t> {
+  static constexpr PduType kType = PduType::kAntiEntropy;
 };
 
 template <typename Pdu>

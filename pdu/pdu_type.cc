@@ -16,6 +16,8 @@ std::string_view PduTypeName(PduType type) {
       return "MAXFEATURE";
     case PduType::kPlayback:
       return "PLAYBACK";
+    case PduType::kAntiEntropy:
+      return "ANTIENTROPY";
   }
   return "UNKNOWN";
 }

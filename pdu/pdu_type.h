@@ -7,13 +7,14 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 
 namespace dt {
 
 // Version of the PDU layout carried in every header; a receiver drops any other version.
 inline constexpr uint8_t kProtocolVersion = 1;
 
-// Wire values of header.pdu_type. DIS reserves 129..255 for experimental PDUs; 220..224 keep
+// Wire values of header.pdu_type. DIS reserves 129..255 for experimental PDUs; 220..225 keep
 // clear of standard DIS traffic. Append, never renumber.
 enum class PduType : uint8_t {
   kConstruct = 220,
@@ -21,13 +22,14 @@ enum class PduType : uint8_t {
   kDestruct = 222,
   kMaxFeature = 223,
   kPlayback = 224,
+  kAntiEntropy = 225,
 };
 
-inline constexpr std::array<PduType, 5> kAllPduTypes = {PduType::kConstruct, PduType::kUpdate,
-                                                        PduType::kDestruct, PduType::kMaxFeature,
-                                                        PduType::kPlayback};
+inline constexpr std::array<PduType, 6> kAllPduTypes = {PduType::kConstruct, PduType::kUpdate,
+                                                        PduType::kDestruct,  PduType::kMaxFeature,
+                                                        PduType::kPlayback,  PduType::kAntiEntropy};
 
-// "CONSTRUCT", "UPDATE", "DESTRUCT", "MAXFEATURE", "PLAYBACK".
+// "CONSTRUCT", "UPDATE", "DESTRUCT", "MAXFEATURE", "PLAYBACK", "ANTIENTROPY".
 std::string_view PduTypeName(PduType type);
 // The PduType with this wire value; nullopt if it names none.
 std::optional<PduType> PduTypeFromRaw(uint8_t raw);
@@ -54,6 +56,37 @@ inline bool IsValidPlaybackRange(uint8_t raw) { return raw <= 1; }
 // A Playback request covers at most this many numbers (end - start + 1); bigger ones are dropped
 // as "huge", and requesters split their ranges.
 inline constexpr int64_t kMaxPlaybackSpan = 65536;
+
+// What an AntiEntropy PDU is (docs/protocol.md, "Anti-entropy").
+enum class AntiEntropyKind : uint8_t {
+  kSummary = 0,      // per author: gap-free point and prefix hash
+  kHashRequest = 1,  // "send me the bucket hashes of subject's [start, end]"
+  kHashAnswer = 2,   // those hashes
+  kCopyRequest = 3,  // "send me your copies of subject's [start, end]"
+  kCopies = 4,       // follows the copies sent, with the hash of each
+};
+inline bool IsValidAntiEntropyKind(uint8_t raw) { return raw <= 4; }
+
+// Authors in one summary (20 bytes each: the PDU stays under kMaxPduBytes); a replica holding
+// more sends several summaries.
+inline constexpr int kMaxSummaryAuthors = 64;
+// A hash request's range is split into at most this many buckets, so a difference in a log of n
+// changes is located in ceil(log_32 n) rounds.
+inline constexpr int64_t kAntiEntropyBuckets = 32;
+// The buckets of [start, end] (start <= end): min(kAntiEntropyBuckets, end - start + 1).
+inline int64_t AntiEntropyBucketCount(int64_t start, int64_t end) {
+  return end - start + 1 < kAntiEntropyBuckets ? end - start + 1 : kAntiEntropyBuckets;
+}
+// Bucket `index` (0-based) of [start, end] as {first, last}: the range cut into
+// AntiEntropyBucketCount near-equal consecutive pieces, the same on every replica.
+inline std::pair<int64_t, int64_t> HashBucket(int64_t start, int64_t end, int64_t index) {
+  const int64_t n = end - start + 1;
+  const int64_t k = AntiEntropyBucketCount(start, end);
+  return {start + n * index / k, start + n * (index + 1) / k - 1};
+}
+// A copy request (and the copies that answer it) covers at most this many change sequences, so
+// a request of one datagram cannot ask for an unbounded answer.
+inline constexpr int64_t kMaxCopySpan = kAntiEntropyBuckets;
 
 // Highest feature number, change_seq and sender_seq a PDU may carry (32-bit unsigned).
 inline constexpr int64_t kMaxSerial = 4294967295;

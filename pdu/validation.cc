@@ -166,6 +166,87 @@ std::optional<Rejection> Validate(const dtpdu::playback_t& pdu, const Validation
   return std::nullopt;
 }
 
+std::optional<Rejection> Validate(const dtpdu::anti_entropy_t& pdu, const ValidationContext& ctx) {
+  if (auto r = CheckHeader(pdu.header, PduType::kAntiEntropy, pdu.sender_seq, ctx)) return r;
+  if (!IsValidAntiEntropyKind(pdu.kind)) {
+    return Reject(RejectReason::kBadField, fmt::format("anti-entropy kind {}", pdu.kind));
+  }
+  if (!IsValidNodeRole(pdu.role)) {
+    return Reject(RejectReason::kBadField, fmt::format("role {}", pdu.role));
+  }
+  if (pdu.num_entries != static_cast<int64_t>(pdu.entries.size()) ||
+      pdu.num_hashes != static_cast<int64_t>(pdu.hashes.size())) {
+    return Reject(
+        RejectReason::kBadField,
+        fmt::format("num_entries {} / num_hashes {} for {} entries and {} hashes", pdu.num_entries,
+                    pdu.num_hashes, pdu.entries.size(), pdu.hashes.size()));
+  }
+  const auto kind = static_cast<AntiEntropyKind>(pdu.kind);
+  // Every field a kind does not use must be zero, so each kind has one encoding.
+  const bool is_summary = kind == AntiEntropyKind::kSummary;
+  const bool is_copies = kind == AntiEntropyKind::kCopies;
+  const bool is_answer = kind == AntiEntropyKind::kHashAnswer;
+  if (!is_summary && pdu.num_entries != 0) {
+    return Reject(RejectReason::kBadField,
+                  fmt::format("{} entries outside a summary", pdu.num_entries));
+  }
+  if (!is_answer && !is_copies && pdu.num_hashes != 0) {
+    return Reject(RejectReason::kBadField,
+                  fmt::format("{} hashes in anti-entropy kind {}", pdu.num_hashes, pdu.kind));
+  }
+  if (pdu.exchange && kind != AntiEntropyKind::kCopyRequest) {
+    return Reject(RejectReason::kBadField, "exchange set outside a copy request");
+  }
+  if (is_summary) {
+    const dtpdu::node_address_t none{};
+    if (pdu.start != 0 || pdu.end != 0 || pdu.target.site != none.site ||
+        pdu.target.host != none.host || pdu.subject.site != none.site ||
+        pdu.subject.host != none.host) {
+      return Reject(
+          RejectReason::kBadField,
+          fmt::format("summary with target, subject or range {}..{}", pdu.start, pdu.end));
+    }
+    if (pdu.num_entries < 0 || pdu.num_entries > kMaxSummaryAuthors) {
+      return Reject(RejectReason::kBadField, fmt::format("summary of {} authors (at most {})",
+                                                         pdu.num_entries, kMaxSummaryAuthors));
+    }
+    for (const auto& e : pdu.entries) {
+      if (e.seq < 1 || e.seq > kMaxSerial) {
+        return Reject(RejectReason::kBadField,
+                      fmt::format("summary seq {} is outside [1, {}]", e.seq, kMaxSerial));
+      }
+    }
+    return std::nullopt;
+  }
+  for (const auto& [name, v] : {std::pair{"start", pdu.start}, std::pair{"end", pdu.end}}) {
+    if (v < 1 || v > kMaxSerial) {
+      return Reject(RejectReason::kBadField,
+                    fmt::format("anti-entropy {} {} is outside [1, {}]", name, v, kMaxSerial));
+    }
+  }
+  if (pdu.start > pdu.end) {
+    return Reject(RejectReason::kInvertedRange,
+                  fmt::format("anti-entropy start {} > end {}", pdu.start, pdu.end));
+  }
+  if ((kind == AntiEntropyKind::kCopyRequest || is_copies) &&
+      pdu.end - pdu.start + 1 > kMaxCopySpan) {
+    return Reject(RejectReason::kHugeRange,
+                  fmt::format("copies of {}..{} span {} > {}", pdu.start, pdu.end,
+                              pdu.end - pdu.start + 1, kMaxCopySpan));
+  }
+  if (is_copies && pdu.num_hashes != pdu.end - pdu.start + 1) {
+    return Reject(RejectReason::kBadField, fmt::format("{} hashes for copies of {}..{}",
+                                                       pdu.num_hashes, pdu.start, pdu.end));
+  }
+  if (is_answer && pdu.num_hashes != 0 &&
+      pdu.num_hashes != AntiEntropyBucketCount(pdu.start, pdu.end)) {
+    return Reject(RejectReason::kBadField,
+                  fmt::format("{} hashes for {}..{} ({} buckets)", pdu.num_hashes, pdu.start,
+                              pdu.end, AntiEntropyBucketCount(pdu.start, pdu.end)));
+  }
+  return std::nullopt;
+}
+
 template <AnyPdu Pdu>
 std::optional<Rejection> DecodePdu(std::span<const uint8_t> bytes, Pdu& out) {
   if (bytes.size() > kMaxPduBytes) {
@@ -207,6 +288,7 @@ template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::upd
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::destruct_t&);
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::max_feature_t&);
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::playback_t&);
+template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::anti_entropy_t&);
 
 uint64_t RejectCounters::total() const {
   uint64_t sum = 0;

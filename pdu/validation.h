@@ -29,8 +29,8 @@ enum class RejectReason : uint8_t {
   kOutOfRange,            // sizes <= 0 or beyond the documented maxima (ValidateFeatureParams)
   kOffTerrain,            // position outside [0, terrain size] on x or z
   kBadField,              // a counter, enumeration or flag outside its range
-  kInvertedRange,         // playback start > end
-  kHugeRange,             // playback range longer than kMaxPlaybackSpan
+  kInvertedRange,         // playback or anti-entropy start > end
+  kHugeRange,             // playback range longer than kMaxPlaybackSpan (copies: kMaxCopySpan)
   // Authentication (pdu/pdu_auth.h), checked before any of the above:
   kUnauthenticated,  // no authentication trailer (sent without the exercise key, or not by us)
   kBadMac,           // the trailer's MAC is not the exercise key's MAC of the bytes
@@ -61,6 +61,7 @@ std::optional<Rejection> Validate(const dtpdu::update_t& pdu, const ValidationCo
 std::optional<Rejection> Validate(const dtpdu::destruct_t& pdu, const ValidationContext& ctx);
 std::optional<Rejection> Validate(const dtpdu::max_feature_t& pdu, const ValidationContext& ctx);
 std::optional<Rejection> Validate(const dtpdu::playback_t& pdu, const ValidationContext& ctx);
+std::optional<Rejection> Validate(const dtpdu::anti_entropy_t& pdu, const ValidationContext& ctx);
 
 // Decodes bytes as Pdu without validating fields: size limit, fingerprint, truncation, trailing
 // bytes. Never throws and never crashes on any input.

@@ -129,9 +129,9 @@ std::filesystem::path ExerciseConfig::SocketPath(std::string_view process_name) 
 ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,
                                    const std::filesystem::path& base_dir) {
   const toml::table root = TomlReader::ParseText(toml_text, source_name);
-  const TomlReader top(root, std::string(source_name), "",
-                       {"exercise", "terrain", "protocol", "faults", "server", "standby", "node",
-                        "auth"});
+  const TomlReader top(
+      root, std::string(source_name), "",
+      {"exercise", "terrain", "protocol", "faults", "server", "standby", "node", "auth"});
   ExerciseConfig c;
   c.source = std::string(source_name);
 
@@ -154,15 +154,17 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   t.Finish();
 
   bool require_server = true;
-  if (auto p = top.OptionalTable("protocol", {"max_feature_period_ms", "silence_ms",
-                                              "playback_retry_ms", "playback_window",
-                                              "require_server"})) {
+  if (auto p = top.OptionalTable("protocol",
+                                 {"max_feature_period_ms", "silence_ms", "playback_retry_ms",
+                                  "playback_window", "require_server", "anti_entropy_period_ms"})) {
     require_server = p->Bool("require_server", true);
     c.protocol.max_feature_period_ms =
         static_cast<int>(p->Int("max_feature_period_ms", 500, 10, 600000));
     c.protocol.silence_ms = static_cast<int>(p->Int("silence_ms", 2000, 10, 3600000));
     c.protocol.playback_retry_ms = static_cast<int>(p->Int("playback_retry_ms", 500, 10, 600000));
     c.protocol.playback_window = static_cast<int>(p->Int("playback_window", 256, 1, 1000000));
+    c.protocol.anti_entropy_period_ms =
+        static_cast<int>(p->Int("anti_entropy_period_ms", 1000, 0, 600000));
     if (c.protocol.silence_ms <= c.protocol.max_feature_period_ms) {
       p->Fail("silence_ms", fmt::format("must exceed max_feature_period_ms ({})",
                                         c.protocol.max_feature_period_ms));

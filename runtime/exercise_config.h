@@ -39,6 +39,7 @@ struct ProtocolTiming {
   int silence_ms = 2000;
   int playback_retry_ms = 500;
   int playback_window = 256;
+  int anti_entropy_period_ms = 1000;  // 0: anti-entropy off
 };
 
 // How the exercise's PDUs are authenticated (docs/pdu.md "Authentication"): [auth] names a key

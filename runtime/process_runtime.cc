@@ -30,23 +30,29 @@ uint64_t FaultSeed(const ExerciseConfig& exercise, NodeAddress a) {
 
 }  // namespace
 
-ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise,
-                                      const ProcessConfig& process) {
+ProcessTransport StackTransport(std::unique_ptr<Transport> carrier, const FaultConfig& faults,
+                                uint64_t fault_seed, const PduBusConfig& bus) {
   ProcessTransport t;
-  auto faulty = std::make_unique<FaultyTransport>(
-      MakeTransport(exercise.transport_url, exercise.exercise_id), process.address, exercise.faults,
-      FaultSeed(exercise, process.address));
+  auto faulty =
+      std::make_unique<FaultyTransport>(std::move(carrier), bus.local, faults, fault_seed);
   t.faults = faulty.get();
   auto retrying = std::make_unique<RetryingTransport>(std::move(faulty));
   t.retrying = retrying.get();
   t.transport = std::move(retrying);
+  t.bus = std::make_unique<PduBus>(*t.transport, bus);
+  return t;
+}
+
+ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise,
+                                      const ProcessConfig& process) {
   PduBusConfig bus;
   bus.exercise_id = exercise.exercise_id;
   bus.local = process.address;
   bus.terrain_size_m = exercise.terrain_size_m();
   bus.auth.key = exercise.auth.key;
   bus.auth.clock_tolerance = std::chrono::milliseconds(exercise.auth.clock_tolerance_ms);
-  t.bus = std::make_unique<PduBus>(*t.transport, bus);
+  ProcessTransport t = StackTransport(MakeTransport(exercise.transport_url, exercise.exercise_id),
+                                      exercise.faults, FaultSeed(exercise, process.address), bus);
   if (const PduAuthenticator* a = t.bus->authenticator()) {
     DT_LOG_INFO(
         "PDUs authenticated with the exercise key {} (incarnation {}, clock tolerance {} ms)",
@@ -69,6 +75,7 @@ ReplicaConfig MakeReplicaConfig(const ExerciseConfig& exercise, const ProcessCon
   rc.silence_ms = exercise.protocol.silence_ms;
   rc.playback_retry_ms = exercise.protocol.playback_retry_ms;
   rc.playback_window = exercise.protocol.playback_window;
+  rc.anti_entropy_period_ms = exercise.protocol.anti_entropy_period_ms;
   if (exercise.server) rc.members[exercise.server->address] = NodeRole::kServer;
   rc.require_server = exercise.require_server();
   if (exercise.standby) rc.members[exercise.standby->address] = NodeRole::kStandby;
@@ -105,19 +112,20 @@ std::string StatusText(const std::string& name, NodeRole role, const Replica& re
   const Replica::Counters c = replica.counters();
   const RetryingTransport::Counters w = transport.retrying->counters();
   std::string s = fmt::format(
-      "name {}\naddress {}\nrole {}\nrequire_server {}\nsigned_on {}\ncaught_up {}\nfeatures {}\n"
-      "digest {}\n"
+      "name {}\naddress {}\nrole {}\nrequire_server {}\nsigned_on {}\ncaught_up {}\n"
+      "diverged {}\ndiverged_since_ms {}\nfeatures {}\ndigest {}\n"
       "own_feature_number {}\nown_change_seq {}\nacknowledged_change_seq {}\n"
       "sent {}\nreceived {}\nrejected {}\nplayed_back {}\napplied {}\nignored_stale {}\n"
       "fault_dropped {}\ndrop_probability {}\nwrite_queued {}\nwrite_retried {}\n"
       "write_failed {}\nwrite_given_up {}",
       name, replica.config().address.ToString(), NodeRoleName(role),
       replica.config().require_server ? 1 : 0, replica.signed_on() ? 1 : 0,
-      replica.caught_up() ? 1 : 0, replica.live_feature_count(), replica.Digest(),
-      replica.own_feature_number(), replica.own_change_seq(), replica.acknowledged_change_seq(),
-      c.sent, c.received, c.rejected, c.played_back, c.applied, c.ignored_stale,
-      transport.faults->dropped(), transport.faults->faults().config().drop_probability, w.queued,
-      w.retried, w.failed_writes, w.given_up);
+      replica.caught_up() ? 1 : 0, replica.diverged() ? 1 : 0, replica.diverged_since_ms(),
+      replica.live_feature_count(), replica.Digest(), replica.own_feature_number(),
+      replica.own_change_seq(), replica.acknowledged_change_seq(), c.sent, c.received, c.rejected,
+      c.played_back, c.applied, c.ignored_stale, transport.faults->dropped(),
+      transport.faults->faults().config().drop_probability, w.queued, w.retried, w.failed_writes,
+      w.given_up);
   s += fmt::format(
       "\nvoided {}\nrefused_stranger {}\nrefused_role {}\nrefused_claim {}\nrefused_lamport {}",
       c.voided, c.refused_stranger, c.refused_role, c.refused_claim, c.refused_lamport);
@@ -133,6 +141,11 @@ std::string StatusText(const std::string& name, NodeRole role, const Replica& re
                    auth != nullptr ? auth->senders_tracked() : 0);
   for (const auto& [origin, max] : replica.max_feature_known()) {
     s += fmt::format("\nmax_feature {} {}", origin.ToString(), max);
+  }
+  for (const AntiEntropy::Divergence& d : replica.divergences()) {
+    s += fmt::format("\ndivergence {} with {} changes {}..{}{} since_ms {}", d.author.ToString(),
+                     d.peer.ToString(), d.first_seq, d.last_seq, d.located ? "" : " (not located)",
+                     d.since_ms);
   }
   for (size_t i = 0; i < vehicles.size(); ++i) {
     const Vehicle& v = vehicles[i];

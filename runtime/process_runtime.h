@@ -32,6 +32,10 @@ struct ProcessTransport {
   // quiet.
   bool needs_handling() const { return faults->held() > 0 || retrying->queued() > 0; }
 };
+// The layers every process puts over its carrier: faults -> retrying -> bus (bus.local is the
+// process's address).
+ProcessTransport StackTransport(std::unique_ptr<Transport> carrier, const FaultConfig& faults,
+                                uint64_t fault_seed, const PduBusConfig& bus);
 // PDUs are authenticated with the exercise's key ([auth]); a keyless exercise logs a warning.
 // Throws like MakeTransport.
 ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise, const ProcessConfig& process);
@@ -54,10 +58,11 @@ void WaitForWork(int transport_fd, bool needs_handling, const ControlServer& con
 // Milliseconds since the first call (steady clock).
 int64_t MonotonicMs();
 
-// "key value" lines: name, address, role, require_server, signed_on, caught_up, features, digest,
-// own numbers, acknowledged sequence, counters, fault and write-retry counters, refusals by the
-// protocol's rules, rejected_<reason> per PDU rejection reason, authenticated, auth_senders,
-// max_feature per origin, vehicles (docs/node.md "status").
+// "key value" lines: name, address, role, require_server, signed_on, caught_up, diverged,
+// diverged_since_ms, features, digest, own numbers, acknowledged sequence, counters, fault and
+// write-retry counters, refusals by the protocol's rules, rejected_<reason> per PDU rejection
+// reason, authenticated, auth_senders, max_feature per origin, divergences, vehicles
+// (docs/node.md "status").
 std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
                        const ProcessTransport& transport, const std::vector<Vehicle>& vehicles);
 

@@ -280,19 +280,24 @@ SqliteChangeStore::SqliteChangeStore(fs::path path, sqlite3* db, double terrain_
 
 SqliteChangeStore::~SqliteChangeStore() {
   sqlite3_finalize(insert_);
+  sqlite3_finalize(replace_);
   sqlite3_close(db_);
 }
 
 Status SqliteChangeStore::Exec(const char* sql) { return ExecOn(db_, path_, sql); }
 
 Status SqliteChangeStore::Prepare() {
-  const char* sql =
-      "INSERT OR IGNORE INTO changes (author_site, author_host, seq, lamport, kind, origin_site,"
+  constexpr const char* kColumns =
+      " INTO changes (author_site, author_host, seq, lamport, kind, origin_site,"
       " origin_host, number, feature_type, params, checksum)"
       " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?);";
-  if (sqlite3_prepare_v2(db_, sql, -1, &insert_, nullptr) != SQLITE_OK) {
-    return Error{
-        fmt::format("{}: not a dynterrain change database: {}", path_.string(), SqlError(db_))};
+  const std::string insert = std::string("INSERT OR IGNORE") + kColumns;
+  const std::string replace = std::string("INSERT OR REPLACE") + kColumns;
+  for (auto [sql, statement] : {std::pair{&insert, &insert_}, std::pair{&replace, &replace_}}) {
+    if (sqlite3_prepare_v2(db_, sql->c_str(), -1, statement, nullptr) != SQLITE_OK) {
+      return Error{
+          fmt::format("{}: not a dynterrain change database: {}", path_.string(), SqlError(db_))};
+    }
   }
   return Status::Ok();
 }
@@ -365,31 +370,39 @@ Status SqliteChangeStore::LimitPages(int64_t max_pages) {
 }
 
 Status SqliteChangeStore::Append(std::span<const Change> changes) {
+  return Write(insert_, changes);
+}
+
+Status SqliteChangeStore::Replace(std::span<const Change> changes) {
+  return Write(replace_, changes);
+}
+
+Status SqliteChangeStore::Write(sqlite3_stmt* statement, std::span<const Change> changes) {
   if (changes.empty()) return Status::Ok();
   if (auto s = Exec("BEGIN IMMEDIATE;"); !s) return s;
   for (const Change& c : changes) {
     const ChangeRow row = ToRow(c);
-    sqlite3_reset(insert_);
-    sqlite3_clear_bindings(insert_);
+    sqlite3_reset(statement);
+    sqlite3_clear_bindings(statement);
     for (size_t i = 0; i < kRowIntegerColumns; ++i) {
-      sqlite3_bind_int64(insert_, 1 + static_cast<int>(i), row.ints[i]);
+      sqlite3_bind_int64(statement, 1 + static_cast<int>(i), row.ints[i]);
     }
     if (c.kind != ChangeKind::kDestruct) {
-      sqlite3_bind_blob(insert_, kParamsColumn, row.params.data(),
+      sqlite3_bind_blob(statement, kParamsColumn, row.params.data(),
                         static_cast<int>(row.params.size()), SQLITE_TRANSIENT);
     } else {
-      sqlite3_bind_null(insert_, kParamsColumn);
+      sqlite3_bind_null(statement, kParamsColumn);
     }
-    sqlite3_bind_int64(insert_, kChecksumColumn, static_cast<sqlite3_int64>(RowChecksum(row)));
-    if (sqlite3_step(insert_) != SQLITE_DONE) {
+    sqlite3_bind_int64(statement, kChecksumColumn, static_cast<sqlite3_int64>(RowChecksum(row)));
+    if (sqlite3_step(statement) != SQLITE_DONE) {
       std::string msg = SqlError(db_);
-      sqlite3_reset(insert_);
+      sqlite3_reset(statement);
       (void)Exec("ROLLBACK;");
       return Error{fmt::format("{}: storing change {}:{} failed: {}", path_.string(),
                                c.stamp.changed_by.ToString(), c.stamp.change_seq, msg)};
     }
   }
-  sqlite3_reset(insert_);
+  sqlite3_reset(statement);
   if (auto s = Exec("COMMIT;"); !s) {
     (void)Exec("ROLLBACK;");
     return s;

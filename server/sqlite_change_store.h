@@ -19,7 +19,8 @@ inline constexpr int32_t kChangeDatabaseSchemaVersion = 2;
 
 // journal_mode=WAL, synchronous=FULL: a batch is on disk when Append returns Ok, and a crash at
 // any moment leaves the database holding whole batches only (SQLite's own recovery, no journal of
-// ours). A change already stored (same author and sequence) is ignored, so a replay is harmless.
+// ours). A change already stored (same author and sequence) is ignored by Append, so a replay is
+// harmless; Replace overwrites it (an anti-entropy repair, docs/protocol.md).
 // Each row carries a checksum of its content (change_row.h); LoadAll checks it and checks the
 // change as a received PDU would be checked, so a damaged row stops the start instead of leaving
 // this replica's digest different from every node's.
@@ -39,6 +40,7 @@ class SqliteChangeStore final : public ChangeStore {
 
   // Does not validate: the replica hands it only changes it validated.
   Status Append(std::span<const Change> changes) override;
+  Status Replace(std::span<const Change> changes) override;
   // Fails at the first row whose checksum or content is refused, naming the file, the row
   // (author site:host, change_seq, rowid) and what is wrong.
   Result<std::vector<Change>> LoadAll() override;
@@ -53,11 +55,14 @@ class SqliteChangeStore final : public ChangeStore {
   Status Exec(const char* sql);
   Status Prepare();
   Status MigrateFromVersion1();
+  // One transaction of `statement` (insert_ or replace_) over the changes.
+  Status Write(sqlite3_stmt* statement, std::span<const Change> changes);
 
   std::filesystem::path path_;
   sqlite3* db_ = nullptr;
   double terrain_size_m_;
   sqlite3_stmt* insert_ = nullptr;
+  sqlite3_stmt* replace_ = nullptr;
 };
 
 }  // namespace dt

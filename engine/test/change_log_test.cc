@@ -1,9 +1,15 @@
-// Tests ChangeLog's gap-free point and gaps, and PlaybackScheduler's pacing and retries.
+// Tests ChangeLog's gap-free point, gaps and replaced slots, the prefix hashes and repair rule of
+// anti-entropy, and PlaybackScheduler's pacing and retries.
 #include "engine/change_log.h"
+
+#include <vector>
 
 #include <gtest/gtest.h>
 
+#include "engine/change_hash.h"
 #include "engine/playback_scheduler.h"
+#include "engine/prefix_hashes.h"
+#include "engine/repair_rule.h"
 
 namespace dt {
 namespace {
@@ -71,6 +77,84 @@ TEST(ChangeLogTest, ChangesFarAheadAreHeldAsideAndStillCountInOrder) {
     EXPECT_EQ(range[i]->stamp.change_seq, far - 1 + i);
   }
   EXPECT_EQ(log.Range(1, far + 2).size(), size_t{far + 2});
+}
+
+TEST(ChangeLogTest, ReplaceSwapsAHeldSlotInPlaceAndRefusesOneNotHeld) {
+  ChangeLog log;
+  const auto far = static_cast<uint32_t>(1 + 4 * ChangeLog::kMaxSlotJump);
+  for (uint32_t s : {1u, 2u, 3u, far}) ASSERT_TRUE(log.Insert(Numbered(s)));
+  const Change* slot = log.Find(2);
+  Change other = Numbered(2);
+  other.stamp.lamport = 99;
+  EXPECT_TRUE(log.Replace(other));
+  EXPECT_EQ(log.Find(2), slot);  // the same slot, now holding the other copy
+  EXPECT_EQ(*log.Find(2), other);
+  Change aside = Numbered(far);
+  aside.params = FeatureParams::Crater(20, 20, 3);
+  EXPECT_TRUE(log.Replace(aside));
+  EXPECT_EQ(*log.Find(far), aside);
+  EXPECT_FALSE(log.Replace(Numbered(4)));  // a gap: nothing to replace
+  EXPECT_EQ(log.Find(4), nullptr);
+  EXPECT_EQ(log.contiguous(), 3);
+  EXPECT_EQ(log.size(), 4u);
+  EXPECT_EQ(log.max_held(), far);
+}
+
+TEST(PrefixHashesTest, SumsFollowTheGapFreePointAndAReplacedSlot) {
+  ChangeLog log;
+  PrefixHashes p;
+  for (uint32_t s : {1u, 2u, 4u}) ASSERT_TRUE(log.Insert(Numbered(s)));
+  p.Extend(log);
+  EXPECT_EQ(p.length(), 2);  // 4 is past a gap
+  EXPECT_EQ(p.At(0), 0u);
+  EXPECT_EQ(p.At(2), ChangeHash(Numbered(1)) + ChangeHash(Numbered(2)));
+  ASSERT_TRUE(log.Insert(Numbered(3)));
+  p.Extend(log);
+  EXPECT_EQ(p.length(), 4);
+  EXPECT_EQ(p.Range(3, 4), ChangeHash(Numbered(3)) + ChangeHash(Numbered(4)));
+  // Another log holding the same changes, received in another order, sums the same.
+  ChangeLog again;
+  PrefixHashes q;
+  for (uint32_t s : {4u, 2u, 3u, 1u}) ASSERT_TRUE(again.Insert(Numbered(s)));
+  q.Extend(again);
+  EXPECT_EQ(q.At(4), p.At(4));
+  // A different change in slot 2 changes every prefix from 2 on, and only those.
+  Change other = Numbered(2);
+  other.stamp.lamport = 77;
+  ASSERT_TRUE(again.Replace(other));
+  q.Replace(2, ChangeHash(Numbered(2)), ChangeHash(other));
+  EXPECT_EQ(q.At(1), p.At(1));
+  EXPECT_NE(q.At(2), p.At(2));
+  EXPECT_EQ(q.Range(3, 4), p.Range(3, 4));
+  PrefixHashes fresh;
+  fresh.Extend(again);
+  EXPECT_EQ(fresh.At(4), q.At(4));
+  // The same content in another slot hashes differently: the stamp is part of the bytes.
+  Change moved = Numbered(3);
+  moved.stamp.change_seq = 2;
+  EXPECT_NE(ChangeHash(moved), ChangeHash(Numbered(3)));
+}
+
+TEST(RepairRuleTest, TheServerThenAStandbyThenTheAuthorIsTheSlotsAuthority) {
+  const NodeAddress author{1, 5}, node{1, 2}, server{1, 100}, server2{1, 102}, standby{1, 101};
+  using H = std::vector<SlotHolder>;
+  auto authority = [&](const H& holders) { return SlotAuthority(author, holders); };
+  const SlotHolder a{author, NodeRole::kNode}, n{node, NodeRole::kNode},
+      s{server, NodeRole::kServer}, s2{server2, NodeRole::kServer}, t{standby, NodeRole::kStandby};
+  EXPECT_EQ(authority(H{n, a, t, s}), server);  // the server's copy: what it acknowledged
+  EXPECT_EQ(authority(H{s2, n, s}), server);    // two servers: the lower address
+  EXPECT_EQ(authority(H{n, t, a}), standby);    // no server holds it: what a standby stored
+  EXPECT_EQ(authority(H{n, a}), author);        // the author's own
+  EXPECT_EQ(authority(H{n}), std::nullopt);     // nobody's: the lower copy wins
+  EXPECT_EQ(authority(H{}), std::nullopt);
+}
+
+TEST(RepairRuleTest, OfTwoDifferentCopiesExactlyOneIsTheLower) {
+  Change a = Numbered(5), b = Numbered(5);
+  b.params = FeatureParams::Crater(30, 30, 4);
+  EXPECT_NE(LowerCopy(a, b), LowerCopy(b, a));
+  EXPECT_EQ(LowerCopy(a, b), ChangeHash(a) < ChangeHash(b));
+  EXPECT_FALSE(LowerCopy(a, a));
 }
 
 TEST(PlaybackSchedulerTest, PacesRetriesAndMovesToTheNextCandidate) {

@@ -154,6 +154,70 @@ TEST(RecordStoreTest, OverlappingBridgesKeepTheLowerIdPlacedWhateverTheOrder) {
   EXPECT_TRUE(two.CheckPlaceable({1, 3, 1}, FeatureParams::Crater(20, 20, 3)).ok());
 }
 
+// What a store that applied `changes` holds, for comparing a rebuilt store with a fresh one.
+void ExpectSameAs(const RecordStore& s, const std::vector<Change>& changes) {
+  RecordStore fresh(Ground());
+  for (const Change& c : changes) (void)fresh.Apply(c);
+  EXPECT_EQ(ComputeDigest(s.terrain()), ComputeDigest(fresh.terrain()));
+  EXPECT_EQ(s.live_count(), fresh.live_count());
+  ASSERT_EQ(s.all().size(), fresh.all().size());
+  for (const auto& [id, r] : fresh.all()) {
+    const Record* mine = s.Find(id);
+    ASSERT_NE(mine, nullptr) << id.ToString();
+    EXPECT_EQ(mine->params, r.params) << id.ToString();
+    EXPECT_EQ(mine->version, r.version) << id.ToString();
+    EXPECT_EQ(mine->destroyed, r.destroyed) << id.ToString();
+    EXPECT_EQ(mine->placed, r.placed) << id.ToString();
+  }
+}
+
+std::vector<const Change*> Of(FeatureId id, const std::vector<Change>& changes) {
+  std::vector<const Change*> out;
+  for (const Change& c : changes) {
+    if (c.id == id) out.push_back(&c);
+  }
+  return out;
+}
+
+TEST(RecordStoreTest, ARebuiltRecordIsWhatApplyingItsChangesAfreshGives) {
+  const FeatureId low{1, 1, 5}, high{1, 2, 1}, crater{1, 1, 6};
+  const auto b1 = FeatureParams::Bridge(40, 60, 0.0, 6, 8, 30, 8, 3, 3);
+  const auto b2 = FeatureParams::Bridge(50, 60, 0.0, 6, 8, 30, 8, 3, 3);
+  std::vector<Change> changes = {
+      Make(ChangeKind::kConstruct, low, b1, kA, 1, 1),
+      Make(ChangeKind::kConstruct, high, b2, kB, 1, 2),
+      Make(ChangeKind::kConstruct, crater, FeatureParams::Crater(90, 90, 5), kA, 2, 3),
+      Make(ChangeKind::kUpdate, crater, FeatureParams::Crater(95, 90, 6), kB, 2, 4),
+  };
+  RecordStore s(Ground());
+  for (const Change& c : changes) (void)s.Apply(c);
+  ASSERT_FALSE(s.Find(high)->placed);
+  // Slot A:1 held the lower bridge; another copy of it destroys that bridge instead (a void's
+  // place taken by the real change, or the reverse): the higher bridge is placed now.
+  changes[0] = Destruct(low, kA, 1, 1);
+  s.Rebuild(low, Of(low, changes));
+  ExpectSameAs(s, changes);
+  EXPECT_TRUE(s.Find(high)->placed);
+  // The winning update of the crater gives way to an older one: last writer wins is undone.
+  changes[3] = Make(ChangeKind::kUpdate, crater, FeatureParams::Crater(95, 90, 6), kB, 2, 2);
+  s.Rebuild(crater, Of(crater, changes));
+  ExpectSameAs(s, changes);
+  EXPECT_EQ(s.Find(crater)->params, FeatureParams::Crater(90, 90, 5));
+  // A feature no held change mentions any more is gone, as if never seen; its origin's next
+  // feature is still taken in.
+  changes.erase(changes.begin() + 2, changes.end());
+  s.Rebuild(crater, Of(crater, changes));
+  ExpectSameAs(s, changes);
+  EXPECT_EQ(s.Find(crater), nullptr);
+  changes.push_back(
+      Make(ChangeKind::kConstruct, {1, 1, 7}, FeatureParams::Crater(20, 20, 3), kA, 3, 5));
+  (void)s.Apply(changes.back());
+  changes.push_back(
+      Make(ChangeKind::kConstruct, {1, 1, 2}, FeatureParams::Crater(20, 90, 3), kA, 4, 6));
+  (void)s.Apply(changes.back());
+  ExpectSameAs(s, changes);
+}
+
 TEST(RecordStoreTest, AFeatureOffTheTerrainIsKeptButNotPlaced) {
   RecordStore s(Ground());
   const auto off = FeatureParams::Crater(126, 126, 10);  // the terrain is [0, 128]^2

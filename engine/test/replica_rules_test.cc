@@ -137,6 +137,35 @@ TEST_F(RulesTest, AMemberClaimingARoleItDoesNotHaveIsRefused) {
   ExpectAllEqualAndCaughtUp();
 }
 
+// Anti-entropy trusts no more than live traffic: a summary claiming the server's role (which would
+// make its copies win the repair rule) or from a stranger is not heard, so a wrong prefix hash in
+// it opens no difference.
+TEST_F(RulesTest, AnAntiEntropySummaryWithAFalseRoleOrFromAStrangerIsNotHeard) {
+  ASSERT_TRUE(A().Create(FeatureParams::Crater(30, 30, 2)).ok());
+  cluster_.Run(500);
+  const auto summary = [](NodeRole role) {
+    dtpdu::anti_entropy_t p{};
+    p.kind = static_cast<uint8_t>(AntiEntropyKind::kSummary);
+    p.role = static_cast<uint8_t>(role);
+    p.num_entries = 1;
+    p.entries.resize(1);
+    p.entries[0].author = ToPdu(kA);
+    p.entries[0].seq = 1;
+    p.entries[0].prefix_hash = 12345;  // not the hash of A's change 1
+    return p;
+  };
+  const uint64_t role_refusals = A().counters().refused_role;
+  const uint64_t stranger_refusals = A().counters().refused_stranger;
+  ASSERT_TRUE(Forger(kC).Publish(summary(NodeRole::kServer)).ok());
+  ASSERT_TRUE(Forger(kStranger).Publish(summary(NodeRole::kNode)).ok());
+  cluster_.Run(300);
+  EXPECT_GT(A().counters().refused_role, role_refusals);
+  EXPECT_GT(A().counters().refused_stranger, stranger_refusals);
+  EXPECT_FALSE(A().diverged());
+  EXPECT_FALSE(B().diverged());
+  ExpectAllEqualAndCaughtUp();
+}
+
 TEST_F(RulesTest, ANodesClaimAboutAnotherNodeIsNotEvidenceForAnyone) {
   ASSERT_TRUE(Forger(kC).Publish(Claim(kA, NodeRole::kNode, 1000000, 5)).ok());
   cluster_.Run(300);

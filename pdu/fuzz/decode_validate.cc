@@ -31,7 +31,7 @@ bool One(std::span<const uint8_t> bytes) {
 bool DecodeValidateOne(const uint8_t* data, size_t size) {
   if (size == 0) return false;
   const std::span<const uint8_t> bytes(data + 1, size - 1);
-  switch (data[0] % 5) {
+  switch (data[0] % 6) {
     case 0:
       return One<dtpdu::construct_t>(bytes);
     case 1:
@@ -40,8 +40,10 @@ bool DecodeValidateOne(const uint8_t* data, size_t size) {
       return One<dtpdu::destruct_t>(bytes);
     case 3:
       return One<dtpdu::max_feature_t>(bytes);
-    default:
+    case 4:
       return One<dtpdu::playback_t>(bytes);
+    default:
+      return One<dtpdu::anti_entropy_t>(bytes);
   }
 }
 

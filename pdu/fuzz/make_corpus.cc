@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
   Family(dir, "destruct", 2, sample::Destruct());
   Family(dir, "maxfeature", 3, sample::MaxFeature());
   Family(dir, "playback", 4, sample::Playback());
+  Family(dir, "antientropy", 5, sample::AntiEntropySummary());
+  Family(dir, "antientropy_hashes", 5, sample::AntiEntropyHashes());
+  Family(dir, "antientropy_copies", 5, sample::AntiEntropyCopies());
 
   auto c = sample::Construct();
   c.position_m[0] = std::numeric_limits<double>::quiet_NaN();
@@ -90,6 +93,26 @@ int main(int argc, char** argv) {
   p = sample::Playback();
   p.end = kMaxSerial;
   Write(dir, "playback_huge", 4, EncodePdu(p));
+  auto ae = sample::AntiEntropySummary();
+  ae.kind = 9;
+  Write(dir, "antientropy_bad_kind", 5, EncodePdu(ae));
+  ae = sample::AntiEntropySummary();
+  ae.entries[1].seq = 0;
+  Write(dir, "antientropy_zero_seq", 5, EncodePdu(ae));
+  ae = sample::AntiEntropyHashes();
+  ae.hashes.pop_back();
+  ae.num_hashes = static_cast<int16_t>(ae.hashes.size());
+  Write(dir, "antientropy_short_hashes", 5, EncodePdu(ae));
+  ae = sample::AntiEntropyHashes();
+  ae.start = 301;
+  Write(dir, "antientropy_inverted", 5, EncodePdu(ae));
+  ae = sample::AntiEntropyCopies();
+  ae.end = ae.start + kMaxCopySpan;
+  Write(dir, "antientropy_huge_copies", 5, EncodePdu(ae));
+  ae = sample::AntiEntropyCopies();
+  ae.hashes.pop_back();
+  ae.num_hashes = 1;
+  Write(dir, "antientropy_copies_short_hashes", 5, EncodePdu(ae));
   Write(dir, "empty", 0, {});
   std::printf("wrote %d inputs to %s\n", written, dir.c_str());
   return 0;

@@ -25,6 +25,7 @@ TOP_LEVEL = {
     "destruct_t": ("kDestruct", ["origin", "feature_number"]),
     "max_feature_t": ("kMaxFeature", []),
     "playback_t": ("kPlayback", []),
+    "anti_entropy_t": ("kAntiEntropy", []),
 }
 MAX_AUTH_BYTES = 128  # dt::dds_codec::kMaxAuthBytes
 
@@ -214,12 +215,12 @@ def emit_codec(structs):
             "",
             "struct Arena {"]
     for t in nested_seq_types:
-        out.append(f"  Pool<{c_name(t)}> {t};")
+        out.append(f"  Pool<{c_name(t)}> {t}_pool;")
     for t in prim_seq_types:
-        out.append(f"  Pool<{PRIMITIVES[t][1]}> {t};")
+        out.append(f"  Pool<{PRIMITIVES[t][1]}> {t}_pool;")  # a member named int64_t would shadow it
     out.append("  void Reset() {")
     for t in nested_seq_types + prim_seq_types:
-        out.append(f"    {t}.used = 0;")
+        out.append(f"    {t}_pool.used = 0;")
     out += ["  }", "};", ""]
     # Declarations first: nested structs refer to each other in dependency order anyway.
     for s in structs:
@@ -238,7 +239,7 @@ def emit_codec(structs):
                 store = m.type
                 elem = c_name(m.type) if m.type not in PRIMITIVES else PRIMITIVES[m.type][1]
                 out.append("  {")
-                out.append(f"    std::vector<{elem}>& v = arena.{store}.Next(in.{m.name}.size());")
+                out.append(f"    std::vector<{elem}>& v = arena.{store}_pool.Next(in.{m.name}.size());")
                 out.append("    for (size_t i = 0; i < v.size(); ++i) {")
                 out.append("    " + conv_to(m, f"in.{m.name}[i]", "v[i]"))
                 out.append("    }")

@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "dtpdu/anti_entropy_entry_t.hpp"
+#include "dtpdu/anti_entropy_t.hpp"
 #include "dtpdu/crater_vertex_edit_t.hpp"
 #include "dtpdu/header_t.hpp"
 #include "dtpdu/node_address_t.hpp"
@@ -129,6 +131,8 @@ TEST(Encoding, EveryLcmTypeHasItsOwnFingerprint) {
       {"destruct_t", dtpdu::destruct_t::getHash()},
       {"max_feature_t", dtpdu::max_feature_t::getHash()},
       {"playback_t", dtpdu::playback_t::getHash()},
+      {"anti_entropy_entry_t", dtpdu::anti_entropy_entry_t::getHash()},
+      {"anti_entropy_t", dtpdu::anti_entropy_t::getHash()},
   };
   // Every type of pdu/lcm is in the list, so a new one cannot escape the check.
   std::set<std::string> files;
@@ -230,7 +234,15 @@ TEST(Encoding, SenderSitsAtTheSameOffsetInEveryType) {
   check(sample::Destruct());
   check(sample::MaxFeature());
   check(sample::Playback());
+  check(sample::AntiEntropySummary());
   EXPECT_EQ(PeekSender(std::vector<uint8_t>(18, 0)), std::nullopt);
+}
+
+TEST(Encoding, AntiEntropySizesAreTheDocumentedOnes) {
+  // docs/pdu.md: 58 bytes, 20 per summary entry, 8 per hash.
+  EXPECT_EQ(EncodePdu(sample::AntiEntropySummary()).size(), 58u + 2 * 20u);
+  EXPECT_EQ(EncodePdu(sample::AntiEntropyHashes()).size(), 58u + 32 * 8u);
+  EXPECT_EQ(EncodePdu(sample::AntiEntropyCopies()).size(), 58u + 2 * 8u);
 }
 
 TEST(Encoding, TheBiggestConstructFitsInOneDatagram) {

@@ -33,15 +33,19 @@ TEST(FuzzReplay, TheSeedCorpusRunsAndOnlyItsValidInputsAreAccepted) {
     EXPECT_EQ(Accepted(bytes), valid) << name;
     ++files;
   }
-  EXPECT_GE(files, 40u);
+  EXPECT_GE(files, 60u);
 }
 
 TEST(FuzzReplay, EveryTruncationIsRejected) {
   const std::vector<std::vector<uint8_t>> inputs = {
-      WithSelector(0, EncodePdu(sample::Construct())), WithSelector(1, EncodePdu(sample::Update())),
+      WithSelector(0, EncodePdu(sample::Construct())),
+      WithSelector(1, EncodePdu(sample::Update())),
       WithSelector(2, EncodePdu(sample::Destruct())),
       WithSelector(3, EncodePdu(sample::MaxFeature())),
-      WithSelector(4, EncodePdu(sample::Playback()))};
+      WithSelector(4, EncodePdu(sample::Playback())),
+      WithSelector(5, EncodePdu(sample::AntiEntropySummary())),
+      WithSelector(5, EncodePdu(sample::AntiEntropyHashes())),
+      WithSelector(5, EncodePdu(sample::AntiEntropyCopies()))};
   for (const auto& full : inputs) {
     ASSERT_TRUE(Accepted(full));
     for (size_t n = 0; n < full.size(); ++n) {
@@ -53,10 +57,14 @@ TEST(FuzzReplay, EveryTruncationIsRejected) {
 TEST(FuzzReplay, RandomCorruptionsNeverCrash) {
   std::mt19937_64 rng(2024);
   const std::vector<std::vector<uint8_t>> inputs = {
-      WithSelector(0, EncodePdu(sample::Construct())), WithSelector(1, EncodePdu(sample::Update())),
+      WithSelector(0, EncodePdu(sample::Construct())),
+      WithSelector(1, EncodePdu(sample::Update())),
       WithSelector(2, EncodePdu(sample::Destruct())),
       WithSelector(3, EncodePdu(sample::MaxFeature())),
-      WithSelector(4, EncodePdu(sample::Playback()))};
+      WithSelector(4, EncodePdu(sample::Playback())),
+      WithSelector(5, EncodePdu(sample::AntiEntropySummary())),
+      WithSelector(5, EncodePdu(sample::AntiEntropyHashes())),
+      WithSelector(5, EncodePdu(sample::AntiEntropyCopies()))};
   size_t accepted = 0;
   size_t total = 0;
   for (const auto& full : inputs) {

@@ -59,7 +59,7 @@ def main():
         for f in files:
             name, members = lcm_members(f)
             got, keys = idl.get(name, ([], []))
-            pdu = name in ("construct_t", "update_t", "destruct_t", "max_feature_t", "playback_t")
+            pdu = bool(members) and members[0] == "header"  # a PDU type opens with its header
             want = members + (["auth"] if pdu else [])
             check(got == want, f"{name}: IDL members {got} != LCM members {want}")
             if name in ("construct_t", "update_t", "destruct_t"):

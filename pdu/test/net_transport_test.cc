@@ -104,6 +104,7 @@ TEST_P(EveryCarrier, EveryPduTypeRoundTrips) {
   ExpectRoundTrip(from, to, p.sender(), b, sample::Destruct());
   ExpectRoundTrip(from, to, p.sender(), b, sample::MaxFeature());
   ExpectRoundTrip(from, to, p.sender(), b, sample::Playback());
+  ExpectRoundTrip(from, to, p.sender(), b, sample::AntiEntropySummary());
   EXPECT_EQ(to.rejects().total(), 0u);
 }
 

@@ -43,8 +43,9 @@ TEST(PduBus, EveryTypeRoundTripsOverMemq) {
   ExpectRoundTrip(bus, sample::Destruct());
   ExpectRoundTrip(bus, sample::MaxFeature());
   ExpectRoundTrip(bus, sample::Playback());
-  EXPECT_EQ(bus.last_sender_seq(), 5);
-  EXPECT_EQ(bus.accepted(), 5u);
+  ExpectRoundTrip(bus, sample::AntiEntropySummary());
+  EXPECT_EQ(bus.last_sender_seq(), 6);
+  EXPECT_EQ(bus.accepted(), 6u);
 }
 
 TEST(PduBus, DropsItsOwnEchoUnlessAsked) {

@@ -83,4 +83,51 @@ inline dtpdu::playback_t Playback() {
   return pdu;
 }
 
+// A summary of two authors' logs.
+inline dtpdu::anti_entropy_t AntiEntropySummary() {
+  dtpdu::anti_entropy_t pdu{};
+  StampHeader(pdu);
+  pdu.kind = static_cast<uint8_t>(AntiEntropyKind::kSummary);
+  pdu.role = static_cast<uint8_t>(NodeRole::kNode);
+  pdu.entries.resize(2);
+  pdu.entries[0].author = ToPdu({1, 2});
+  pdu.entries[0].seq = 300;
+  pdu.entries[0].prefix_hash = static_cast<int64_t>(0x8badf00ddeadbeefull);
+  pdu.entries[1].author = ToPdu({5, 6});
+  pdu.entries[1].seq = 12;
+  pdu.entries[1].prefix_hash = 77;
+  pdu.num_entries = 2;
+  return pdu;
+}
+
+// The bucket hashes of 1..300 of author 5:6, answered to 1:2 by a server.
+inline dtpdu::anti_entropy_t AntiEntropyHashes() {
+  dtpdu::anti_entropy_t pdu{};
+  StampHeader(pdu);
+  pdu.kind = static_cast<uint8_t>(AntiEntropyKind::kHashAnswer);
+  pdu.role = static_cast<uint8_t>(NodeRole::kServer);
+  pdu.target = ToPdu({1, 2});
+  pdu.subject = ToPdu({5, 6});
+  pdu.start = 1;
+  pdu.end = 300;
+  for (int64_t i = 0; i < AntiEntropyBucketCount(1, 300); ++i) pdu.hashes.push_back(i * 1000003);
+  pdu.num_hashes = static_cast<int16_t>(pdu.hashes.size());
+  return pdu;
+}
+
+// The marker after a server's copies of 5:6's changes 40..41.
+inline dtpdu::anti_entropy_t AntiEntropyCopies() {
+  dtpdu::anti_entropy_t pdu{};
+  StampHeader(pdu);
+  pdu.kind = static_cast<uint8_t>(AntiEntropyKind::kCopies);
+  pdu.role = static_cast<uint8_t>(NodeRole::kServer);
+  pdu.target = ToPdu({1, 2});
+  pdu.subject = ToPdu({5, 6});
+  pdu.start = 40;
+  pdu.end = 41;
+  pdu.hashes = {static_cast<int64_t>(0xfeedfacecafebeefull), 0};  // it holds no change 41
+  pdu.num_hashes = 2;
+  return pdu;
+}
+
 }  // namespace dt::sample

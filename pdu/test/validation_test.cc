@@ -38,6 +38,9 @@ TEST(Validation, SamplesOfEveryTypePassAndDecodeToWhatWasSent) {
   EXPECT_EQ(ReasonFor(sample::Destruct()), std::nullopt);
   EXPECT_EQ(ReasonFor(sample::MaxFeature()), std::nullopt);
   EXPECT_EQ(ReasonFor(sample::Playback()), std::nullopt);
+  EXPECT_EQ(ReasonFor(sample::AntiEntropySummary()), std::nullopt);
+  EXPECT_EQ(ReasonFor(sample::AntiEntropyHashes()), std::nullopt);
+  EXPECT_EQ(ReasonFor(sample::AntiEntropyCopies()), std::nullopt);
   dtpdu::construct_t out;
   const auto bytes = EncodePdu(sample::Construct());
   ASSERT_EQ(DecodeAndValidate(std::span<const uint8_t>(bytes), Context(), out), std::nullopt);
@@ -303,6 +306,102 @@ TEST(Validation, HugePlaybackRange) {
   EXPECT_EQ(ReasonFor(p), RejectReason::kHugeRange);
   p.end = kMaxSerial;
   EXPECT_EQ(ReasonFor(p), RejectReason::kHugeRange);
+}
+
+TEST(Validation, AntiEntropyFieldsEachKindDoesNotUseAreZero) {
+  auto a = sample::AntiEntropySummary();
+  a.kind = 5;
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
+  a = sample::AntiEntropySummary();
+  a.role = 3;
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
+  a = sample::AntiEntropySummary();
+  a.start = 1;
+  a.end = 1;
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);  // a summary has no range
+  a = sample::AntiEntropySummary();
+  a.target = ToPdu({1, 1});
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
+  a = sample::AntiEntropySummary();
+  a.entries[0].seq = 0;
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
+  a.entries[0].seq = kMaxSerial + 1;
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
+  a = sample::AntiEntropySummary();
+  a.entries.resize(kMaxSummaryAuthors + 1, a.entries[0]);
+  a.num_entries = static_cast<int16_t>(a.entries.size());
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
+  a.entries.resize(kMaxSummaryAuthors);
+  a.num_entries = static_cast<int16_t>(a.entries.size());
+  EXPECT_EQ(ReasonFor(a), std::nullopt);
+  EXPECT_LE(EncodePdu(a).size(), kMaxPduBytes);
+  a = sample::AntiEntropySummary();
+  a.hashes = {1};  // only answers and copies carry hashes
+  a.num_hashes = 1;
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
+  a = sample::AntiEntropySummary();
+  a.exchange = 1;
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
+
+  auto h = sample::AntiEntropyHashes();
+  h.hashes.pop_back();
+  h.num_hashes = static_cast<int16_t>(h.hashes.size());
+  EXPECT_EQ(ReasonFor(h), RejectReason::kBadField);  // not one hash per bucket
+  h.hashes.clear();
+  h.num_hashes = 0;
+  EXPECT_EQ(ReasonFor(h), std::nullopt);  // "I do not hold the whole range"
+  h = sample::AntiEntropyHashes();
+  h.kind = static_cast<uint8_t>(AntiEntropyKind::kHashRequest);
+  EXPECT_EQ(ReasonFor(h), RejectReason::kBadField);  // a request carries no hashes
+  h.hashes.clear();
+  h.num_hashes = 0;
+  EXPECT_EQ(ReasonFor(h), std::nullopt);
+  h.start = 0;
+  EXPECT_EQ(ReasonFor(h), RejectReason::kBadField);
+  h.start = 301;
+  EXPECT_EQ(ReasonFor(h), RejectReason::kInvertedRange);
+  h.start = 1;
+  h.end = kMaxSerial;  // any range can be hashed: the buckets cost the same
+  EXPECT_EQ(ReasonFor(h), std::nullopt);
+
+  auto c = sample::AntiEntropyCopies();
+  c.hashes = {4};  // one hash per sequence of the range
+  c.num_hashes = 1;
+  EXPECT_EQ(ReasonFor(c), RejectReason::kBadField);
+  c = sample::AntiEntropyCopies();
+  c.end = c.start + kMaxCopySpan - 1;
+  c.hashes.resize(static_cast<size_t>(kMaxCopySpan), 1);
+  c.num_hashes = static_cast<int16_t>(c.hashes.size());
+  EXPECT_EQ(ReasonFor(c), std::nullopt);
+  c.end = c.start + kMaxCopySpan;
+  EXPECT_EQ(ReasonFor(c), RejectReason::kHugeRange);
+  c = sample::AntiEntropyCopies();
+  c.kind = static_cast<uint8_t>(AntiEntropyKind::kCopyRequest);
+  EXPECT_EQ(ReasonFor(c), RejectReason::kBadField);  // a request carries no hashes
+  c.hashes.clear();
+  c.num_hashes = 0;
+  c.exchange = 1;
+  EXPECT_EQ(ReasonFor(c), std::nullopt);
+}
+
+TEST(Validation, AntiEntropyBucketsCoverTheRangeExactlyOnce) {
+  for (auto [start, end] : {std::pair<int64_t, int64_t>{1, 1},
+                            {1, 31},
+                            {1, 32},
+                            {1, 33},
+                            {7, 100000},
+                            {1, kMaxSerial}}) {
+    const int64_t k = AntiEntropyBucketCount(start, end);
+    EXPECT_EQ(k, std::min<int64_t>(kAntiEntropyBuckets, end - start + 1));
+    int64_t next = start;
+    for (int64_t i = 0; i < k; ++i) {
+      auto [lo, hi] = HashBucket(start, end, i);
+      EXPECT_EQ(lo, next) << start << ".." << end << " bucket " << i;
+      EXPECT_GE(hi, lo);
+      next = hi + 1;
+    }
+    EXPECT_EQ(next, end + 1);
+  }
 }
 
 TEST(Validation, EveryReasonHasItsOwnName) {

@@ -38,6 +38,7 @@ seed = 9
 [protocol]
 max_feature_period_ms = 300
 silence_ms = 1500
+anti_entropy_period_ms = 1500
 
 [faults]
 drop_probability = 0.3
@@ -94,6 +95,7 @@ TEST(ExerciseConfigTest, ReadsEveryField) {
   EXPECT_EQ(c.protocol.max_feature_period_ms, 300);
   EXPECT_EQ(c.protocol.silence_ms, 1500);
   EXPECT_EQ(c.protocol.playback_window, 256);  // default
+  EXPECT_EQ(c.protocol.anti_entropy_period_ms, 1500);
   EXPECT_DOUBLE_EQ(c.faults.drop_probability, 0.3);
   EXPECT_EQ(c.fault_seed, 4u);
   EXPECT_FALSE(c.standby.has_value());

@@ -103,4 +103,15 @@ class LcmCluster {
   std::map<NodeAddress, std::unique_ptr<Member>> members_;
 };
 
+// Pumps `cluster` until done() or timeout_ms passed; false on timeout.
+template <typename Done>
+bool PumpUntil(LcmCluster& cluster, int64_t timeout_ms, Done done, int wait_ms = 1) {
+  const int64_t deadline = cluster.now_ms() + timeout_ms;
+  while (!done()) {
+    if (cluster.now_ms() > deadline) return false;
+    cluster.Pump(wait_ms);
+  }
+  return true;
+}
+
 }  // namespace dt::bench

@@ -14,17 +14,7 @@ namespace dt {
 namespace {
 
 const NodeAddress kA{1, 1}, kB{1, 2}, kServer{1, 100};
-
-// Pumps until done() or timeout_ms passed; false on timeout.
-template <typename Done>
-bool PumpUntil(bench::LcmCluster& cluster, int64_t timeout_ms, Done done, int wait_ms = 1) {
-  const int64_t deadline = cluster.now_ms() + timeout_ms;
-  while (!done()) {
-    if (cluster.now_ms() > deadline) return false;
-    cluster.Pump(wait_ms);
-  }
-  return true;
-}
+using bench::PumpUntil;
 
 // range(0) features; range(1) = 0: origin A alive (it is asked first), 1: A gone, the server
 // answers; range(2) = tick period during the catch-up (0: after every dispatch; 33: node_main's

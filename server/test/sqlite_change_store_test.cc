@@ -1,5 +1,6 @@
-// Tests SqliteChangeStore: round trip, restart, idempotent replay, a full database, files that are
-// not its database, rows damaged or refused as PDUs, and the migration from schema version 1.
+// Tests SqliteChangeStore: round trip, restart, idempotent replay, replacing a stored change, a
+// full database, files that are not its database, rows damaged or refused as PDUs, and the
+// migration from schema version 1.
 #include "server/sqlite_change_store.h"
 
 #include <sqlite3.h>
@@ -185,6 +186,35 @@ TEST_F(SqliteChangeStoreTest, AReplayedChangeIsStoredOnce) {
   ASSERT_TRUE(store.value()->Append(changes).ok());
   ASSERT_TRUE(store.value()->Append(changes).ok());
   EXPECT_EQ(store.value()->LoadAll().value().size(), changes.size());
+}
+
+TEST_F(SqliteChangeStoreTest, ReplaceOverwritesAStoredChangeWhereAppendIgnoresIt) {
+  auto changes = Sample();
+  {
+    auto store = Open(dir_ / "s.db");
+    ASSERT_TRUE(store.ok());
+    ASSERT_TRUE(store.value()->Append(changes).ok());
+    Change other = changes[1];
+    other.params = FeatureParams::Berm(35, 30, 0.2, 25, 4, 2);
+    other.stamp.lamport = 999;
+    ASSERT_TRUE(store.value()->Append(std::span(&other, 1)).ok());  // a replay: ignored
+    EXPECT_EQ(store.value()->LoadAll().value(), changes);
+    // An anti-entropy repair of slot 2, and a slot not stored yet.
+    const Change fresh = MakeChange(ChangeKind::kConstruct, 9, FeatureParams::Crater(5, 5, 1));
+    const std::vector<Change> repaired = {other, fresh};
+    ASSERT_TRUE(store.value()->Replace(repaired).ok());
+    changes[1] = other;
+    changes.push_back(fresh);
+  }
+  auto store = Open(dir_ / "s.db");
+  ASSERT_TRUE(store.ok());
+  auto loaded = store.value()->LoadAll();
+  ASSERT_TRUE(loaded.ok());
+  ASSERT_EQ(loaded.value().size(), changes.size());
+  for (const Change& c : changes) {
+    EXPECT_NE(std::find(loaded.value().begin(), loaded.value().end(), c), loaded.value().end())
+        << c.stamp.change_seq;
+  }
 }
 
 TEST_F(SqliteChangeStoreTest, AFullDatabaseRefusesTheWholeBatch) {

@@ -1,0 +1,26 @@
+#include "engine/prefix_hashes.h"
+
+#include <cstdlib>
+
+#include "engine/change_hash.h"
+
+namespace dt {
+
+void PrefixHashes::Extend(const ChangeLog& log) {
+  const int64_t upto = log.contiguous();
+  if (upto < length()) std::abort();  // a gap-free point never moves back
+  prefix_.reserve(static_cast<size_t>(upto) + 1);
+  for (int64_t s = length() + 1; s <= upto; ++s) {
+    const Change* c = log.Find(s);
+    if (c == nullptr) std::abort();  // below the gap-free point every slot is held
+    prefix_.push_back(prefix_.back() + ChangeHash(*c));
+  }
+}
+
+void PrefixHashes::Replace(int64_t seq, uint64_t old_hash, uint64_t new_hash) {
+  if (seq < 1 || seq > length()) return;  // not hashed yet: Extend will see the new copy
+  const uint64_t delta = new_hash - old_hash;
+  for (size_t i = static_cast<size_t>(seq); i < prefix_.size(); ++i) prefix_[i] += delta;
+}
+
+}  // namespace dt

@@ -50,14 +50,16 @@ std::string SlotList(const std::set<int64_t>& slots) {
 }  // namespace
 
 AntiEntropy::AntiEntropy(AntiEntropyConfig config, Logs& logs, RecordStore& records, PduBus& bus,
-                         PublishCopy publish, Replaced replaced, Admission admission)
+                         PublishCopy publish, Replaced replaced, Admission admission,
+                         HeldBeyond held_beyond)
     : config_(config),
       logs_(logs),
       records_(records),
       bus_(bus),
       publish_(std::move(publish)),
       replaced_(std::move(replaced)),
-      admission_(std::move(admission)) {
+      admission_(std::move(admission)),
+      held_beyond_(std::move(held_beyond)) {
   if (config_.period_ms <= 0) return;  // off: no summaries, no answers
   bus_.Subscribe<dtpdu::anti_entropy_t>([this](const dtpdu::anti_entropy_t& p) { OnPdu(p); });
   bus_.Subscribe<dtpdu::construct_t>([this](const dtpdu::construct_t& p) { OnCopy(p); });
@@ -123,12 +125,13 @@ void AntiEntropy::SendSummaries() {
   dtpdu::anti_entropy_t pdu{};
   pdu.kind = static_cast<uint8_t>(AntiEntropyKind::kSummary);
   for (const auto& [author, log] : logs_) {
-    if (log.contiguous() < 1) continue;
+    if (log.max_held() < 1) continue;
     const PrefixHashes& p = Prefix(author);
     dtpdu::anti_entropy_entry_t e{};
     e.author = ToPdu(author);
     e.seq = p.length();
     e.prefix_hash = static_cast<int64_t>(p.At(p.length()));
+    e.max_held = std::max<int64_t>(log.max_held(), e.seq);
     pdu.entries.push_back(e);
     if (pdu.entries.size() == static_cast<size_t>(kMaxSummaryAuthors)) {
       Send(pdu);
@@ -253,6 +256,10 @@ void AntiEntropy::OnSummary(NodeAddress peer, const dtpdu::anti_entropy_t& pdu) 
     const NodeAddress author = FromPdu(e.author);
     view.gap_free[author] = PeerView::Held{e.seq, now_ms_};
     const ChangeLog* log = FindLog(author);
+    if (held_beyond_ && e.max_held > (log == nullptr ? 0 : log->max_known())) {
+      held_beyond_(peer, author, e.max_held);
+    }
+    if (e.seq == 0) continue;  // nothing held without a gap: no prefix to compare
     // Compared where both hold the prefix; the peer compares the other way round when this
     // replica's gap-free point is the lower one.
     if (log == nullptr || log->contiguous() < e.seq) continue;

@@ -56,8 +56,14 @@ class AntiEntropy {
     std::function<bool(NodeAddress sender, const Change& copy)> copy;
   };
 
+  // Told when a peer's summary shows it holds a change of `author` beyond every one this replica
+  // knows of (up to `max_held`): changes held beyond a gap whose author is gone reach no one
+  // otherwise (the replica treats it as a claim to fetch, docs/protocol.md "Lost changes").
+  using HeldBeyond = std::function<void(NodeAddress peer, NodeAddress author, int64_t max_held)>;
+
   AntiEntropy(AntiEntropyConfig config, Logs& logs, RecordStore& records, PduBus& bus,
-              PublishCopy publish, Replaced replaced, Admission admission = {});
+              PublishCopy publish, Replaced replaced, Admission admission = {},
+              HeldBeyond held_beyond = {});
   AntiEntropy(const AntiEntropy&) = delete;
   AntiEntropy& operator=(const AntiEntropy&) = delete;
 
@@ -161,6 +167,7 @@ class AntiEntropy {
   PublishCopy publish_;
   Replaced replaced_;
   Admission admission_;
+  HeldBeyond held_beyond_;
   std::map<NodeAddress, PrefixHashes> prefixes_;
   std::map<Key, Session> sessions_;
   std::map<Key, Divergence> divergences_;

@@ -72,6 +72,7 @@ std::vector<const Change*> ChangeLog::Range(int64_t start, int64_t end) const {
 int64_t ChangeLog::max_known() const {
   int64_t m = std::max(max_held(), floor_);
   for (const auto& [reporter, seq] : reports_) m = std::max(m, seq);
+  for (const auto& [holder, seq] : held_by_) m = std::max(m, seq);
   return m;
 }
 

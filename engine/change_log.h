@@ -37,9 +37,22 @@ class ChangeLog {
   // author's changes up to `seq`. The latest report of each reporter counts, so an author that
   // restarted after losing changes nobody else held takes its claim back.
   void Report(NodeAddress reporter, int64_t seq) { reports_[reporter] = seq; }
+  // A peer's anti-entropy summary says it holds a change up to `seq` (maybe beyond a gap): kept
+  // apart from Report, whose claims may go down, so the two do not overwrite each other.
+  void ReportHeld(NodeAddress holder, int64_t seq) { held_by_[holder] = seq; }
   // A reporter that fell silent no longer vouches for anything.
-  void ForgetReporter(NodeAddress reporter) { reports_.erase(reporter); }
+  void ForgetReporter(NodeAddress reporter) {
+    reports_.erase(reporter);
+    held_by_.erase(reporter);
+  }
+  // Claims beyond the highest change held that nobody backed with the change: dropped when the
+  // gap they open is given up on (docs/protocol.md, "Lost changes").
+  void ForgetClaimsBeyondHeld() {
+    std::erase_if(reports_, [&](const auto& r) { return r.second > max_held_; });
+    std::erase_if(held_by_, [&](const auto& r) { return r.second > max_held_; });
+  }
   const std::map<NodeAddress, int64_t>& reports() const { return reports_; }
+  const std::map<NodeAddress, int64_t>& held_by() const { return held_by_; }
   // Sequences up to `seq` exist whoever reports them: a node knows how far its own changes went
   // (its own or a previous incarnation's), even when every reporter of them falls silent.
   void RaiseFloor(int64_t seq) { floor_ = std::max(floor_, seq); }
@@ -63,6 +76,7 @@ class ChangeLog {
   int64_t max_held_ = 0;
   int64_t contiguous_ = 0;
   std::map<NodeAddress, int64_t> reports_;
+  std::map<NodeAddress, int64_t> held_by_;
   int64_t floor_ = 0;
 };
 

@@ -21,6 +21,12 @@ void CheckConfig(const ReplicaConfig& c) {
     throw std::invalid_argument(fmt::format("replica {}: anti_entropy_period_ms {} must be >= 0",
                                             c.address.ToString(), c.anti_entropy_period_ms));
   }
+  if (c.gap_give_up_ms != 0 && c.gap_give_up_ms <= 2 * c.silence_ms) {
+    throw std::invalid_argument(
+        fmt::format("replica {}: gap_give_up_ms {} must be 0 (never) or more than 2 x silence_ms "
+                    "({}): a crashed node needs that long to come back and void its own gaps",
+                    c.address.ToString(), c.gap_give_up_ms, c.silence_ms));
+  }
   if (c.playback_window < 1 || c.playback_window > kMaxPlaybackSpan) {
     throw std::invalid_argument(fmt::format("replica {}: playback_window {} is outside [1, {}]",
                                             c.address.ToString(), c.playback_window,
@@ -103,7 +109,10 @@ Replica::Replica(ReplicaConfig config, HeightGrid ground, PduBus& bus)
                              },
                              [this](NodeAddress sender, const Change& copy) {
                                return Admits(sender, copy.author(), copy.stamp.lamport);
-                             }});
+                             }},
+      [this](NodeAddress peer, NodeAddress author, int64_t max_held) {
+        HeldBeyond(peer, author, max_held);
+      });
 }
 
 Replica::~Replica() = default;
@@ -312,6 +321,16 @@ void Replica::OnMaxFeature(const dtpdu::max_feature_t& pdu) {
     // A node the server knows: it too may hold a change of this node the server never got.
     sign_on_expected_.insert(subject);
   }
+}
+
+void Replica::HeldBeyond(NodeAddress peer, NodeAddress author, int64_t max_held) {
+  // Own changes beyond own_change_seq are the sign-on's business (bounded there).
+  if (author == config_.address || !IsMember(author)) return;
+  ChangeLog& log = logs_[author];
+  // Evidence to fetch, not a counter: bounded by a window beyond what is known, so a member that
+  // lies moves no one far, and forgotten when the peer falls silent or the gap is given up on.
+  const int64_t bound = log.max_known() + config_.playback_window;
+  log.ReportHeld(peer, std::min(max_held, bound));
 }
 
 void Replica::ClaimAboutSelf(NodeAddress sender, NodeRole role, const dtpdu::max_feature_t& pdu) {
@@ -525,58 +544,18 @@ std::vector<NodeAddress> Replica::Candidates(NodeAddress author) const {
 void Replica::ForgetSilentReporters() {
   for (auto& [author, log] : logs_) {
     std::vector<NodeAddress> gone;
-    for (const auto& [reporter, seq] : log.reports()) {
-      if (IsSilent(reporter)) gone.push_back(reporter);
+    for (const auto* claims : {&log.reports(), &log.held_by()}) {
+      for (const auto& [reporter, seq] : *claims) {
+        if (IsSilent(reporter)) gone.push_back(reporter);
+      }
     }
     for (NodeAddress g : gone) log.ForgetReporter(g);
   }
 }
 
-void Replica::VoidLostOwnChanges() {
-  // Changes of this node's previous incarnation that every live replica was asked for and none
-  // holds are lost; filling their sequences with void changes (a tombstone of a fresh, never
-  // issued feature number) closes the gap for everyone (docs/protocol.md, "Lost changes").
-  auto it = logs_.find(config_.address);
-  if (!signed_on_ || it == logs_.end() || !it->second.has_gap()) return;
-  const auto candidates = Candidates(config_.address);
-  // Asked each candidate three times over without progress: a lost answer is not taken for a
-  // lost change. A server's claim is its durable gap-free point, so a gap it claims is held.
-  if (candidates.empty() || scheduler_.attempts(config_.address) <= 3 * candidates.size()) return;
-  auto [start, end] = it->second.FirstGap();
-  // A server acknowledged it: the change is durable there, however long that server stays
-  // silent (a blocked transport, a restart), so it is never voided.
-  if (start <= acknowledged_change_seq_) return;
-  for (const auto& [reporter, seq] : it->second.reports()) {
-    auto p = peers_.find(reporter);
-    if (p != peers_.end() && IsServerRole(p->second.role) && seq >= start) return;
-  }
-  end = std::min(end, own_change_seq_);
-  if (Status s = ReserveFeatureNumbers(own_feature_number_ + (end - start + 1)); !s) {
-    DT_LOG_WARN("replica {}: not voiding {}..{} yet: {}", config_.address.ToString(), start, end,
-                s.error().message);
-    return;
-  }
-  for (int64_t seq = start; seq <= end; ++seq) {
-    if (own_feature_number_ >= kMaxSerial) return;
-    Change c;
-    c.kind = ChangeKind::kDestruct;
-    c.id = {config_.address.site, config_.address.host,
-            static_cast<uint32_t>(++own_feature_number_)};
-    c.params.type = FeatureType::kCrater;
-    c.stamp.changed_by = config_.address;
-    c.stamp.change_seq = static_cast<uint32_t>(seq);
-    c.stamp.lamport = ++lamport_;
-    ++counters_.voided;
-    Issue(c);
-  }
-  DT_LOG_INFO(
-      "replica {}: changes {}..{} of an earlier incarnation are held by no live replica; "
-      "voided",
-      config_.address.ToString(), start, end);
-}
-
 void Replica::RequestMissing() {
   VoidLostOwnChanges();
+  GiveUpOnGoneAuthors();
   for (const auto& [author, log] : logs_) RequestFor(author, log);
 }
 

@@ -43,6 +43,10 @@ struct ReplicaConfig {
   // A summary of the logs held every period, so slots held differently are found and repaired
   // (docs/protocol.md, "Anti-entropy"); 0: off.
   int anti_entropy_period_ms = 1000;
+  // A gap in a silent author's log that no live replica fills for this long is given up on: the
+  // slot's authority fills it with voids, so no one waits for ever (docs/protocol.md, "Lost
+  // changes"). 0: never. Must exceed the time a crashed node takes to restart and void its own.
+  int gap_give_up_ms = 30000;
   // A node signs on only once a server (or standby) has told it its own last numbers. False: an
   // exercise without a server; the node signs on after silence_ms with whatever it heard.
   bool require_server = true;
@@ -112,6 +116,9 @@ class Replica {
   struct Counters {
     uint64_t sent = 0, received = 0, rejected = 0, played_back = 0, applied = 0, ignored_stale = 0,
              voided = 0;
+    // Sequences of a silent author's log no live replica held, voided by this replica as the
+    // slot's authority after gap_give_up_ms (docs/protocol.md, "Lost changes").
+    uint64_t gave_up = 0;
     // Refused by the protocol's rules (docs/protocol.md, "Rules for what is believed"): a sender
     // or author that is no member, a role claim that disagrees with the exercise file, a claim
     // about a node's counters from someone who may not make it (or beyond what it can be), a
@@ -167,6 +174,8 @@ class Replica {
   // Counts a refusal and logs it, at most one line a second.
   void Refused(uint64_t& counter, const std::string& what);
   void ClaimAboutSelf(NodeAddress sender, NodeRole role, const dtpdu::max_feature_t& pdu);
+  // A peer's anti-entropy summary shows it holds `author`'s changes up to `max_held`.
+  void HeldBeyond(NodeAddress peer, NodeAddress author, int64_t max_held);
   void CompleteSignOn();
   bool IsMember(NodeAddress a) const {
     return config_.members.empty() || config_.members.count(a) != 0;
@@ -190,7 +199,15 @@ class Replica {
   // Sends the playback request the scheduler wants now for this author's log, if any.
   void RequestFor(NodeAddress author, const ChangeLog& log);
   void ForgetSilentReporters();
+  // docs/protocol.md, "Lost changes" (engine/replica_voids.cc).
   void VoidLostOwnChanges();
+  void GiveUpOnGoneAuthors();
+  // Whether voids for start..end can be numbered (numbers left, reserved); logs why not.
+  bool CanVoid(int64_t start, int64_t end);
+  // Fills start..end of `author`'s log with voids: Destructs of fresh numbers of this replica's.
+  void IssueVoids(NodeAddress author, int64_t start, int64_t end);
+  // A live server or standby claims to hold `seq` of this log (its durable gap-free point).
+  bool HeldByLiveServer(const ChangeLog& log, int64_t seq) const;
   void Commit();
   // Whom to ask for an author's changes, in order of preference.
   std::vector<NodeAddress> Candidates(NodeAddress author) const;
@@ -235,6 +252,12 @@ class Replica {
   int64_t last_refusal_log_ms_ = -1;
   uint64_t refusals_since_log_ = 0;
   Counters counters_;
+  // Per author: the first gap of its log and since when it has not moved.
+  struct GapStuck {
+    int64_t start = 0;
+    int64_t since_ms = 0;
+  };
+  std::map<NodeAddress, GapStuck> gap_stuck_;
   std::unique_ptr<AntiEntropy> anti_entropy_;  // made last: its handlers run after ours
 };
 

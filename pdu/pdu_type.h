@@ -67,9 +67,9 @@ enum class AntiEntropyKind : uint8_t {
 };
 inline bool IsValidAntiEntropyKind(uint8_t raw) { return raw <= 4; }
 
-// Authors in one summary (20 bytes each: the PDU stays under kMaxPduBytes); a replica holding
-// more sends several summaries.
-inline constexpr int kMaxSummaryAuthors = 64;
+// Authors in one summary (28 bytes each: the PDU stays under kMaxPduBytes with the
+// authentication trailer, pdu/test/validation_test.cc); a replica holding more sends several.
+inline constexpr int kMaxSummaryAuthors = 40;
 // A hash request's range is split into at most this many buckets, so a difference in a log of n
 // changes is located in ceil(log_32 n) rounds.
 inline constexpr int64_t kAntiEntropyBuckets = 32;

@@ -211,9 +211,18 @@ std::optional<Rejection> Validate(const dtpdu::anti_entropy_t& pdu, const Valida
                                                          pdu.num_entries, kMaxSummaryAuthors));
     }
     for (const auto& e : pdu.entries) {
-      if (e.seq < 1 || e.seq > kMaxSerial) {
+      if (e.seq < 0 || e.seq > kMaxSerial) {
         return Reject(RejectReason::kBadField,
-                      fmt::format("summary seq {} is outside [1, {}]", e.seq, kMaxSerial));
+                      fmt::format("summary seq {} is outside [0, {}]", e.seq, kMaxSerial));
+      }
+      if (e.max_held < std::max<int64_t>(e.seq, 1) || e.max_held > kMaxSerial) {
+        return Reject(RejectReason::kBadField,
+                      fmt::format("summary max_held {} is outside [max(seq {}, 1), {}]", e.max_held,
+                                  e.seq, kMaxSerial));
+      }
+      if (e.seq == 0 && e.prefix_hash != 0) {
+        return Reject(RejectReason::kBadField,
+                      fmt::format("summary prefix_hash {} of an empty prefix", e.prefix_hash));
       }
     }
     return std::nullopt;

@@ -154,9 +154,10 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   t.Finish();
 
   bool require_server = true;
-  if (auto p = top.OptionalTable("protocol",
-                                 {"max_feature_period_ms", "silence_ms", "playback_retry_ms",
-                                  "playback_window", "require_server", "anti_entropy_period_ms"})) {
+  if (auto p =
+          top.OptionalTable("protocol", {"max_feature_period_ms", "silence_ms", "playback_retry_ms",
+                                         "playback_window", "require_server",
+                                         "anti_entropy_period_ms", "gap_give_up_ms"})) {
     require_server = p->Bool("require_server", true);
     c.protocol.max_feature_period_ms =
         static_cast<int>(p->Int("max_feature_period_ms", 500, 10, 600000));
@@ -165,6 +166,12 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     c.protocol.playback_window = static_cast<int>(p->Int("playback_window", 256, 1, 1000000));
     c.protocol.anti_entropy_period_ms =
         static_cast<int>(p->Int("anti_entropy_period_ms", 1000, 0, 600000));
+    c.protocol.gap_give_up_ms = static_cast<int>(
+        p->Int("gap_give_up_ms", 15 * int64_t{c.protocol.silence_ms}, 0, 86400000));
+    if (c.protocol.gap_give_up_ms != 0 && c.protocol.gap_give_up_ms <= 2 * c.protocol.silence_ms) {
+      p->Fail("gap_give_up_ms", fmt::format("must be 0 (never) or exceed 2 x silence_ms ({})",
+                                            2 * c.protocol.silence_ms));
+    }
     if (c.protocol.silence_ms <= c.protocol.max_feature_period_ms) {
       p->Fail("silence_ms", fmt::format("must exceed max_feature_period_ms ({})",
                                         c.protocol.max_feature_period_ms));

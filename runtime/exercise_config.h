@@ -40,6 +40,7 @@ struct ProtocolTiming {
   int playback_retry_ms = 500;
   int playback_window = 256;
   int anti_entropy_period_ms = 1000;  // 0: anti-entropy off
+  int gap_give_up_ms = 30000;         // 0: never (docs/protocol.md, "Lost changes")
 };
 
 // How the exercise's PDUs are authenticated (docs/pdu.md "Authentication"): [auth] names a key

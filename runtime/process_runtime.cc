@@ -76,6 +76,7 @@ ReplicaConfig MakeReplicaConfig(const ExerciseConfig& exercise, const ProcessCon
   rc.playback_retry_ms = exercise.protocol.playback_retry_ms;
   rc.playback_window = exercise.protocol.playback_window;
   rc.anti_entropy_period_ms = exercise.protocol.anti_entropy_period_ms;
+  rc.gap_give_up_ms = exercise.protocol.gap_give_up_ms;
   if (exercise.server) rc.members[exercise.server->address] = NodeRole::kServer;
   rc.require_server = exercise.require_server();
   if (exercise.standby) rc.members[exercise.standby->address] = NodeRole::kStandby;
@@ -127,8 +128,9 @@ std::string StatusText(const std::string& name, NodeRole role, const Replica& re
       transport.faults->faults().config().drop_probability, w.queued, w.retried, w.failed_writes,
       w.given_up);
   s += fmt::format(
-      "\nvoided {}\nrefused_stranger {}\nrefused_role {}\nrefused_claim {}\nrefused_lamport {}",
-      c.voided, c.refused_stranger, c.refused_role, c.refused_claim, c.refused_lamport);
+      "\nvoided {}\ngave_up {}\nrefused_stranger {}\nrefused_role {}\nrefused_claim "
+      "{}\nrefused_lamport {}",
+      c.voided, c.gave_up, c.refused_stranger, c.refused_role, c.refused_claim, c.refused_lamport);
   // The bus's rejections by reason (validation and authentication), all of them, zeros too.
   const RejectCounters& rejects = transport.bus->rejects();
   for (size_t i = 0; i < kRejectReasonCount; ++i) {

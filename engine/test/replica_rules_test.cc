@@ -114,6 +114,37 @@ TEST_F(RulesTest, AStrangersChangeFarAheadStallsNoOneAndARestartedNodeIsReady) {
   EXPECT_EQ(b.Digest(), S().Digest());
 }
 
+// A member's change whose predecessors no live replica holds (its author gone for good, e.g. a
+// node that crashed right after sending and never came back) is waited for gap_give_up_ms, then
+// the gap is voided by the slot's authority (here the server), once: no permanent stall, and a
+// node started afterwards signs on and is caught up with the same terrain.
+TEST_F(RulesTest, AGapNoLiveReplicaCanFillIsGivenUpOnOnceAndNoOneStalls) {
+  ASSERT_TRUE(Forger(kC).Publish(Crater(kC, 3, 3, 5)).ok());
+  cluster_.Run(5000);
+  // Still waiting: a crashed author comes back within this time and voids its own gaps.
+  for (Replica* r : {&A(), &B(), &S()}) {
+    EXPECT_FALSE(r->caught_up()) << r->config().address.ToString();
+    EXPECT_EQ(r->counters().gave_up, 0u);
+  }
+  cluster_.Run(Defaults().gap_give_up_ms);
+  ExpectAllEqualAndCaughtUp();
+  EXPECT_EQ(S().counters().gave_up, 2u);  // changes 1 and 2 of 1:3
+  EXPECT_EQ(A().counters().gave_up + B().counters().gave_up, 0u);
+  for (Replica* r : {&A(), &B(), &S()}) {
+    EXPECT_EQ(r->live_feature_count(), 1u);  // the change that did arrive stands
+    ASSERT_NE(r->log(kC), nullptr);
+    EXPECT_EQ(r->log(kC)->contiguous(), 3);
+  }
+  cluster_.Crash(kB);
+  cluster_.Run(300);
+  Replica& b = cluster_.Start(kB, NodeRole::kNode);
+  cluster_.Run(3000);
+  EXPECT_TRUE(b.signed_on());
+  EXPECT_TRUE(b.caught_up());
+  EXPECT_EQ(b.Digest(), S().Digest());
+  EXPECT_EQ(b.counters().gave_up, 0u);
+}
+
 TEST_F(RulesTest, AStrangerClaimingToBeTheServerMovesNoCounters) {
   const int64_t seq = A().own_change_seq();
   PduBus& forger = Forger({90, 90});
@@ -152,6 +183,7 @@ TEST_F(RulesTest, AnAntiEntropySummaryWithAFalseRoleOrFromAStrangerIsNotHeard) {
     p.entries[0].author = ToPdu(kA);
     p.entries[0].seq = 1;
     p.entries[0].prefix_hash = 12345;  // not the hash of A's change 1
+    p.entries[0].max_held = 1;
     return p;
   };
   const uint64_t role_refusals = A().counters().refused_role;

@@ -97,7 +97,7 @@ int main(int argc, char** argv) {
   ae.kind = 9;
   Write(dir, "antientropy_bad_kind", 5, EncodePdu(ae));
   ae = sample::AntiEntropySummary();
-  ae.entries[1].seq = 0;
+  ae.entries[1].max_held = 0;
   Write(dir, "antientropy_zero_seq", 5, EncodePdu(ae));
   ae = sample::AntiEntropyHashes();
   ae.hashes.pop_back();

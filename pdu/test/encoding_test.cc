@@ -239,8 +239,8 @@ TEST(Encoding, SenderSitsAtTheSameOffsetInEveryType) {
 }
 
 TEST(Encoding, AntiEntropySizesAreTheDocumentedOnes) {
-  // docs/pdu.md: 58 bytes, 20 per summary entry, 8 per hash.
-  EXPECT_EQ(EncodePdu(sample::AntiEntropySummary()).size(), 58u + 2 * 20u);
+  // docs/pdu.md: 58 bytes, 28 per summary entry, 8 per hash.
+  EXPECT_EQ(EncodePdu(sample::AntiEntropySummary()).size(), 58u + 2 * 28u);
   EXPECT_EQ(EncodePdu(sample::AntiEntropyHashes()).size(), 58u + 32 * 8u);
   EXPECT_EQ(EncodePdu(sample::AntiEntropyCopies()).size(), 58u + 2 * 8u);
 }

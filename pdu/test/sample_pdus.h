@@ -93,9 +93,11 @@ inline dtpdu::anti_entropy_t AntiEntropySummary() {
   pdu.entries[0].author = ToPdu({1, 2});
   pdu.entries[0].seq = 300;
   pdu.entries[0].prefix_hash = static_cast<int64_t>(0x8badf00ddeadbeefull);
+  pdu.entries[0].max_held = 310;
   pdu.entries[1].author = ToPdu({5, 6});
   pdu.entries[1].seq = 12;
   pdu.entries[1].prefix_hash = 77;
+  pdu.entries[1].max_held = 12;
   pdu.num_entries = 2;
   return pdu;
 }

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "pdu/auth_trailer.h"
 #include "pdu/test/sample_pdus.h"
 
 namespace dt {
@@ -323,9 +324,21 @@ TEST(Validation, AntiEntropyFieldsEachKindDoesNotUseAreZero) {
   a.target = ToPdu({1, 1});
   EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
   a = sample::AntiEntropySummary();
-  a.entries[0].seq = 0;
+  a.entries[0].seq = -1;
   EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
   a.entries[0].seq = kMaxSerial + 1;
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
+  a = sample::AntiEntropySummary();
+  a.entries[0].seq = 0;  // changes held beyond a gap only: a prefix of none, hashed 0
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
+  a.entries[0].prefix_hash = 0;
+  EXPECT_EQ(ReasonFor(a), std::nullopt);
+  a.entries[0].max_held = 0;  // holds nothing: no entry
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
+  a = sample::AntiEntropySummary();
+  a.entries[1].max_held = a.entries[1].seq - 1;  // below the gap-free point
+  EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
+  a.entries[1].max_held = kMaxSerial + 1;
   EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
   a = sample::AntiEntropySummary();
   a.entries.resize(kMaxSummaryAuthors + 1, a.entries[0]);
@@ -333,6 +346,8 @@ TEST(Validation, AntiEntropyFieldsEachKindDoesNotUseAreZero) {
   EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
   a.entries.resize(kMaxSummaryAuthors);
   a.num_entries = static_cast<int16_t>(a.entries.size());
+  // The fullest summary fits one datagram, signed.
+  EXPECT_LE(EncodePdu(a).size() + kAuthTrailerBytes, kMaxPduBytes);
   EXPECT_EQ(ReasonFor(a), std::nullopt);
   EXPECT_LE(EncodePdu(a).size(), kMaxPduBytes);
   a = sample::AntiEntropySummary();

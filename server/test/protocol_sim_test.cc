@@ -23,6 +23,8 @@
 #include "engine/record_store.h"
 #include "engine/test/sim_cluster.h"
 #include "log/log.h"
+#include "pdu/conversion.h"
+#include "pdu/pdu_bus.h"
 #include "server/sqlite_change_store.h"
 #include "terrain/terrain_digest.h"
 
@@ -35,6 +37,8 @@ HeightGrid SimGround() { return HeightGrid(17, 8.0, 5.0f); }
 
 constexpr NodeAddress kServer{1, 100};
 constexpr NodeAddress kStandby{1, 101};
+// A member that never runs: step "gone author" sends one change in its name.
+constexpr NodeAddress kGhost{1, 9};
 constexpr int kNodes = 3;
 constexpr int kOps = 40;
 constexpr int64_t kHealMs = 6000;
@@ -91,6 +95,10 @@ class SimRun {
   // found and repaired by the end (docs/protocol.md, "Anti-entropy").
   void CorruptOneSlot();
   std::string CheckCorruptionRepaired();
+  // Step "gone author": a member sends one change whose predecessors reach no one and is never
+  // heard again (a node that crashed for good right after sending); the gap must be given up on
+  // by the end, or every replica would wait for ever (docs/protocol.md, "Lost changes").
+  void GhostSendsOneChange();
 
   uint64_t seed_;
   std::mt19937_64 rng_;
@@ -106,6 +114,10 @@ class SimRun {
   std::map<NodeAddress, int> crashes_;
   std::filesystem::path dir_;
   std::unique_ptr<SimCluster> cluster_;
+  // On cluster_'s network, so declared after it (destroyed first).
+  std::unique_ptr<Transport> ghost_transport_;
+  std::unique_ptr<PduBus> ghost_bus_;
+  std::optional<Change> ghost_change_;
   bool use_sqlite_ = false;
   bool with_standby_ = false;
   std::map<NodeAddress, std::unique_ptr<ChangeStore>> stores_;
@@ -312,12 +324,15 @@ std::string SimRun::Run() {
   rc.silence_ms = 800;
   rc.playback_retry_ms = 300;
   rc.playback_window = 16;
+  // Longer than any partition or downtime below, so only the gone author's gap is given up on.
+  rc.gap_give_up_ms = 4000;
   std::vector<NodeAddress> nodes;
   for (int i = 1; i <= kNodes; ++i) nodes.push_back({1, static_cast<uint16_t>(i)});
   // Membership as an exercise file gives it (docs/protocol.md, "Rules for what is believed").
   rc.members[kServer] = NodeRole::kServer;
   if (with_standby_) rc.members[kStandby] = NodeRole::kStandby;
   for (NodeAddress a : nodes) rc.members[a] = NodeRole::kNode;
+  rc.members[kGhost] = NodeRole::kNode;
   cluster_ = std::make_unique<SimCluster>(seed_, SimGround(), rc, faults);
 
   if (auto s = StartServer(kServer, NodeRole::kServer); !s) return s.error().message;
@@ -332,6 +347,7 @@ std::string SimRun::Run() {
     // Restarts that are due.
     if (Status s = RestartDue(); !s) return s.error().message;
     if (op == kOps / 2) CorruptOneSlot();
+    if (op == kOps / 3) GhostSendsOneChange();
     const uint64_t what = Next(100);
     if (what >= 72 && what < 75) {
       // A sender whose writes time out for longer than the silence period (a DDS writer held
@@ -456,6 +472,33 @@ std::string SimRun::Run() {
   return CheckCorruptionRepaired();
 }
 
+void SimRun::GhostSendsOneChange() {
+  // Its own draws (as the corruption's), so the rest of the schedule is drawn as without it.
+  ghost_transport_ = cluster_->net().Join(kGhost, 1);
+  PduBusConfig bc;
+  bc.exercise_id = 1;
+  bc.local = kGhost;
+  bc.terrain_size_m = SimGround().size_m();
+  bc.clock = [] { return 0u; };
+  ghost_bus_ = std::make_unique<PduBus>(*ghost_transport_, bc);
+  FeaturePdu f;
+  const auto seq = static_cast<uint32_t>(2 + corrupt_rng_() % 3);  // 1..seq-1 never sent
+  f.id = {kGhost.site, kGhost.host, seq};
+  f.params = FeatureParams::Crater(40, 40, 3);
+  f.change.changed_by = kGhost;
+  f.change.change_seq = seq;
+  f.change.lamport = 1 + corrupt_rng_() % 50;
+  ghost_change_ = ChangeFrom(f, ChangeKind::kConstruct);
+  if (auto sent = ghost_bus_->Publish(ToConstruct(f)); !sent) {
+    std::fprintf(stderr, "gone author's change refused: %s\n", sent.error().message.c_str());
+    std::abort();  // a valid PDU
+  }
+  if (trace_) {
+    std::printf("t=%lld gone author %s sends change %u alone\n",
+                static_cast<long long>(cluster_->now_ms()), kGhost.ToString().c_str(), seq);
+  }
+}
+
 void SimRun::CorruptOneSlot() {
   // A slot the server holds durably, so its copy (the repair rule's winner) is the issued one.
   if (!cluster_->alive(kServer)) return;
@@ -524,7 +567,9 @@ std::string SimRun::Check() {
     }
     if (!r.caught_up()) {
       std::string logs;
-      for (NodeAddress author : cluster_->live()) {
+      std::vector<NodeAddress> authors = cluster_->live();
+      authors.push_back(kGhost);
+      for (NodeAddress author : authors) {
         if (const ChangeLog* l = r.log(author)) {
           logs += fmt::format(" {}:[{} of {}", author.ToString(), l->contiguous(), l->max_known());
           for (const auto& [by, seq] : l->reports())
@@ -598,6 +643,31 @@ std::string SimRun::Check() {
     }
     (void)reference.Apply(i.change);
     ++present;
+  }
+  // The gone author's log: its one change (unless every copy was dropped on the way) and the
+  // voids that closed the gap before it, tombstones of numbers no one issued.
+  const ChangeLog* ghost_log = ghost_change_ ? server.log(kGhost) : nullptr;
+  if (const ChangeLog* log =
+          ghost_log != nullptr && ghost_log->max_held() > 0 ? ghost_log : nullptr) {
+    const int64_t seq = ghost_change_->stamp.change_seq;
+    if (log->contiguous() != seq || log->max_held() != seq) {
+      return fmt::format("the server holds the gone author's log up to {} of {}, not 1..{}",
+                         log->contiguous(), log->max_held(), seq);
+    }
+    for (const Change* c : log->Range(1, seq - 1)) {
+      if (c->kind != ChangeKind::kDestruct || issued_ids_.count(c->id) != 0 ||
+          OriginOf(c->id) == kGhost) {
+        return fmt::format("the gone author's change {} is not a void", c->stamp.change_seq);
+      }
+    }
+    if (!(*log->Find(seq) == *ghost_change_)) return "the gone author's change is changed";
+    if (trace_) {
+      for (NodeAddress a : cluster_->live()) {
+        std::printf("%s gave up on %llu changes\n", a.ToString().c_str(),
+                    static_cast<unsigned long long>(cluster_->at(a).counters().gave_up));
+      }
+    }
+    (void)reference.Apply(*ghost_change_);
   }
   // Everything else the server holds must be a void: a tombstone of a never-issued number.
   size_t held_total = 0, voids = 0;

@@ -83,8 +83,8 @@ Mac ExerciseKey::Compute(std::span<const uint8_t> message) const {
   crypto_generichash_blake2b_update(&s, message.data(), message.size());
   Mac mac;
   crypto_generichash_blake2b_final(&s, mac.data(), mac.size());
-  // final wipes the chaining value and the buffer (which held the key block); wiping the whole
-  // copy again would cost a tenth of the MAC.
+  // final wipes the chaining value and the buffer (which held the key block); the rest of the
+  // copy (counters, lengths) is not secret, so it is not wiped again.
   return mac;
 }
 

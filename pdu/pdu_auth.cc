@@ -54,8 +54,8 @@ void PduAuthenticator::Sign(std::vector<uint8_t>& bytes) {
   t.incarnation = incarnation_;
   t.sequence = ++sequence_;
   t.send_time_ms = static_cast<uint64_t>(config_.wall_clock_ms());
-  // The trailer is written in place after the PDU, and the MAC taken over the contiguous bytes:
-  // no copy of the PDU or of the signed part.
+  // The trailer is written in place after the PDU and the MAC taken over the contiguous bytes,
+  // without a separate buffer for the signed part.
   const size_t lcm_bytes = bytes.size();
   bytes.resize(lcm_bytes + kAuthTrailerBytes);
   const std::span<uint8_t> all(bytes);

@@ -23,21 +23,22 @@ constexpr size_t kMinPduBytes = 8;
 
 }  // namespace
 
-std::array<uint8_t, kAuthSignedBytes> EncodeSignedPart(const AuthTrailer& t) {
-  std::array<uint8_t, kAuthSignedBytes> b{};
-  std::copy(kAuthMagic.begin(), kAuthMagic.end(), b.begin());
-  PutBig(b.data() + 4, t.sender.site, 2);
-  PutBig(b.data() + 6, t.sender.host, 2);
-  PutBig(b.data() + 8, t.incarnation, 8);
-  PutBig(b.data() + 16, t.sequence, 8);
-  PutBig(b.data() + 24, t.send_time_ms, 8);
-  return b;
+void EncodeSignedPart(const AuthTrailer& t, std::span<uint8_t, kAuthSignedBytes> out) {
+  uint8_t* b = out.data();
+  std::copy(kAuthMagic.begin(), kAuthMagic.end(), b);
+  PutBig(b + 4, t.sender.site, 2);
+  PutBig(b + 6, t.sender.host, 2);
+  PutBig(b + 8, t.incarnation, 8);
+  PutBig(b + 16, t.sequence, 8);
+  PutBig(b + 24, t.send_time_ms, 8);
 }
 
 void AppendTrailer(const AuthTrailer& t, std::vector<uint8_t>& out) {
-  const auto signed_part = EncodeSignedPart(t);
-  out.insert(out.end(), signed_part.begin(), signed_part.end());
-  out.insert(out.end(), t.mac.begin(), t.mac.end());
+  const size_t at = out.size();
+  out.resize(at + kAuthTrailerBytes);
+  EncodeSignedPart(t, std::span<uint8_t>(out).subspan(at).first<kAuthSignedBytes>());
+  std::copy(t.mac.begin(), t.mac.end(),
+            out.begin() + static_cast<std::ptrdiff_t>(at + kAuthSignedBytes));
 }
 
 std::optional<AuthTrailer> ParseTrailer(std::span<const uint8_t> bytes) {

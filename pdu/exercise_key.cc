@@ -1,6 +1,8 @@
 #include "pdu/exercise_key.h"
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -11,9 +13,16 @@
 
 namespace dt {
 
+// The crypto_generichash_blake2b names rather than crypto_generichash's (BLAKE2b today): the MAC
+// is BLAKE2b by definition, whatever libsodium's generic hash may become.
+static_assert(kMacBytes >= crypto_generichash_blake2b_BYTES_MIN &&
+              kMacBytes <= crypto_generichash_blake2b_BYTES_MAX);
+static_assert(kMacKeyBytes == crypto_generichash_blake2b_KEYBYTES_MAX);
+static_assert(kMacKeyPerson.size() == crypto_generichash_blake2b_PERSONALBYTES);
+
 struct ExerciseKey::State {
-  // HMAC state right after the key pads: copied for every MAC, never updated itself.
-  crypto_auth_hmacsha512256_state keyed;
+  // BLAKE2b state right after init with the MAC key: copied for every MAC, never updated itself.
+  crypto_generichash_blake2b_state keyed;
 };
 
 ExerciseKey::ExerciseKey(std::span<const uint8_t> key)
@@ -24,7 +33,18 @@ ExerciseKey::ExerciseKey(std::span<const uint8_t> key)
                                             kMaxExerciseKeyBytes));
   }
   if (sodium_init() < 0) throw std::runtime_error("libsodium could not be initialised");
-  crypto_auth_hmacsha512256_init(&state_->keyed, key.data(), key.size());
+  const std::array<uint8_t, crypto_generichash_blake2b_SALTBYTES> salt{};
+  std::array<uint8_t, crypto_generichash_blake2b_PERSONALBYTES> person;
+  std::copy(kMacKeyPerson.begin(), kMacKeyPerson.end(), person.begin());
+  std::array<uint8_t, kMacKeyBytes> mac_key;
+  const bool keyed = crypto_generichash_blake2b_salt_personal(mac_key.data(), mac_key.size(),
+                                                              key.data(), key.size(), nullptr, 0,
+                                                              salt.data(), person.data()) == 0 &&
+                     crypto_generichash_blake2b_init(&state_->keyed, mac_key.data(), mac_key.size(),
+                                                     kMacBytes) == 0;
+  sodium_memzero(mac_key.data(), mac_key.size());
+  // Only lengths outside BLAKE2b's limits make these fail, and the static_asserts exclude them.
+  if (!keyed) std::abort();
 }
 
 ExerciseKey::~ExerciseKey() { sodium_memzero(state_.get(), sizeof(State)); }
@@ -58,20 +78,19 @@ std::shared_ptr<const ExerciseKey> ExerciseKey::FromFile(const std::filesystem::
   return key;
 }
 
-Mac ExerciseKey::Compute(std::span<const uint8_t> a, std::span<const uint8_t> b) const {
-  crypto_auth_hmacsha512256_state s = state_->keyed;
-  crypto_auth_hmacsha512256_update(&s, a.data(), a.size());
-  crypto_auth_hmacsha512256_update(&s, b.data(), b.size());
+Mac ExerciseKey::Compute(std::span<const uint8_t> message) const {
+  crypto_generichash_blake2b_state s = state_->keyed;
+  crypto_generichash_blake2b_update(&s, message.data(), message.size());
   Mac mac;
-  crypto_auth_hmacsha512256_final(&s, mac.data());
-  sodium_memzero(&s, sizeof s);
+  crypto_generichash_blake2b_final(&s, mac.data(), mac.size());
+  // final wipes the chaining value and the buffer (which held the key block); the rest of the
+  // copy (counters, lengths) is not secret, so it is not wiped again.
   return mac;
 }
 
-bool ExerciseKey::Verify(std::span<const uint8_t> a, std::span<const uint8_t> b,
-                         std::span<const uint8_t> mac) const {
+bool ExerciseKey::Verify(std::span<const uint8_t> message, std::span<const uint8_t> mac) const {
   if (mac.size() != kMacBytes) return false;
-  const Mac want = Compute(a, b);
+  const Mac want = Compute(message);
   return crypto_verify_32(want.data(), mac.data()) == 0;
 }
 

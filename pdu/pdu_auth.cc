@@ -1,5 +1,6 @@
 #include "pdu/pdu_auth.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <limits>
 #include <stdexcept>
@@ -53,10 +54,14 @@ void PduAuthenticator::Sign(std::vector<uint8_t>& bytes) {
   t.incarnation = incarnation_;
   t.sequence = ++sequence_;
   t.send_time_ms = static_cast<uint64_t>(config_.wall_clock_ms());
-  const auto signed_part = EncodeSignedPart(t);
-  t.mac = config_.key->Compute(bytes, signed_part);
-  bytes.insert(bytes.end(), signed_part.begin(), signed_part.end());
-  bytes.insert(bytes.end(), t.mac.begin(), t.mac.end());
+  // The trailer is written in place after the PDU and the MAC taken over the contiguous bytes,
+  // without a separate buffer for the signed part.
+  const size_t lcm_bytes = bytes.size();
+  bytes.resize(lcm_bytes + kAuthTrailerBytes);
+  const std::span<uint8_t> all(bytes);
+  EncodeSignedPart(t, all.subspan(lcm_bytes).first<kAuthSignedBytes>());
+  const Mac mac = config_.key->Compute(all.first(lcm_bytes + kAuthSignedBytes));
+  std::copy(mac.begin(), mac.end(), all.last<kMacBytes>().begin());
 }
 
 std::optional<Rejection> PduAuthenticator::Verify(std::span<const uint8_t> bytes,
@@ -67,13 +72,24 @@ std::optional<Rejection> PduAuthenticator::Verify(std::span<const uint8_t> bytes
   }
   const std::optional<AuthTrailer> t = ParseTrailer(bytes);
   if (!t) {
+    // A trailer of another version (a process of another release) is named as such: its MAC
+    // is not this version's, so it authenticates nothing here.
+    if (bytes.size() >= kAuthTrailerBytes) {
+      const auto magic = bytes.subspan(bytes.size() - kAuthTrailerBytes, kAuthMagic.size());
+      if (std::equal(kAuthMagic.begin(), kAuthMagic.end() - 1, magic.begin()) &&
+          magic.back() != kAuthMagic.back()) {
+        return Reject(RejectReason::kUnauthenticated,
+                      fmt::format("{} bytes with a trailer of version '{}', this process reads "
+                                  "version '{}' only",
+                                  bytes.size(), static_cast<char>(magic.back()),
+                                  static_cast<char>(kAuthMagic.back())));
+      }
+    }
     return Reject(RejectReason::kUnauthenticated,
                   fmt::format("{} bytes without an authentication trailer", bytes.size()));
   }
   const auto lcm = bytes.first(bytes.size() - kAuthTrailerBytes);
-  const auto signed_part = bytes.subspan(lcm.size(), kAuthSignedBytes);
-  const auto mac = bytes.last(kMacBytes);
-  if (!config_.key->Verify(lcm, signed_part, mac)) {
+  if (!config_.key->Verify(bytes.first(lcm.size() + kAuthSignedBytes), t->mac)) {
     return Reject(RejectReason::kBadMac,
                   fmt::format("the MAC of a PDU claiming to be from {} does not match the "
                               "exercise key",

@@ -45,7 +45,7 @@ std::shared_ptr<const ExerciseKey> BenchKey() {
   return std::make_shared<const ExerciseKey>(std::vector<uint8_t>(32, 0x42));
 }
 
-// Appends the authentication trailer (sequence, wall-clock time, HMAC-SHA512-256) to the
+// Appends the authentication trailer (sequence, wall-clock time, keyed BLAKE2b-256) to the
 // encoded PDU, as PduBus::Publish does after encoding.
 template <typename Pdu>
 void BM_Sign(benchmark::State& state, Pdu pdu) {

@@ -4,6 +4,7 @@
 #include "pdu/pdu_auth.h"
 
 #include <gtest/gtest.h>
+#include <sodium.h>
 
 #include <cmath>
 #include <random>
@@ -110,6 +111,33 @@ TEST_F(AuthTest, AcceptsAPduFromAnotherBusWithTheKey) {
 TEST_F(AuthTest, DropsAPduWithoutATrailer) {
   Inject(EncodePdu(sample::Construct()));
   EXPECT_EQ(count(RejectReason::kUnauthenticated), 1u);
+  EXPECT_EQ(handled_, 0);
+}
+
+// A PDU as the former trailer version signed it ("DTA1", HMAC-SHA512-256 under the raw key) is
+// refused as unauthenticated, not read as a trailer of this version.
+TEST_F(AuthTest, DropsTheFormerTrailerVersionAsUnauthenticated) {
+  PduAuthenticator member({1, 2}, Auth(key_, &now_ms_));
+  std::vector<uint8_t> bytes = Signed(member);
+  const size_t signed_end = bytes.size() - kMacBytes;
+  bytes[bytes.size() - kAuthTrailerBytes + 3] = '1';
+  ASSERT_GE(sodium_init(), 0);
+  const std::vector<uint8_t> raw_key(32, 0x11);  // key_'s bytes
+  crypto_auth(bytes.data() + signed_end, bytes.data(), signed_end, raw_key.data());
+  Inject(bytes);
+  EXPECT_EQ(count(RejectReason::kUnauthenticated), 1u);
+  EXPECT_EQ(count(RejectReason::kBadMac), 0u);
+  EXPECT_EQ(handled_, 0);
+  std::span<const uint8_t> pdu;
+  PduAuthenticator receiver({2, 2}, Auth(key_, &now_ms_));
+  const auto r = receiver.Verify(bytes, pdu);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->reason, RejectReason::kUnauthenticated);
+  EXPECT_NE(r->detail.find("trailer of version '1'"), std::string::npos) << r->detail;
+  // The same bytes with this version's magic (and still the former MAC): a bad MAC.
+  bytes[bytes.size() - kAuthTrailerBytes + 3] = '2';
+  Inject(bytes);
+  EXPECT_EQ(count(RejectReason::kBadMac), 1u);
   EXPECT_EQ(handled_, 0);
 }
 

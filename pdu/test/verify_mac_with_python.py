@@ -1,17 +1,18 @@
 #!/usr/bin/env python3
 """An outside holder of the exercise key verifies a PDU captured from our C++ code.
 
-Makes a fresh random key, has the capture program sign one Construct with it, then checks with
-nothing but Python's standard hmac and hashlib that the trailer's MAC is HMAC-SHA-512 truncated to
-32 bytes (libsodium's crypto_auth, HMAC-SHA512-256) over the LCM bytes and the trailer fields, that
-the trailer's fields are the documented big-endian layout, and that a changed byte or another key
-fails. With LCM's Python module it also decodes the authenticated bytes as they are: LCM's decoder
-stops at the end of the PDU and ignores the trailer.
+Makes fresh random keys, has the capture program sign one Construct with each, then checks with
+nothing but Python's standard hashlib (hmac for its constant-time compare) that the trailer's MAC
+is keyed BLAKE2b-256 over the LCM bytes and the trailer fields under the MAC key derived from the
+key file's bytes (BLAKE2b-512 personalised "dt-pdu-mac-key-1"), that the trailer's fields are the
+documented big-endian layout, and that a changed byte or another key fails; for key files of
+several lengths. With LCM's Python module it also decodes the authenticated bytes as they are:
+LCM's decoder stops at the end of the PDU and ignores the trailer.
 Exit 0: pass; 1: mismatch.
 Usage: verify_mac_with_python.py <lcm-gen> <capture-program> <work-dir> <file.lcm>...
 """
 import hashlib
-import hmac
+import hmac  # compare_digest only
 import json
 import os
 import struct
@@ -20,36 +21,36 @@ import sys
 
 TRAILER = 64
 SIGNED = 32
-MAGIC = b"DTA1"
+MAGIC = b"DTA2"
+PERSON = b"dt-pdu-mac-key-1"
 
 
-def mac_of(key, data):
-    return hmac.new(key, data, hashlib.sha512).digest()[:32]
+def mac_of(key_file_bytes, data):
+    mac_key = hashlib.blake2b(key_file_bytes, digest_size=64, person=PERSON).digest()
+    return hashlib.blake2b(data, key=mac_key, digest_size=32).digest()
 
 
-def main():
-    lcm_gen, capture, work = sys.argv[1:4]
-    lcm_files = sys.argv[4:]
-    os.makedirs(work, exist_ok=True)
-    key_path = os.path.join(work, "exercise.key")
-    key = os.urandom(32)
+def check_capture(capture, work, key_len, failures):
+    """Signs a Construct under a fresh random key of key_len bytes; checks it. The capture."""
+    key_path = os.path.join(work, f"exercise-{key_len}.key")
+    key = os.urandom(key_len)
     with open(key_path, "wb") as f:
         f.write(key)
-    prefix = os.path.join(work, "signed")
+    prefix = os.path.join(work, f"signed-{key_len}")
     subprocess.run([capture, prefix, key_path], check=True)
     with open(prefix + ".bin", "rb") as f:
         data = f.read()
     with open(prefix + ".json") as f:
         want = json.load(f)
+    where = f"({key_len}-byte key file)"
 
-    failures = []
     if len(data) != want["lcm_bytes"] + TRAILER:
-        print(f"FAIL: {len(data)} bytes, expected {want['lcm_bytes']} + {TRAILER}")
-        return 1
+        failures.append(f"{len(data)} bytes, expected {want['lcm_bytes']} + {TRAILER} {where}")
+        return None, want
     lcm_part, signed, mac = data[:-TRAILER], data[-TRAILER:-SIGNED], data[-SIGNED:]
 
     if not hmac.compare_digest(mac_of(key, lcm_part + signed), mac):
-        failures.append("the MAC is not HMAC-SHA-512/256 of the LCM bytes + trailer fields")
+        failures.append(f"the MAC is not keyed BLAKE2b-256 of the LCM bytes + trailer fields {where}")
 
     magic, site, host, incarnation, sequence, send_ms = struct.unpack(">4sHHQQQ", signed)
     t = want["trailer"]
@@ -65,14 +66,34 @@ def main():
     if pdu_sender != [site, host]:
         failures.append(f"PDU sender {pdu_sender} != trailer sender {[site, host]}")
 
-    # The check can fail: any changed byte, or another key, gives another MAC.
+    # The check can fail: any changed byte, another key, or the key file's bytes used as the
+    # MAC key without the derivation give another MAC.
     for at in (0, 20, len(lcm_part) - 1, len(lcm_part) + 10):
         changed = bytearray(data)
         changed[at] ^= 0x01
         if hmac.compare_digest(mac_of(key, bytes(changed[:-SIGNED])), mac):
-            failures.append(f"a change at byte {at} kept the MAC valid")
-    if hmac.compare_digest(mac_of(os.urandom(32), lcm_part + signed), mac):
-        failures.append("another key gave the same MAC")
+            failures.append(f"a change at byte {at} kept the MAC valid {where}")
+    if hmac.compare_digest(mac_of(os.urandom(key_len), lcm_part + signed), mac):
+        failures.append(f"another key gave the same MAC {where}")
+    if key_len <= 64 and hmac.compare_digest(
+            hashlib.blake2b(lcm_part + signed, key=key, digest_size=32).digest(), mac):
+        failures.append(f"the MAC is keyed with the raw key file bytes, not the derived key {where}")
+    return data, want
+
+
+def main():
+    lcm_gen, capture, work = sys.argv[1:4]
+    lcm_files = sys.argv[4:]
+    os.makedirs(work, exist_ok=True)
+    failures = []
+    # The shortest key file, one whose bytes BLAKE2b could not take as its key, and the longest.
+    for key_len in (32, 1000, 1024):
+        data, want = check_capture(capture, work, key_len, failures)
+        if data is None:
+            print("FAIL: " + failures[-1])
+            return 1
+    lcm_part = data[:-TRAILER]
+    _, site, host, incarnation, sequence, _ = struct.unpack(">4sHHQQQ", data[-TRAILER:-SIGNED])
 
     # LCM's Python decoder reads the authenticated bytes, trailer and all.
     try:
@@ -96,9 +117,9 @@ def main():
         for f in failures:
             print("FAIL: " + f)
         return 1
-    print(f"OK: Python's hmac verified the {len(data)}-byte Construct ({len(lcm_part)} LCM bytes "
+    print(f"OK: Python's hashlib verified the {len(data)}-byte Construct ({len(lcm_part)} LCM bytes "
           f"+ {TRAILER}-byte trailer: sender {site}:{host}, incarnation {incarnation}, sequence "
-          f"{sequence}){decoded}")
+          f"{sequence}), under key files of 32, 1000 and 1024 bytes{decoded}")
     return 0
 
 

@@ -1,6 +1,7 @@
 // Benchmarks of the protocol engine over real LCM: features/s from node A to node B against raw
 // LCM of same-size messages in the same run, authenticated against unauthenticated PDUs in the
-// same run, and the latency from create on A to applied on B.
+// same run, and the latency from create on A to applied on B (authenticated against
+// unauthenticated too).
 #include <time.h>
 
 #include <algorithm>
@@ -317,6 +318,57 @@ void BM_CreateToAppliedLatency(benchmark::State& state, std::string url) {
   state.counters["lat_max_us"] = Percentile(r.latencies_us(), 1.0);
 }
 
+// Latency authenticated against unauthenticated, same run, interleaved: the two exercises of
+// BM_NodeToNodeAuthVsPlain; per iteration one crater from A to B in each, the order alternating,
+// each on an otherwise idle exercise as in BM_CreateToAppliedLatency. Counters: percentiles of
+// each, and plain ÷ authenticated of the medians and 99th percentiles.
+void BM_LatencyAuthVsPlain(benchmark::State& state, std::string plain_url, std::string auth_url) {
+  if (plain_url != kMemq && dt::testing::NetnsSkipReason()) {
+    state.SkipWithError("udpm runs only inside a private network namespace");
+    return;
+  }
+  auto key = std::make_shared<const ExerciseKey>(std::vector<uint8_t>(32, 0x42));
+  ThreeReplicas plain(plain_url, bench::FastAckConfig());
+  ThreeReplicas authed(auth_url, bench::FastAckConfig(), key);
+  if (!plain.ready() || !authed.ready()) {
+    state.SkipWithError("A and B did not sign on");
+    return;
+  }
+  std::string error;
+  int64_t n_plain = 0, n_auth = 0, i = 0;
+  auto one = [&](ThreeReplicas& r, int64_t* n) {
+    const int64_t t = bench::SteadyNowNs();
+    while (!r.Create(*n, &error)) r.cluster().Pump(1);  // a full window: wait for the server
+    ++*n;
+    const int64_t target = r.applied_on_b() + 1;
+    while (r.applied_on_b() < target) r.cluster().Pump(0);
+    return bench::SteadyNowNs() - t;
+  };
+  for (auto _ : state) {
+    int64_t ns = 0;
+    if (i++ % 2 == 0) {
+      ns = one(plain, &n_plain) + one(authed, &n_auth);
+    } else {
+      ns = one(authed, &n_auth) + one(plain, &n_plain);
+    }
+    state.SetIterationTime(static_cast<double>(ns) / 1e9);
+  }
+  const double plain_p50 = Percentile(plain.latencies_us(), 0.50);
+  const double auth_p50 = Percentile(authed.latencies_us(), 0.50);
+  const double plain_p99 = Percentile(plain.latencies_us(), 0.99);
+  const double auth_p99 = Percentile(authed.latencies_us(), 0.99);
+  state.counters["plain_p50_us"] = plain_p50;
+  state.counters["auth_p50_us"] = auth_p50;
+  state.counters["plain_p99_us"] = plain_p99;
+  state.counters["auth_p99_us"] = auth_p99;
+  state.counters["ratio_p50"] = plain_p50 / auth_p50;
+  state.counters["ratio_p99"] = plain_p99 / auth_p99;
+  const PduBus& b = authed.cluster().bus(kB);
+  if (b.authenticator() == nullptr || b.rejects().total() != 0) {
+    state.SkipWithError("the authenticated exercise is not authenticating, or rejected PDUs");
+  }
+}
+
 // Fixed iterations: each run signs on once (2 s of silence with the defaults).
 BENCHMARK_CAPTURE(BM_NodeToNodeVsRawLcm, memq_fast_acks, std::string(kMemq), true)
     ->UseManualTime()
@@ -338,6 +390,10 @@ BENCHMARK_CAPTURE(BM_NodeToNodeAuthVsPlain, udpm, std::string(kUdpm), std::strin
     ->UseManualTime()
     ->Iterations(60)
     ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_LatencyAuthVsPlain, memq, std::string(kMemq), std::string(kMemq))
+    ->UseManualTime()
+    ->Iterations(5000)
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_CreateToAppliedLatency, memq, std::string(kMemq))
     ->UseManualTime()
     ->Iterations(5000)

@@ -1,7 +1,8 @@
 // The protocol benchmarks with every replica on its own thread and its own udpm socket, as an
 // exercise runs them (one process per node): node A to node B throughput and a rejoin catch-up,
 // each against raw LCM over udpm with the receiver on its own thread, in the same run; and node
-// A to node B authenticated against unauthenticated.
+// A to node B throughput and latency authenticated against unauthenticated.
+#include <algorithm>
 #include <future>
 #include <memory>
 #include <string>
@@ -174,12 +175,12 @@ struct ThreadedExercise {
     auto b_on = b->Post([](Replica& r) { return r.signed_on(); });
     return WaitFor(a_on, 20) && WaitFor(b_on, 20);
   }
-  // kBurst craters created on A's thread until B's thread has applied them all: wall ns, or -1
+  // `count` craters created on A's thread until B's thread has applied them all: wall ns, or -1
   // with *error set.
-  int64_t Burst(std::string* error) {
-    const auto target = static_cast<size_t>(n + kBurst);
+  int64_t Burst(std::string* error, int64_t count = kBurst) {
+    const auto target = static_cast<size_t>(n + count);
     const int64_t t = SteadyNowNs();
-    auto created = a->Post(CreateCraters(n, kBurst, error));
+    auto created = a->Post(CreateCraters(n, count, error));
     auto applied = b->Post([target](Replica& r) { return r.live_feature_count() >= target; });
     if (!WaitFor(created, 10)) {
       *error = "A did not create its burst within 10 s";
@@ -190,7 +191,7 @@ struct ThreadedExercise {
       *error = "B did not apply every feature within 10 s";
       return -1;
     }
-    n += kBurst;
+    n += count;
     return applied.get() - t;
   }
   // CPU time of the three replicas' threads so far.
@@ -269,6 +270,63 @@ void BM_NodeToNodeThreadsAuthVsPlain(benchmark::State& state) {
   state.counters["plain_cpu_us"] = static_cast<double>(plain_cpu) / features / 1000.0;
   state.counters["auth_cpu_us"] = static_cast<double>(auth_cpu) / features / 1000.0;
   state.counters["cpu_ratio"] = static_cast<double>(plain_cpu) / static_cast<double>(auth_cpu);
+  if (!plain.Complete() || !authed.Complete()) state.SkipWithError("B does not hold every feature");
+}
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  const auto k = static_cast<size_t>(p * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+// Latency authenticated against unauthenticated with one thread per replica, same run,
+// interleaved: the two exercises above; per iteration one crater from A to B in each (the order
+// alternating), timed from before it is handed to A's thread until B's thread has applied it.
+// Counters: percentiles of each, and plain ÷ authenticated of the medians and of the 99th
+// percentiles (1: the MAC adds nothing).
+void BM_LatencyThreadsAuthVsPlain(benchmark::State& state) {
+  if (auto reason = testing::NetnsSkipReason()) {
+    state.SkipWithError(("udpm runs only in a private network namespace: " + *reason).c_str());
+    return;
+  }
+  const int64_t epoch = SteadyNowNs();
+  const ReplicaConfig rc = bench::FastAckConfig();
+  std::string error;  // before the threads, as above
+  ThreadedExercise plain(kUdpm, rc, epoch, nullptr);
+  ThreadedExercise authed(kUdpmAuth, rc, epoch,
+                          std::make_shared<const ExerciseKey>(std::vector<uint8_t>(32, 0x42)));
+  if (!plain.SignOn() || !authed.SignOn()) {
+    state.SkipWithError("A and B did not sign on");
+    return;
+  }
+  std::vector<double> plain_us, auth_us;
+  int64_t i = 0;
+  for (auto _ : state) {
+    int64_t p = 0, a = 0;
+    if (i++ % 2 == 0) {
+      p = plain.Burst(&error, 1);
+      a = p < 0 ? -1 : authed.Burst(&error, 1);
+    } else {
+      a = authed.Burst(&error, 1);
+      p = a < 0 ? -1 : plain.Burst(&error, 1);
+    }
+    if (p < 0 || a < 0) {
+      state.SkipWithError(error.c_str());
+      return;
+    }
+    plain_us.push_back(static_cast<double>(p) / 1000.0);
+    auth_us.push_back(static_cast<double>(a) / 1000.0);
+    state.SetIterationTime(static_cast<double>(p + a) / 1e9);
+  }
+  const double plain_p50 = Percentile(plain_us, 0.5), auth_p50 = Percentile(auth_us, 0.5);
+  const double plain_p99 = Percentile(plain_us, 0.99), auth_p99 = Percentile(auth_us, 0.99);
+  state.counters["plain_p50_us"] = plain_p50;
+  state.counters["auth_p50_us"] = auth_p50;
+  state.counters["plain_p99_us"] = plain_p99;
+  state.counters["auth_p99_us"] = auth_p99;
+  state.counters["ratio_p50"] = plain_p50 / auth_p50;
+  state.counters["ratio_p99"] = plain_p99 / auth_p99;
   if (!plain.Complete() || !authed.Complete()) state.SkipWithError("B does not hold every feature");
 }
 
@@ -375,6 +433,10 @@ BENCHMARK(BM_NodeToNodeThreadsAuthVsPlain)
     ->UseManualTime()
     ->Iterations(100)
     ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LatencyThreadsAuthVsPlain)
+    ->UseManualTime()
+    ->Iterations(2000)
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RejoinThreads)
     ->ArgNames({"features", "from_server"})
     ->Args({10000, 0})

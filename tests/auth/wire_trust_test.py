@@ -10,10 +10,12 @@ module, with bindings generated from pdu/lcm/*.lcm.
   1. Run 1: lcm-logger records while node-2 and node-1 each create a crater.
   2. A stranger without the key sends a Construct of its own (from 9:9) and a Destruct of
      node-2's crater (claiming to be node-1): once without a trailer, once signed with another
-     key. Every process counts them (rejected_unauthenticated, rejected_bad_mac) and nothing
-     changes: features, digest, counters.
-  3. Control: the same Construct signed with the exercise key (Python's hmac, as any holder of
-     the key could) is applied everywhere, so the forgeries were refused for want of the key.
+     key; and the Construct signed with the exercise key in the former trailer version ("DTA1",
+     HMAC-SHA512-256). Every process counts them (rejected_unauthenticated, rejected_bad_mac)
+     and nothing changes: features, digest, counters.
+  3. Control: the same Construct signed with the exercise key (Python's hashlib, as any holder
+     of the key could) passes authentication everywhere, so the forgeries were refused for want
+     of the key (or of the current trailer version).
   4. The log is replayed into run 1: every process counts every replayed PDU of the others
      (rejected_replayed or rejected_stale; its own it drops as echoes before authenticating) and
      no state moves.
@@ -181,11 +183,20 @@ class Wire:
 
     @staticmethod
     def trailer(lcm_bytes, key, sender, incarnation, sequence):
-        """The authentication trailer (docs/pdu.md), computed with the standard library alone."""
+        """The authentication trailer (docs/pdu.md), computed with the standard library alone:
+        keyed BLAKE2b-256 under the MAC key derived from the key file's bytes."""
+        signed = struct.pack(">4sHHQQQ", b"DTA2", sender[0], sender[1], incarnation, sequence,
+                             int(time.time() * 1000))
+        mac_key = hashlib.blake2b(key, digest_size=64, person=b"dt-pdu-mac-key-1").digest()
+        mac = hashlib.blake2b(lcm_bytes + signed, key=mac_key, digest_size=32).digest()
+        return signed + mac
+
+    @staticmethod
+    def former_trailer(lcm_bytes, key, sender, incarnation, sequence):
+        """The trailer as its former version was: "DTA1", HMAC-SHA512-256 under the raw key."""
         signed = struct.pack(">4sHHQQQ", b"DTA1", sender[0], sender[1], incarnation, sequence,
                              int(time.time() * 1000))
-        mac = hmac.new(key, lcm_bytes + signed, hashlib.sha512).digest()[:32]
-        return signed + mac
+        return signed + hmac.new(key, lcm_bytes + signed, hashlib.sha512).digest()[:32]
 
     def send(self, kind, data):
         self.lc.publish(self.channel(kind), data)
@@ -273,21 +284,24 @@ def main():
                                                               STRANGER, inc, 1))
         wire.send("DESTRUCT", destruct_bytes + Wire.trailer(destruct_bytes, other_key, STRANGER,
                                                             inc, 2))
-        after = run1.wait_for("every process to count 2 unauthenticated and 2 bad-MAC PDUs",
+        # Signed with the exercise key, but in the former trailer version: not a trailer now.
+        wire.send("CONSTRUCT", construct_bytes + Wire.former_trailer(construct_bytes, key,
+                                                                     STRANGER, inc, 3))
+        want_counts = {"unauthenticated": 3, "bad_mac": 2}
+        after = run1.wait_for("every process to count 3 unauthenticated and 2 bad-MAC PDUs",
                               lambda s: all(
-            int(s[p]["rejected_unauthenticated"]) >= int(before[p]["rejected_unauthenticated"]) + 2
-            and int(s[p]["rejected_bad_mac"]) >= int(before[p]["rejected_bad_mac"]) + 2
-            for p in procs))
+            int(s[p]["rejected_" + r]) >= int(before[p]["rejected_" + r]) + n
+            for p in procs for r, n in want_counts.items()))
         for p in procs:
-            for reason in ("unauthenticated", "bad_mac"):
+            for reason, n in want_counts.items():
                 k = "rejected_" + reason
-                check(int(after[p][k]) == int(before[p][k]) + 2,
-                      f"{p}: {k} went {before[p][k]} -> {after[p][k]}, expected +2")
+                check(int(after[p][k]) == int(before[p][k]) + n,
+                      f"{p}: {k} went {before[p][k]} -> {after[p][k]}, expected +{n}")
         check(state(after) == state(before), f"forgeries changed state:\n{state(before)}\n"
                                              f"{state(after)}")
         check(n2 in run1.call("node-3", "features").split(), f"node-3 lost {n2}")
-        print("forged Construct and Destruct without the key: refused and counted by "
-              f"{len(procs)} processes, nothing changed")
+        print("forged Construct and Destruct without the key, and a Construct in the former "
+              f"trailer version: refused and counted by {len(procs)} processes, nothing changed")
 
         # ---- 3. Control: the same Construct, signed with the exercise key, passes the key
         # layer; the stranger is then refused by membership (docs/protocol.md, "Rules for what is

@@ -39,6 +39,7 @@ std::vector<Solid> BridgeSolids(const Bridge& b, const HeightGrid& ground) {
     s.top1_m = t1;
     s.bottom0_m = t0 - kDeckThicknessM;
     s.bottom1_m = t1 - kDeckThicknessM;
+    s.deck = true;
     out.push_back(s);
   };
   slab(b.start_along_m(), 0.0, foot1, top1);

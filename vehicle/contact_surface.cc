@@ -57,7 +57,7 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
     const double slope = s.TopSlope();
     out.normal = Eigen::Vector3d(-slope * s.ux, 1.0, -slope * s.uz).normalized();
     out.material = s.material;
-    out.bridge = s.bridge;
+    out.bridge = s.deck ? s.bridge : FeatureId{};
   }
   return out;
 }

@@ -16,7 +16,7 @@ struct SurfaceSample {
   double height_m = 0.0;
   Eigen::Vector3d normal{0.0, 1.0, 0.0};  // unit, upward (y up, docs/conventions.md)
   Material material = Material::kGrass;
-  FeatureId bridge;  // the bridge whose solid this is the top of; number 0 for the ground
+  FeatureId bridge;  // the bridge whose deck slab this is the top of; number 0 otherwise
 };
 
 // The whole surface under (x, z) as seen from a contact at height `reach_m` and above: the ground

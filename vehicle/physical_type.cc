@@ -51,15 +51,13 @@ double RollingResistanceFactor(Material material) {
     case Material::kSteel:
       return 1.0;
     case Material::kRock:
-      return 1.5;
     case Material::kGravel:
-      return 2.0;
+      return 1.5;
     case Material::kDirt:
-      return 2.5;
     case Material::kGrass:
-      return 3.0;
+      return 2.0;
     case Material::kSand:
-      return 6.0;
+      return 5.0;
     case Material::kMud:
       return 8.0;
     case Material::kFromGround:

@@ -162,7 +162,7 @@ double PhysicalVehicle::roll_rad() const {
   return std::atan2(left.y(), up.y());
 }
 double PhysicalVehicle::elevation_m() const {
-  return (x_ + q_ * Vector3d(0.0, -type_.cg_height_m, 0.0)).y();
+  return (x_ + q_ * Vector3d(0.0, -type_.cg_height_m, 0.0)).y() + kStaticSagM;
 }
 double PhysicalVehicle::speed_mps() const { return v_.dot(q_ * Vector3d::UnitX()); }
 
@@ -323,7 +323,9 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
       const Vector3d side = nbar.cross(f);
       const Vector3d vp = v_ + F / m * h;
       const Vector3d wp = w_ + Iinv * tau * h;
-      const double vf = vp.dot(f), vs = vp.dot(side), yaw = wp.dot(nbar);
+      // Heading grows counter-clockwise seen from above: about -y in these coordinates.
+      const Vector3d yaw_axis = -nbar;
+      const double vf = vp.dot(f), vs = vp.dot(side), yaw = wp.dot(yaw_axis);
       const bool drive = mobile();
       double v_cmd = drive ? cmd_speed_mps_ : 0.0;
       double r_cmd = drive ? cmd_rate_rad_s_ : 0.0;
@@ -342,7 +344,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
         fw = std::clamp(fw, -limit, limit);
       }
       const double fs = -m * vs / h;
-      const double inertia_n = nbar.dot(Iinv.inverse() * nbar);
+      const double inertia_n = yaw_axis.dot(Iinv.inverse() * yaw_axis);
       const double moment = inertia_n * (r_cmd - yaw) / h;
       const double arm = type_.base.length_m / 4.0;
       const double demand = std::sqrt(fw * fw + fs * fs + (moment / arm) * (moment / arm));
@@ -357,7 +359,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
         F += fi;
         tau += touches[i].r.cross(fi);
       }
-      tau += nbar * (moment * scale);
+      tau += yaw_axis * (moment * scale);
     }
   }
 

@@ -84,7 +84,8 @@ class PhysicalVehicle {
   double heading_rad() const;
   double pitch_rad() const;  // nose up positive
   double roll_rad() const;   // right side down positive
-  // Height of the bottom of the running gear under the centre (the thesis's vehicle elevation).
+  // Height of the bottom of the running gear under the centre, plus its static sag: the surface
+  // it rests on (the thesis's vehicle elevation).
   double elevation_m() const;
   // Forward speed along the heading (negative reversing).
   double speed_mps() const;

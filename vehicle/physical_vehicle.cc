@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "terrain/bridge.h"
 #include "vehicle/contact_surface.h"
 #include "vehicle/hull_collision.h"
 
@@ -22,6 +23,9 @@ using Eigen::Vector3d;
 constexpr double kDampingRatio = 0.6;
 // Belly contacts bottom out almost at once: the hull is rigid.
 constexpr double kBellyTravelM = 0.05;
+// The tag leaves after this many steps without the deck (0.1 s); a fall stays latched for 1 s.
+constexpr int kLeaveDeckSteps = 20;
+constexpr int kFallLatchSteps = 200;
 // Hull perimeter points are at most this far apart.
 constexpr double kHullSampleSpacingM = 0.5;
 // Contacts per side of a tracked vehicle: one every this many metres of track, at least three.
@@ -76,10 +80,14 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
     const double ahead = L / 2.0 - L * k / (per_side - 1);
     contacts_.push_back({Vector3d(ahead, type.clearance_m - cg, 0.0), false, kBellyTravelM, 0});
   }
-  // Hull perimeter at the belly, half-way up and at the roof.
+  // Hull perimeter from the belly to the roof, in rows close enough that no deck slab fits
+  // between two of them.
   const int na = std::max(2, static_cast<int>(std::ceil(L / kHullSampleSpacingM)) + 1);
   const int nl = std::max(2, static_cast<int>(std::ceil(W / kHullSampleSpacingM)) + 1);
-  for (const double up : {type.clearance_m, (type.clearance_m + H) / 2.0, H}) {
+  const double rise = H - type.clearance_m;
+  const int rows = std::max(2, static_cast<int>(std::ceil(rise / (0.8 * kDeckThicknessM))) + 1);
+  for (int row = 0; row < rows; ++row) {
+    const double up = type.clearance_m + rise * row / (rows - 1);
     for (int i = 0; i < na; ++i) {
       const double ahead = -L / 2.0 + L * i / (na - 1);
       hull_points_.emplace_back(ahead, up - cg, W / 2.0);
@@ -273,6 +281,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   bool gear_touching = false;
   FeatureId deck;
   double deck_n = 0.0;
+  Vector3d deck_point = Vector3d::Zero();
   for (size_t k = 0; k < contacts_.size() && count < touches.size(); ++k) {
     Contact& c = contacts_[k];
     const Vector3d r = R * c.body;
@@ -295,6 +304,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
       if (s.bridge.number != 0 && normal_n >= deck_n) {
         deck = s.bridge;
         deck_n = normal_n;
+        deck_point = p;
       }
     }
     touches[count++] = {r, s.normal, Vector3d(p.x(), s.height_m, p.z()), normal_n,
@@ -312,8 +322,11 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
       cs += t.grip->static_friction * t.normal_n;
       cd += t.grip->dynamic_friction * t.normal_n;
       if (t.gear) {
-        cg += t.grip->static_friction * t.normal_n;
         rr += t.grip->rolling_resistance * t.normal_n;
+        // A face steeper than the grip's angle (tan > static friction) is a wall to the running
+        // gear: pressing into it gives no drive up it.
+        const double mu = t.grip->static_friction;
+        if (t.n.y() * std::sqrt(1.0 + mu * mu) >= 1.0) cg += mu * t.normal_n;
       }
     }
     nbar.normalize();
@@ -410,28 +423,34 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
     cmd_rate_rad_s_ = 0.0;
   }
 
-  // Bridge tag: the deck carrying the running gear. Leaving it while touching the ground is
-  // driving off; leaving it in the air for kFallOffAirSteps is falling off, reported once.
-  if (gear_touching) {
-    if (on_bridge() && deck != bridge_) {
-      if (air_steps_ >= kFallOffAirSteps) {
-        report.fell_off = bridge_;
-      } else {
-        report.drove_off = bridge_;
+  // Bridge tag: the deck carrying the running gear (docs/vehicles.md "Bridge events"). The tag
+  // goes only after kLeaveDeckSteps without the deck, so a vehicle bouncing or tipping on a deck
+  // edge leaves once; after a fall, touching the same deck again is not getting on it until the
+  // vehicle has been off it for kFallLatchSteps.
+  air_steps_ = gear_touching ? 0 : air_steps_ + 1;
+  if (deck.number != 0) {
+    off_deck_steps_ = 0;
+    if (deck != bridge_) {
+      if (on_bridge() && bridge_ != fell_from_) report.drove_off = bridge_;
+      if (deck != fell_from_) report.mounted = deck;
+      bridge_ = deck;
+    }
+    last_deck_x_m_ = deck_point.x();
+    last_deck_z_m_ = deck_point.z();
+  } else {
+    off_deck_steps_ = std::min(off_deck_steps_ + 1, 1 << 20);
+    if (on_bridge() && off_deck_steps_ >= kLeaveDeckSteps) {
+      if (bridge_ != fell_from_) {
+        if (NearRampFoot(terrain, bridge_)) {
+          report.drove_off = bridge_;
+        } else {
+          report.fell_off = bridge_;
+          fell_from_ = bridge_;
+        }
       }
       bridge_ = FeatureId{};
     }
-    if (deck.number != 0 && !on_bridge()) {
-      bridge_ = deck;
-      report.mounted = deck;
-    }
-    air_steps_ = 0;
-  } else {
-    ++air_steps_;
-    if (on_bridge() && air_steps_ >= kFallOffAirSteps) {
-      report.fell_off = bridge_;
-      bridge_ = FeatureId{};
-    }
+    if (off_deck_steps_ >= kFallLatchSteps) fell_from_ = FeatureId{};
   }
 
   // Damage: landing speed, then static stability.
@@ -463,14 +482,42 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   }
 }
 
+bool PhysicalVehicle::NearRampFoot(const Terrain& terrain, FeatureId id) const {
+  const Feature* f = terrain.Find(id);
+  if (f == nullptr || f->type() != FeatureType::kBridge) return false;
+  const auto* b = static_cast<const Bridge*>(f);
+  const double along = b->ToBridge(last_deck_x_m_, last_deck_z_m_).along_m;
+  const double h = kBridgeHotSpotLengthM / 2.0;
+  return std::abs(along - b->start_along_m()) <= h || std::abs(along - b->end_along_m()) <= h;
+}
+
 void PhysicalVehicle::ResolveHull(std::span<const Solid> solids, PhysicalReport& report) {
-  std::array<Vector3d, 512> world;
+  // Only solids within the hull's bounding sphere are tested point by point.
+  const double radius = 0.5 * std::sqrt(type_.base.length_m * type_.base.length_m +
+                                        type_.base.width_m * type_.base.width_m +
+                                        type_.hull_height_m * type_.hull_height_m) +
+                        type_.cg_height_m;
+  std::array<Solid, 32> near;
+  size_t near_count = 0;
+  for (const Solid& s : solids) {
+    double a, r;
+    s.ToLocal(x_.x(), x_.z(), a, r);
+    const double da = std::max({s.a0_m - a, a - s.a1_m, 0.0});
+    const double dr = std::max({s.r0_m - r, r - s.r1_m, 0.0});
+    if (da * da + dr * dr > radius * radius) continue;
+    const double top = std::max(s.top0_m, s.top1_m), bottom = std::min(s.bottom0_m, s.bottom1_m);
+    if (x_.y() - radius > top || x_.y() + radius < bottom) continue;
+    if (near_count < near.size()) near[near_count++] = s;
+  }
+  if (near_count == 0) return;
+  std::array<Vector3d, 1024> world;
   const size_t n = std::min(world.size(), hull_points_.size());
   for (int pass = 0; pass < 4; ++pass) {
     const Matrix3d R = q_.toRotationMatrix();
     for (size_t i = 0; i < n; ++i) world[i] = x_ + R * hull_points_[i];
     const HullPenetration hit =
-        DeepestPenetration(std::span<const Vector3d>(world.data(), n), solids, kBellyTravelM);
+        DeepestPenetration(std::span<const Vector3d>(world.data(), n),
+                           std::span<const Solid>(near.data(), near_count), kBellyTravelM);
     if (!hit.hit) return;
     report.blocked = true;
     x_ += hit.push_m;

@@ -30,8 +30,6 @@ inline constexpr double kGearTravelM = 0.2;
 inline constexpr double kMaxMovePerStepM = 0.2;
 // A contact that was clear of the ground this long and touches again is a landing.
 inline constexpr int kLandingAirSteps = 4;
-// Leaving a deck with no contact for this long is falling off it.
-inline constexpr int kFallOffAirSteps = 20;
 
 enum class Damage : uint8_t { kNone = 0, kImmobilised = 1, kDestroyed = 2 };
 std::string_view DamageName(Damage damage);  // "none", "immobilised", "destroyed"
@@ -42,6 +40,8 @@ struct PhysicalReport {
   FeatureId mounted;    // got onto this bridge's deck (number 0: no)
   FeatureId drove_off;  // drove off this bridge's deck onto the ground
   FeatureId fell_off;   // fell off this bridge's deck (reported once per fall)
+  // Leaving a deck (0.1 s without it under the running gear) within half a hot spot of a ramp
+  // foot is driving off; leaving it anywhere else is falling off.
   double max_landing_mps = 0.0;  // fastest landing (normal speed of a contact touching down)
   bool blocked = false;          // the hull met a solid and was stopped against it
   bool sliding = false;          // the grip needed exceeded static friction at some step
@@ -119,6 +119,9 @@ class PhysicalVehicle {
             PhysicalReport& report);
   void ResolveHull(std::span<const Solid> solids, PhysicalReport& report);
   bool OnTerrain(const Terrain& terrain) const;
+  // True if the deck last carried the gear within half a hot spot of one of the bridge's ramp
+  // feet: leaving it there is driving off, elsewhere falling off.
+  bool NearRampFoot(const Terrain& terrain, FeatureId bridge) const;
   void Damaged(Damage damage, std::string cause, PhysicalReport& report);
   Eigen::Matrix3d WorldInverseInertia(const Eigen::Matrix3d& r) const;
 
@@ -140,7 +143,10 @@ class PhysicalVehicle {
   Damage damage_ = Damage::kNone;
   bool frozen_ = false;  // tipped over: the wreck stays where it came to lie
   FeatureId bridge_;
-  int air_steps_ = 0;  // steps since the running gear last touched anything
+  FeatureId fell_from_;  // a fall from this bridge was reported; cleared on the ground
+  double last_deck_x_m_ = 0.0, last_deck_z_m_ = 0.0;  // where the deck last carried the gear
+  int air_steps_ = 0;       // steps since the running gear last touched anything
+  int off_deck_steps_ = 0;  // steps since a deck last carried the running gear
 };
 
 }  // namespace dt

@@ -16,8 +16,10 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
   const HeightGrid& g = terrain.ground();
   const HeightGrid::Location at = g.Locate(x_m, z_m);
   SurfaceSample out;
-  if (terrain.SquareBits(at.square) == 0) {
-    // Bare square: one triangle gives height, normal and soil.
+  const int cx = std::min(static_cast<int>(at.u * kBitgridCellsPerSide), kBitgridCellsPerSide - 1);
+  const int cz = std::min(static_cast<int>(at.v * kBitgridCellsPerSide), kBitgridCellsPerSide - 1);
+  if (((terrain.SquareBits(at.square) >> (cz * kBitgridCellsPerSide + cx)) & 1u) == 0) {
+    // No feature may cover this cell: one ground triangle gives height, normal and soil.
     const SquareIndex& s = at.square;
     const double h01 = g.post(s.i, s.j + 1), h10 = g.post(s.i + 1, s.j);
     double dh_du, dh_dv;
@@ -60,6 +62,34 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
     out.bridge = s.deck ? s.bridge : FeatureId{};
   }
   return out;
+}
+
+bool FeatureCellsIn(const Terrain& terrain, const Rect& area) {
+  const HeightGrid& g = terrain.ground();
+  const double size = g.size_m(), cell = g.spacing_m() / kBitgridCellsPerSide;
+  const double x0 = std::clamp(area.min_x, 0.0, size), x1 = std::clamp(area.max_x, 0.0, size);
+  const double z0 = std::clamp(area.min_z, 0.0, size), z1 = std::clamp(area.max_z, 0.0, size);
+  const int cells = g.squares_per_side() * kBitgridCellsPerSide;
+  const int ci0 = std::min(static_cast<int>(x0 / cell), cells - 1);
+  const int ci1 = std::min(static_cast<int>(x1 / cell), cells - 1);
+  const int cj0 = std::min(static_cast<int>(z0 / cell), cells - 1);
+  const int cj1 = std::min(static_cast<int>(z1 / cell), cells - 1);
+  for (int sj = cj0 / kBitgridCellsPerSide; sj <= cj1 / kBitgridCellsPerSide; ++sj) {
+    for (int si = ci0 / kBitgridCellsPerSide; si <= ci1 / kBitgridCellsPerSide; ++si) {
+      const uint16_t bits = terrain.SquareBits({si, sj});
+      if (bits == 0) continue;
+      for (int cz = 0; cz < kBitgridCellsPerSide; ++cz) {
+        const int cj = sj * kBitgridCellsPerSide + cz;
+        if (cj < cj0 || cj > cj1) continue;
+        for (int cx = 0; cx < kBitgridCellsPerSide; ++cx) {
+          const int ci = si * kBitgridCellsPerSide + cx;
+          if (ci < ci0 || ci > ci1) continue;
+          if ((bits >> (cz * kBitgridCellsPerSide + cx)) & 1u) return true;
+        }
+      }
+    }
+  }
+  return false;
 }
 
 }  // namespace dt

@@ -28,4 +28,9 @@ struct SurfaceSample {
 SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids, double x_m,
                             double z_m, double reach_m);
 
+// True if the feature bitgrid (terrain.h) has a cell set anywhere in the rectangle (clipped to
+// the terrain): earthworks or a bridge may lie there. Where it is false the surface is the
+// ground's triangles.
+bool FeatureCellsIn(const Terrain& terrain, const Rect& area);
+
 }  // namespace dt

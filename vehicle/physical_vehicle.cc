@@ -22,10 +22,12 @@ using Eigen::Vector3d;
 // Damping ratio of the running gear's vertical bounce.
 constexpr double kDampingRatio = 0.6;
 // Belly contacts bottom out almost at once: the hull is rigid.
-constexpr double kBellyTravelM = 0.05;
+constexpr double kBellyTravelM = 0.03;
 // The tag leaves after this many steps without the deck (0.1 s); a fall stays latched for 1 s.
 constexpr int kLeaveDeckSteps = 20;
 constexpr int kFallLatchSteps = 200;
+// Belly grid points are at most this far apart.
+constexpr double kBellyGridSpacingM = 0.5;
 // Hull perimeter points are at most this far apart.
 constexpr double kHullSampleSpacingM = 0.5;
 // Contacts per side of a tracked vehicle: one every this many metres of track, at least three.
@@ -79,6 +81,20 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
   for (int k = 0; k < per_side; ++k) {
     const double ahead = L / 2.0 - L * k / (per_side - 1);
     contacts_.push_back({Vector3d(ahead, type.clearance_m - cg, 0.0), false, kBellyTravelM, 0});
+  }
+  always_count_ = contacts_.size();
+  // The belly grid, at most kBellyGridSpacingM apart, so an earthwork narrower than the gear's
+  // spacing cannot rise into the hull between contacts.
+  const int ga = std::max(2, static_cast<int>(std::ceil(L / kBellyGridSpacingM)) + 1);
+  const int gl = std::max(3, static_cast<int>(std::ceil(W / kBellyGridSpacingM)) + 1);
+  for (int i = 0; i < ga; ++i) {
+    for (int j = 0; j < gl; ++j) {
+      const double left = -W / 2.0 + W * j / (gl - 1);
+      if (std::abs(left) < 1e-9) continue;  // the centre line is sampled always
+      const double ahead = -L / 2.0 + L * i / (ga - 1);
+      contacts_.push_back(
+          {Vector3d(ahead, type.clearance_m - cg, left), false, kBellyTravelM, 0, true});
+    }
   }
   // Hull perimeter from the belly to the roof, in rows close enough that no deck slab fits
   // between two of them.
@@ -274,7 +290,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
     FeatureId bridge;
     size_t index;
   };
-  std::array<Touch, 64> touches;
+  std::array<Touch, 256> touches;
   size_t count = 0;
   Vector3d F(0.0, -kGravityMps2 * m, 0.0), tau = Vector3d::Zero();
   double total_n = 0.0;
@@ -282,7 +298,13 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   FeatureId deck;
   double deck_n = 0.0;
   Vector3d deck_point = Vector3d::Zero();
-  for (size_t k = 0; k < contacts_.size() && count < touches.size(); ++k) {
+  // The belly grid is sampled only where the bitgrid says features may lie under the footprint.
+  const double half_diagonal = 0.5 * std::hypot(type_.base.length_m, type_.base.width_m);
+  const size_t sampled =
+      FeatureCellsIn(terrain, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(half_diagonal))
+          ? contacts_.size()
+          : always_count_;
+  for (size_t k = 0; k < sampled && count < touches.size(); ++k) {
     Contact& c = contacts_[k];
     const Vector3d r = R * c.body;
     const Vector3d p = x_ + r;
@@ -386,8 +408,8 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   Rotate(q_, w_ * h);
 
   // Hard stops: a contact compressed beyond its travel is pushed back onto it (positions and
-  // velocities, with the contact's effective mass), twice over for the coupled contacts.
-  for (int pass = 0; pass < 2; ++pass) {
+  // velocities, with the contact's effective mass), four times over for the coupled contacts.
+  for (int pass = 0; pass < 4; ++pass) {
     for (size_t i = 0; i < count; ++i) {
       const Touch& t = touches[i];
       const Matrix3d Rn = q_.toRotationMatrix();

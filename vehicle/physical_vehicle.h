@@ -111,6 +111,7 @@ class PhysicalVehicle {
     bool gear = true;      // running gear (drives) or belly (slides)
     double reach_m = 0.0;  // a solid top this far above the point still carries it
     int air_steps = 0;
+    bool dense = false;  // belly grid: only sampled where features lie under the footprint
   };
 
   PhysicalVehicle(const PhysicalVehicleType& type, double x_m, double z_m, double heading_rad,
@@ -132,6 +133,7 @@ class PhysicalVehicle {
   double spring_n_per_m_ = 0.0;               // per contact
   double damper_n_s_per_m_ = 0.0;             // per contact
   int gear_count_ = 0;
+  size_t always_count_ = 0;  // gear and belly centre line; the dense belly grid follows
 
   Eigen::Vector3d x_;
   Eigen::Vector3d v_ = Eigen::Vector3d::Zero();

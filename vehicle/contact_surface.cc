@@ -11,15 +11,37 @@ constexpr double kNormalStepM = 0.1;
 
 }  // namespace
 
-SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids, double x_m,
-                            double z_m, double reach_m) {
+namespace {
+
+void RaiseToSolids(std::span<const Solid> solids, double x_m, double z_m, double reach_m,
+                   SurfaceSample& out) {
+  for (const Solid& s : solids) {
+    double a, r;
+    s.ToLocal(x_m, z_m, a, r);
+    if (!s.InPlan(a, r)) continue;
+    const double top = s.TopAt(a);
+    if (top > reach_m || top <= out.height_m) continue;
+    out.height_m = top;
+    const double slope = s.TopSlope();
+    out.normal = Eigen::Vector3d(-slope * s.ux, 1.0, -slope * s.uz).normalized();
+    out.material = s.material;
+    out.bridge = s.deck ? s.bridge : FeatureId{};
+  }
+}
+
+SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlaneCache* cache) {
   const HeightGrid& g = terrain.ground();
   const HeightGrid::Location at = g.Locate(x_m, z_m);
   SurfaceSample out;
   const int cx = std::min(static_cast<int>(at.u * kBitgridCellsPerSide), kBitgridCellsPerSide - 1);
   const int cz = std::min(static_cast<int>(at.v * kBitgridCellsPerSide), kBitgridCellsPerSide - 1);
-  if (((terrain.SquareBits(at.square) >> (cz * kBitgridCellsPerSide + cx)) & 1u) == 0) {
-    // No feature may cover this cell: one ground triangle gives height, normal and soil.
+  const bool feature_cell =
+      ((terrain.SquareBits(at.square) >> (cz * kBitgridCellsPerSide + cx)) & 1u) != 0;
+  // Where no earthwork raises the surface (no feature in the cell, or none covering the point
+  // above the ground) one ground triangle gives height, normal and soil.
+  const double ground = g.ElevationAt(at);
+  const double surface = feature_cell ? terrain.ElevationAt(x_m, z_m) : ground;
+  if (surface == ground) {
     const SquareIndex& s = at.square;
     const double h01 = g.post(s.i, s.j + 1), h10 = g.post(s.i + 1, s.j);
     double dh_du, dh_dv;
@@ -35,57 +57,81 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
       dh_dv = h01 - h00;
       half = TriangleHalf::kLower;
     }
-    out.height_m = g.ElevationAt(at);
+    out.height_m = ground;
     const double inv = 1.0 / g.spacing_m();
     out.normal = Eigen::Vector3d(-dh_du * inv, 1.0, -dh_dv * inv).normalized();
     out.material = g.soil(s, half);
+    if (cache != nullptr && !feature_cell) {
+      const double sp = g.spacing_m(), cell = sp / kBitgridCellsPerSide;
+      GroundPlaneCache& c = *cache;
+      c.valid = true;
+      c.square_x0 = s.i * sp;
+      c.square_z0 = s.j * sp;
+      c.inverse_spacing = inv;
+      c.x0 = c.square_x0 + cx * cell;
+      c.z0 = c.square_z0 + cz * cell;
+      c.x1 = c.x0 + cell;
+      c.z1 = c.z0 + cell;
+      c.upper = half == TriangleHalf::kUpper;
+      c.slope_x = dh_du * inv;
+      c.slope_z = dh_dv * inv;
+      c.h0 = ground - c.slope_x * (x_m - c.x0) - c.slope_z * (z_m - c.z0);
+      c.normal = out.normal;
+      c.material = out.material;
+    }
   } else {
+    // On an earthwork: forward differences (backward at the terrain's far edges) for the normal.
     const double size = g.size_m();
-    const double x0 = std::max(0.0, x_m - kNormalStepM), x1 = std::min(size, x_m + kNormalStepM);
-    const double z0 = std::max(0.0, z_m - kNormalStepM), z1 = std::min(size, z_m + kNormalStepM);
-    out.height_m = terrain.ElevationAt(x_m, z_m);
-    const double dx = (terrain.ElevationAt(x1, z_m) - terrain.ElevationAt(x0, z_m)) / (x1 - x0);
-    const double dz = (terrain.ElevationAt(x_m, z1) - terrain.ElevationAt(x_m, z0)) / (z1 - z0);
-    out.normal = Eigen::Vector3d(-dx, 1.0, -dz).normalized();
+    const double dx = x_m + kNormalStepM <= size ? kNormalStepM : -kNormalStepM;
+    const double dz = z_m + kNormalStepM <= size ? kNormalStepM : -kNormalStepM;
+    out.height_m = surface;
+    const double sx = (terrain.ElevationAt(x_m + dx, z_m) - surface) / dx;
+    const double sz = (terrain.ElevationAt(x_m, z_m + dz) - surface) / dz;
+    out.normal = Eigen::Vector3d(-sx, 1.0, -sz).normalized();
     out.material = terrain.SoilAt(x_m, z_m);
-  }
-  for (const Solid& s : solids) {
-    double a, r;
-    s.ToLocal(x_m, z_m, a, r);
-    if (!s.InPlan(a, r)) continue;
-    const double top = s.TopAt(a);
-    if (top > reach_m || top <= out.height_m) continue;
-    out.height_m = top;
-    const double slope = s.TopSlope();
-    out.normal = Eigen::Vector3d(-slope * s.ux, 1.0, -slope * s.uz).normalized();
-    out.material = s.material;
-    out.bridge = s.deck ? s.bridge : FeatureId{};
   }
   return out;
 }
 
-bool FeatureCellsIn(const Terrain& terrain, const Rect& area) {
+}  // namespace
+
+SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids, double x_m,
+                            double z_m, double reach_m) {
+  SurfaceSample out = Sample(terrain, x_m, z_m, nullptr);
+  RaiseToSolids(solids, x_m, z_m, reach_m, out);
+  return out;
+}
+
+SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids, double x_m,
+                            double z_m, double reach_m, GroundPlaneCache& c) {
+  SurfaceSample out;
+  // The cell's far edges belong to the next cell, as Locate's truncation decides.
+  if (c.valid && x_m >= c.x0 && x_m < c.x1 && z_m >= c.z0 && z_m < c.z1 &&
+      ((x_m - c.square_x0) * c.inverse_spacing + (z_m - c.square_z0) * c.inverse_spacing >=
+       1.0) == c.upper) {
+    out.height_m = c.h0 + c.slope_x * (x_m - c.x0) + c.slope_z * (z_m - c.z0);
+    out.normal = c.normal;
+    out.material = c.material;
+  } else {
+    c.valid = false;
+    out = Sample(terrain, x_m, z_m, &c);
+  }
+  RaiseToSolids(solids, x_m, z_m, reach_m, out);
+  return out;
+}
+
+bool EarthworkNear(const Terrain& terrain, const Rect& area) {
   const HeightGrid& g = terrain.ground();
-  const double size = g.size_m(), cell = g.spacing_m() / kBitgridCellsPerSide;
-  const double x0 = std::clamp(area.min_x, 0.0, size), x1 = std::clamp(area.max_x, 0.0, size);
-  const double z0 = std::clamp(area.min_z, 0.0, size), z1 = std::clamp(area.max_z, 0.0, size);
-  const int cells = g.squares_per_side() * kBitgridCellsPerSide;
-  const int ci0 = std::min(static_cast<int>(x0 / cell), cells - 1);
-  const int ci1 = std::min(static_cast<int>(x1 / cell), cells - 1);
-  const int cj0 = std::min(static_cast<int>(z0 / cell), cells - 1);
-  const int cj1 = std::min(static_cast<int>(z1 / cell), cells - 1);
-  for (int sj = cj0 / kBitgridCellsPerSide; sj <= cj1 / kBitgridCellsPerSide; ++sj) {
-    for (int si = ci0 / kBitgridCellsPerSide; si <= ci1 / kBitgridCellsPerSide; ++si) {
-      const uint16_t bits = terrain.SquareBits({si, sj});
-      if (bits == 0) continue;
-      for (int cz = 0; cz < kBitgridCellsPerSide; ++cz) {
-        const int cj = sj * kBitgridCellsPerSide + cz;
-        if (cj < cj0 || cj > cj1) continue;
-        for (int cx = 0; cx < kBitgridCellsPerSide; ++cx) {
-          const int ci = si * kBitgridCellsPerSide + cx;
-          if (ci < ci0 || ci > ci1) continue;
-          if ((bits >> (cz * kBitgridCellsPerSide + cx)) & 1u) return true;
-        }
+  const double size = g.size_m();
+  const SquareIndex lo =
+      g.SquareAt(std::clamp(area.min_x, 0.0, size), std::clamp(area.min_z, 0.0, size));
+  const SquareIndex hi =
+      g.SquareAt(std::clamp(area.max_x, 0.0, size), std::clamp(area.max_z, 0.0, size));
+  for (int j = lo.j; j <= hi.j; ++j) {
+    for (int i = lo.i; i <= hi.i; ++i) {
+      if (terrain.SquareBits({i, j}) == 0) continue;
+      for (const Feature* f : terrain.FeaturesInSquare({i, j})) {
+        if (f->type() != FeatureType::kBridge && f->Bounds().Intersects(area)) return true;
       }
     }
   }

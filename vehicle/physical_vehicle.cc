@@ -74,15 +74,16 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
   for (const double left : {W / 2.0, -W / 2.0}) {
     for (int k = 0; k < per_side; ++k) {
       const double ahead = L / 2.0 - L * k / (per_side - 1);
-      contacts_.push_back({Vector3d(ahead, -cg, left), true, type.clearance_m, 0});
+      contacts_.push_back({Vector3d(ahead, -cg, left), true, type.clearance_m, 0, false, {}});
     }
   }
   gear_count_ = static_cast<int>(contacts_.size());
+  always_count_ = contacts_.size();
   for (int k = 0; k < per_side; ++k) {
     const double ahead = L / 2.0 - L * k / (per_side - 1);
-    contacts_.push_back({Vector3d(ahead, type.clearance_m - cg, 0.0), false, kBellyTravelM, 0});
+    contacts_.push_back(
+        {Vector3d(ahead, type.clearance_m - cg, 0.0), false, kBellyTravelM, 0, false, {}});
   }
-  always_count_ = contacts_.size();
   // The belly grid, at most kBellyGridSpacingM apart, so an earthwork narrower than the gear's
   // spacing cannot rise into the hull between contacts.
   const int ga = std::max(2, static_cast<int>(std::ceil(L / kBellyGridSpacingM)) + 1);
@@ -90,10 +91,10 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
   for (int i = 0; i < ga; ++i) {
     for (int j = 0; j < gl; ++j) {
       const double left = -W / 2.0 + W * j / (gl - 1);
-      if (std::abs(left) < 1e-9) continue;  // the centre line is sampled always
+      if (std::abs(left) < 1e-9) continue;  // the centre line is above
       const double ahead = -L / 2.0 + L * i / (ga - 1);
       contacts_.push_back(
-          {Vector3d(ahead, type.clearance_m - cg, left), false, kBellyTravelM, 0, true});
+          {Vector3d(ahead, type.clearance_m - cg, left), false, kBellyTravelM, 0, true, {}});
     }
   }
   // Hull perimeter from the belly to the roof, in rows close enough that no deck slab fits
@@ -120,6 +121,8 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
                       m * (L * L + H * H) / 12.0);
   const double k_total = m * kGravityMps2 / kStaticSagM;
   spring_n_per_m_ = k_total / gear_count_;
+  sin_pitch_limit_ = std::sin(type.StaticPitchLimitRad());
+  tan_roll_limit_ = std::tan(type.StaticRollLimitRad());
   damper_n_s_per_m_ = 2.0 * kDampingRatio * std::sqrt(k_total * m) / gear_count_;
 }
 
@@ -214,14 +217,18 @@ std::vector<Vector3d> PhysicalVehicle::HullBottomPoints(double spacing_m) const 
 }
 
 bool PhysicalVehicle::OnTerrain(const Terrain& terrain) const {
+  // Every contact and hull point lies in the box from the gear's bottom to the roof over the
+  // footprint; the terrain is convex, so the box's eight corners decide.
+  const double L = type_.base.length_m / 2.0, W = type_.base.width_m / 2.0;
+  const double lo = -type_.cg_height_m, hi = type_.hull_height_m - type_.cg_height_m;
   const Matrix3d r = q_.toRotationMatrix();
-  for (const Contact& c : contacts_) {
-    const Vector3d p = x_ + r * c.body;
-    if (!terrain.Contains(p.x(), p.z())) return false;
-  }
-  for (const Vector3d& b : hull_points_) {
-    const Vector3d p = x_ + r * b;
-    if (!terrain.Contains(p.x(), p.z())) return false;
+  for (const double a : {-L, L}) {
+    for (const double l : {-W, W}) {
+      for (const double u : {lo, hi}) {
+        const Vector3d p = x_ + r * Vector3d(a, u, l);
+        if (!terrain.Contains(p.x(), p.z())) return false;
+      }
+    }
   }
   return true;
 }
@@ -248,6 +255,7 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
                              type_.base.name, x_.x(), x_.z(), terrain.ground().size_m())};
   }
   PhysicalReport report;
+  for (Contact& c : contacts_) c.ground.valid = false;
   pending_ns_ += std::llround(dt_s * 1e9);
   const int64_t steps = pending_ns_ / kPhysicsStepNs;
   pending_ns_ -= steps * kPhysicsStepNs;
@@ -298,17 +306,25 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   FeatureId deck;
   double deck_n = 0.0;
   Vector3d deck_point = Vector3d::Zero();
-  // The belly grid is sampled only where the bitgrid says features may lie under the footprint.
+  // The belly is sampled only where a crater, a berm or a bridge solid is near the footprint:
+  // elsewhere the ground's triangles, far wider than the gear's spacing, cannot rise into it.
   const double half_diagonal = 0.5 * std::hypot(type_.base.length_m, type_.base.width_m);
   const size_t sampled =
-      FeatureCellsIn(terrain, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(half_diagonal))
+      !solids.empty() ||
+              EarthworkNear(terrain, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(half_diagonal))
           ? contacts_.size()
           : always_count_;
   for (size_t k = 0; k < sampled && count < touches.size(); ++k) {
     Contact& c = contacts_[k];
     const Vector3d r = R * c.body;
     const Vector3d p = x_ + r;
-    const SurfaceSample s = SampleSurface(terrain, solids, p.x(), p.z(), p.y() + c.reach_m);
+    // Belly grid points rarely touch: a height alone tells, before the normal and soil.
+    if (c.dense && solids.empty() && terrain.ElevationAt(p.x(), p.z()) <= p.y()) {
+      c.air_steps = std::min(c.air_steps + 1, 1 << 20);
+      continue;
+    }
+    const SurfaceSample s =
+        SampleSurface(terrain, solids, p.x(), p.z(), p.y() + c.reach_m, c.ground);
     const double depth = (s.height_m - p.y()) * s.normal.y();
     if (depth <= 0.0) {
       c.air_steps = std::min(c.air_steps + 1, 1 << 20);
@@ -379,7 +395,8 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
         fw = std::clamp(fw, -limit, limit);
       }
       const double fs = -m * vs / h;
-      const double inertia_n = yaw_axis.dot(Iinv.inverse() * yaw_axis);
+      const Vector3d yaw_body = R.transpose() * yaw_axis;
+      const double inertia_n = yaw_body.dot(inertia_.cwiseProduct(yaw_body));
       const double moment = inertia_n * (r_cmd - yaw) / h;
       const double arm = type_.base.length_m / 4.0;
       const double demand = std::sqrt(fw * fw + fs * fs + (moment / arm) * (moment / arm));
@@ -408,29 +425,34 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   Rotate(q_, w_ * h);
 
   // Hard stops: a contact compressed beyond its travel is pushed back onto it (positions and
-  // velocities, with the contact's effective mass), four times over for the coupled contacts.
+  // velocities, with the contact's effective mass), up to four times over for the coupled
+  // contacts.
   for (int pass = 0; pass < 4; ++pass) {
+    bool corrected = false;
+    Matrix3d Rn = q_.toRotationMatrix();
+    Matrix3d Iw = WorldInverseInertia(Rn);
     for (size_t i = 0; i < count; ++i) {
       const Touch& t = touches[i];
-      const Matrix3d Rn = q_.toRotationMatrix();
       const Vector3d r = Rn * contacts_[t.index].body;
       const double travel = t.gear ? kGearTravelM : kBellyTravelM;
       const double depth = (t.plane_point - (x_ + r)).dot(t.n);
-      const Matrix3d Iw = WorldInverseInertia(Rn);
+      if (depth <= travel) continue;
+      corrected = true;
       const Vector3d rn = r.cross(t.n);
       const double w = 1.0 / m + rn.dot(Iw * rn);
-      if (depth > travel) {
-        const double p = (depth - travel) / w;
-        x_ += t.n * (p / m);
-        Rotate(q_, Iw * rn * p);
-      }
+      const double p = (depth - travel) / w;
+      x_ += t.n * (p / m);
+      Rotate(q_, Iw * rn * p);
       const double vn = (v_ + w_.cross(r)).dot(t.n);
-      if (depth > travel && vn < 0.0) {
+      if (vn < 0.0) {
         const double j = -vn / w;
         v_ += t.n * (j / m);
         w_ += Iw * rn * j;
       }
+      Rn = q_.toRotationMatrix();
+      Iw = WorldInverseInertia(Rn);
     }
+    if (!corrected) break;
   }
 
   if (!solids.empty()) ResolveHull(solids, report);
@@ -488,10 +510,12 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
                           report.max_landing_mps, type_.land_immobilise_mps),
               report);
     }
-    const double roll = roll_rad(), pitch = pitch_rad();
-    const Vector3d up = q_ * Vector3d::UnitY();
-    if (std::abs(roll) > type_.StaticRollLimitRad() || std::abs(pitch) > type_.StaticPitchLimitRad() ||
-        up.y() <= 0.0) {
+    // |pitch| > limit is |forward.y| > sin(limit); |roll| > limit is |left.y| > tan(limit) up.y.
+    const Matrix3d Rn = q_.toRotationMatrix();
+    const double up_y = Rn(1, 1);
+    if (up_y <= 0.0 || std::abs(Rn(1, 0)) > sin_pitch_limit_ ||
+        std::abs(Rn(1, 2)) > tan_roll_limit_ * up_y) {
+      const double roll = roll_rad(), pitch = pitch_rad();
       Damaged(Damage::kDestroyed,
               fmt::format("tipped over (pitch {:.1f} deg, roll {:.1f} deg; static stability {:.1f} "
                           "/ {:.1f} deg)",

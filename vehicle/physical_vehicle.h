@@ -13,6 +13,7 @@
 #include "terrain/result.h"
 #include "terrain/terrain.h"
 #include "vehicle/bridge_solids.h"
+#include "vehicle/contact_surface.h"
 #include "vehicle/physical_type.h"
 
 namespace dt {
@@ -112,6 +113,7 @@ class PhysicalVehicle {
     double reach_m = 0.0;  // a solid top this far above the point still carries it
     int air_steps = 0;
     bool dense = false;  // belly grid: only sampled where features lie under the footprint
+    GroundPlaneCache ground;  // reset at every Advance: the terrain may have changed
   };
 
   PhysicalVehicle(const PhysicalVehicleType& type, double x_m, double z_m, double heading_rad,
@@ -133,7 +135,7 @@ class PhysicalVehicle {
   double spring_n_per_m_ = 0.0;               // per contact
   double damper_n_s_per_m_ = 0.0;             // per contact
   int gear_count_ = 0;
-  size_t always_count_ = 0;  // gear and belly centre line; the dense belly grid follows
+  size_t always_count_ = 0;  // the running gear; the belly (centre line, then grid) follows
 
   Eigen::Vector3d x_;
   Eigen::Vector3d v_ = Eigen::Vector3d::Zero();
@@ -144,6 +146,7 @@ class PhysicalVehicle {
   int64_t pending_ns_ = 0;
   Damage damage_ = Damage::kNone;
   bool frozen_ = false;  // tipped over: the wreck stays where it came to lie
+  double sin_pitch_limit_ = 0.0, tan_roll_limit_ = 0.0;
   FeatureId bridge_;
   FeatureId fell_from_;  // a fall from this bridge was reported; cleared on the ground
   double last_deck_x_m_ = 0.0, last_deck_z_m_ = 0.0;  // where the deck last carried the gear

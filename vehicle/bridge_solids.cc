@@ -86,8 +86,10 @@ std::vector<Solid> BridgeSolids(const Bridge& b, const HeightGrid& ground) {
 std::vector<Solid> SolidsNear(const Terrain& terrain, const Rect& area) {
   const HeightGrid& g = terrain.ground();
   const double size = g.size_m();
-  const SquareIndex lo = g.SquareAt(std::clamp(area.min_x, 0.0, size), std::clamp(area.min_z, 0.0, size));
-  const SquareIndex hi = g.SquareAt(std::clamp(area.max_x, 0.0, size), std::clamp(area.max_z, 0.0, size));
+  const SquareIndex lo =
+      g.SquareAt(std::clamp(area.min_x, 0.0, size), std::clamp(area.min_z, 0.0, size));
+  const SquareIndex hi =
+      g.SquareAt(std::clamp(area.max_x, 0.0, size), std::clamp(area.max_z, 0.0, size));
   std::vector<const Bridge*> bridges;
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i) {

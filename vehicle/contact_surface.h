@@ -37,7 +37,7 @@ struct GroundPlaneCache {
   bool valid = false;
   double x0 = 0, z0 = 0, x1 = 0, z1 = 0;  // the cell
   double square_x0 = 0, square_z0 = 0, inverse_spacing = 0;
-  bool upper = false;                    // which triangle of the square
+  bool upper = false;                       // which triangle of the square
   double h0 = 0, slope_x = 0, slope_z = 0;  // height = h0 + slope_x (x - x0) + slope_z (z - z0)
   Eigen::Vector3d normal{0.0, 1.0, 0.0};
   Material material = Material::kGrass;

@@ -20,9 +20,12 @@ struct Extra {
 
 Result<Extra> ExtraOf(std::string_view name) {
   // M1 tank, M35 truck (loaded), M998 utility vehicle, rounded.
-  if (name == "tank") return Extra{RunningGear::kTracked, 60000, 2.4, 0.48, 1.2, 1.1e6, 0.0, 6.5, 8.5};
-  if (name == "truck") return Extra{RunningGear::kWheeled, 10000, 2.9, 0.40, 1.3, 1.35e5, 11.0, 5.5, 7.5};
-  if (name == "jeep") return Extra{RunningGear::kWheeled, 2500, 1.8, 0.40, 0.8, 1.1e5, 7.5, 5.5, 7.5};
+  if (name == "tank")
+    return Extra{RunningGear::kTracked, 60000, 2.4, 0.48, 1.2, 1.1e6, 0.0, 6.5, 8.5};
+  if (name == "truck")
+    return Extra{RunningGear::kWheeled, 10000, 2.9, 0.40, 1.3, 1.35e5, 11.0, 5.5, 7.5};
+  if (name == "jeep")
+    return Extra{RunningGear::kWheeled, 2500, 1.8, 0.40, 0.8, 1.1e5, 7.5, 5.5, 7.5};
   return Error{fmt::format("unknown vehicle type '{}' (built-in: tank, truck, jeep)", name)};
 }
 
@@ -106,14 +109,14 @@ Status ValidatePhysicalType(const PhysicalVehicleType& t) {
     std::string_view name;
     double value, min, max;
   };
-  for (const Field& f : {Field{"mass_kg", t.mass_kg, 1.0, 1e6},
-                         Field{"hull_height_m", t.hull_height_m, 0.1, 20.0},
-                         Field{"clearance_m", t.clearance_m, 0.05, t.hull_height_m - 0.05},
-                         Field{"cg_height_m", t.cg_height_m, 0.05, t.hull_height_m},
-                         Field{"engine_power_w", t.engine_power_w, 0.0, 1e8},
-                         Field{"min_turn_radius_m", t.min_turn_radius_m, 0.0, 1000.0},
-                         Field{"land_immobilise_mps", t.land_immobilise_mps, 0.1, 1000.0},
-                         Field{"land_kill_mps", t.land_kill_mps, t.land_immobilise_mps, 1000.0}}) {
+  for (const Field& f :
+       {Field{"mass_kg", t.mass_kg, 1.0, 1e6}, Field{"hull_height_m", t.hull_height_m, 0.1, 20.0},
+        Field{"clearance_m", t.clearance_m, 0.05, t.hull_height_m - 0.05},
+        Field{"cg_height_m", t.cg_height_m, 0.05, t.hull_height_m},
+        Field{"engine_power_w", t.engine_power_w, 0.0, 1e8},
+        Field{"min_turn_radius_m", t.min_turn_radius_m, 0.0, 1000.0},
+        Field{"land_immobilise_mps", t.land_immobilise_mps, 0.1, 1000.0},
+        Field{"land_kill_mps", t.land_kill_mps, t.land_immobilise_mps, 1000.0}}) {
     if (Status s = CheckRange(n, f.name, f.value, f.min, f.max); !s) return s;
   }
   for (uint16_t m = 1; m < kMaterialCount; ++m) {

@@ -62,13 +62,14 @@ std::string_view DamageName(Damage d) {
 
 PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, double z_m,
                                  double heading_rad, double gear_bottom_m)
-    : type_(type), x_(x_m, gear_bottom_m + type.cg_height_m, z_m), q_(HeadingQuaternion(heading_rad)) {
+    : type_(type),
+      x_(x_m, gear_bottom_m + type.cg_height_m, z_m),
+      q_(HeadingQuaternion(heading_rad)) {
   const double L = type.base.length_m, W = type.base.width_m, H = type.hull_height_m;
   const double cg = type.cg_height_m;
-  const int per_side =
-      type.gear == RunningGear::kTracked
-          ? std::max(3, static_cast<int>(std::ceil(L / kTrackContactSpacingM)) + 1)
-          : 3;
+  const int per_side = type.gear == RunningGear::kTracked
+                           ? std::max(3, static_cast<int>(std::ceil(L / kTrackContactSpacingM)) + 1)
+                           : 3;
   // Running gear: per_side points along each side (the six orientation points when 3), then the
   // belly's centre line at the same stations.
   for (const double left : {W / 2.0, -W / 2.0}) {
@@ -117,8 +118,8 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
     }
   }
   const double m = type.mass_kg;
-  inertia_ = Vector3d(m * (H * H + W * W) / 12.0, m * (L * L + W * W) / 12.0,
-                      m * (L * L + H * H) / 12.0);
+  inertia_ =
+      Vector3d(m * (H * H + W * W) / 12.0, m * (L * L + W * W) / 12.0, m * (L * L + H * H) / 12.0);
   const double k_total = m * kGravityMps2 / kStaticSagM;
   spring_n_per_m_ = k_total / gear_count_;
   sin_pitch_limit_ = std::sin(type.StaticPitchLimitRad());
@@ -137,9 +138,10 @@ Result<PhysicalVehicle> PhysicalVehicle::MakeAt(const PhysicalVehicleType& type,
   }
   PhysicalVehicle v(type, x_m, z_m, heading_rad, gear_bottom_m);
   if (!v.OnTerrain(terrain)) {
-    return Error{fmt::format("the {} at (x {}, z {}) m heading {} rad reaches off the terrain "
-                             "[0, {}]^2",
-                             type.base.name, x_m, z_m, heading_rad, terrain.ground().size_m())};
+    return Error{
+        fmt::format("the {} at (x {}, z {}) m heading {} rad reaches off the terrain "
+                    "[0, {}]^2",
+                    type.base.name, x_m, z_m, heading_rad, terrain.ground().size_m())};
   }
   return v;
 }
@@ -166,8 +168,8 @@ Status PhysicalVehicle::Command(double speed_mps, double heading_rate_rad_s) {
                              speed_mps, heading_rate_rad_s)};
   }
   if (!mobile()) {
-    return Error{fmt::format("the {} is {} and cannot be driven", type_.base.name,
-                             DamageName(damage_))};
+    return Error{
+        fmt::format("the {} is {} and cannot be driven", type_.base.name, DamageName(damage_))};
   }
   const VehicleType& b = type_.base;
   cmd_speed_mps_ = std::clamp(speed_mps, -b.max_reverse_speed_mps, b.max_speed_mps);
@@ -196,7 +198,8 @@ double PhysicalVehicle::speed_mps() const { return v_.dot(q_ * Vector3d::UnitX()
 std::vector<Vector3d> PhysicalVehicle::GearPoints() const {
   std::vector<Vector3d> out;
   const Matrix3d r = q_.toRotationMatrix();
-  for (int k = 0; k < gear_count_; ++k) out.push_back(x_ + r * contacts_[static_cast<size_t>(k)].body);
+  for (int k = 0; k < gear_count_; ++k)
+    out.push_back(x_ + r * contacts_[static_cast<size_t>(k)].body);
   return out;
 }
 
@@ -272,8 +275,8 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
     for (int64_t k = 0; k < n && !frozen_; ++k) {
       // Substeps keep every move under kMaxMovePerStepM, so no solid is tunnelled through.
       const double fastest = v_.norm() + w_.norm() * reach;
-      const int sub = std::max(1, static_cast<int>(std::ceil(fastest * kPhysicsStepS /
-                                                             kMaxMovePerStepM)));
+      const int sub =
+          std::max(1, static_cast<int>(std::ceil(fastest * kPhysicsStepS / kMaxMovePerStepM)));
       for (int s = 0; s < sub; ++s) Step(terrain, solids, kPhysicsStepS / sub, report);
       ++report.steps;
     }
@@ -331,7 +334,8 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
       continue;
     }
     const double vn = (v_ + w_.cross(r)).dot(s.normal);
-    if (c.air_steps >= kLandingAirSteps) report.max_landing_mps = std::max(report.max_landing_mps, -vn);
+    if (c.air_steps >= kLandingAirSteps)
+      report.max_landing_mps = std::max(report.max_landing_mps, -vn);
     c.air_steps = 0;
     const double normal_n = std::max(0.0, spring_n_per_m_ * depth - damper_n_s_per_m_ * vn);
     F += normal_n * s.normal;
@@ -345,8 +349,14 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
         deck_point = p;
       }
     }
-    touches[count++] = {r, s.normal, Vector3d(p.x(), s.height_m, p.z()), normal_n,
-                        &type_.grip[static_cast<size_t>(s.material)], c.gear, s.bridge, k};
+    touches[count++] = {r,
+                        s.normal,
+                        Vector3d(p.x(), s.height_m, p.z()),
+                        normal_n,
+                        &type_.grip[static_cast<size_t>(s.material)],
+                        c.gear,
+                        s.bridge,
+                        k};
   }
 
   // Grip: the driver's demand, limited by engine and by friction x normal force (docs/vehicles.md

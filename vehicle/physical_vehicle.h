@@ -43,9 +43,9 @@ struct PhysicalReport {
   FeatureId fell_off;   // fell off this bridge's deck (reported once per fall)
   // Leaving a deck (0.1 s without it under the running gear) within half a hot spot of a ramp
   // foot is driving off; leaving it anywhere else is falling off.
-  double max_landing_mps = 0.0;  // fastest landing (normal speed of a contact touching down)
-  bool blocked = false;          // the hull met a solid and was stopped against it
-  bool sliding = false;          // the grip needed exceeded static friction at some step
+  double max_landing_mps = 0.0;       // fastest landing (normal speed of a contact touching down)
+  bool blocked = false;               // the hull met a solid and was stopped against it
+  bool sliding = false;               // the grip needed exceeded static friction at some step
   Damage damage_now = Damage::kNone;  // damage that happened in this call
   std::string cause;                  // why, when damage_now is not kNone
 };
@@ -112,7 +112,7 @@ class PhysicalVehicle {
     bool gear = true;      // running gear (drives) or belly (slides)
     double reach_m = 0.0;  // a solid top this far above the point still carries it
     int air_steps = 0;
-    bool dense = false;  // belly grid: only sampled where features lie under the footprint
+    bool dense = false;       // belly grid: only sampled where features lie under the footprint
     GroundPlaneCache ground;  // reset at every Advance: the terrain may have changed
   };
 

@@ -64,12 +64,12 @@ Result<VehicleEvents> SimulatedVehicle::Advance(const Terrain& terrain, double d
 VehiclePose SimulatedVehicle::pose() const {
   if (light_) {
     const Vehicle& v = light_->vehicle();
-    return {v.x_m(), v.z_m(), v.elevation_m(), v.heading_rad(), v.pitch_rad(), v.roll_rad(),
-            v.speed_mps()};
+    return {v.x_m(),       v.z_m(),      v.elevation_m(), v.heading_rad(),
+            v.pitch_rad(), v.roll_rad(), v.speed_mps()};
   }
   const PhysicalVehicle& v = *physical_;
-  return {v.x_m(),         v.z_m(),     v.elevation_m(), v.heading_rad(),
-          v.pitch_rad(),   v.roll_rad(), v.speed_mps()};
+  return {v.x_m(),       v.z_m(),      v.elevation_m(), v.heading_rad(),
+          v.pitch_rad(), v.roll_rad(), v.speed_mps()};
 }
 
 bool SimulatedVehicle::alive() const {

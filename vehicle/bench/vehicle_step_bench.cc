@@ -44,7 +44,8 @@ const Field& TheField(int64_t count) {
   std::uniform_real_distribution<double> pos(20.0, f.size_m - 20.0), radius(2.0, 10.0);
   for (int64_t k = 0; k < count; ++k) {
     const FeatureId id{1, 1, static_cast<uint32_t>(k + 1)};
-    if (!f.terrain->Add(id, FeatureParams::Crater(pos(rng), pos(rng), radius(rng))).ok()) std::abort();
+    if (!f.terrain->Add(id, FeatureParams::Crater(pos(rng), pos(rng), radius(rng))).ok())
+      std::abort();
   }
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   while (f.bare_points.size() < 4096 || f.crater_points.size() < 4096) {
@@ -94,9 +95,9 @@ Fleet MakeFleet(const Field& f) {
 }
 
 void PerVehicleTick(benchmark::State& state, int64_t ticks) {
-  state.counters["ns_per_vehicle_tick"] = benchmark::Counter(
-      static_cast<double>(ticks) * kVehicles * 1e-9,
-      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_vehicle_tick"] =
+      benchmark::Counter(static_cast<double>(ticks) * kVehicles * 1e-9,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 void BM_PhysicalTick(benchmark::State& state) {

@@ -15,7 +15,8 @@ std::unique_ptr<Terrain> SlopeTerrain(double slope_deg, Material soil = Material
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
       const double x = 2.0 * i;
-      posts[static_cast<size_t>(j) * n + i] = static_cast<float>(10.0 + std::max(0.0, x - 100.0) * grade);
+      posts[static_cast<size_t>(j) * n + i] =
+          static_cast<float>(10.0 + std::max(0.0, x - 100.0) * grade);
     }
   }
   return std::make_unique<Terrain>(HeightGrid(n, 2.0, std::move(posts), soil));
@@ -128,8 +129,9 @@ TEST(PhysicalVehicle, MudSlowsMoreThanRoad) {
     distance[k] = v.x_m() - 30;
     speed[k] = v.speed_mps();
   }
-  std::printf("tank, 15 s from rest at full demand: asphalt %.1f m, %.2f m/s; mud %.1f m, %.2f m/s\n",
-              distance[0], speed[0], distance[1], speed[1]);
+  std::printf(
+      "tank, 15 s from rest at full demand: asphalt %.1f m, %.2f m/s; mud %.1f m, %.2f m/s\n",
+      distance[0], speed[0], distance[1], speed[1]);
   EXPECT_LT(distance[1], 0.7 * distance[0]);
   EXPECT_LT(speed[1], 0.6 * speed[0]);
   // Mud's top speed is where engine power meets rolling resistance: P / (c m g).
@@ -143,9 +145,10 @@ TEST(PhysicalVehicle, ClimbsASlopeTractionAllowsAndNotASteeperOne) {
     auto t = SlopeTerrain(slope);
     auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 80, 200, 0).value();
     const DriveLog log = Drive(*t, v, 8, 0, 20);
-    std::printf("tank on a %.0f deg grass slope (static friction 0.80 = %.1f deg): reached x %.1f m, "
-                "elevation %.1f m, max pitch %.1f deg\n",
-                slope, Deg(std::atan(0.8)), v.x_m(), v.elevation_m(), Deg(log.max_pitch_rad));
+    std::printf(
+        "tank on a %.0f deg grass slope (static friction 0.80 = %.1f deg): reached x %.1f m, "
+        "elevation %.1f m, max pitch %.1f deg\n",
+        slope, Deg(std::atan(0.8)), v.x_m(), v.elevation_m(), Deg(log.max_pitch_rad));
     if (slope == 20.0) {
       EXPECT_GT(v.x_m(), 150.0);
     } else {
@@ -161,15 +164,17 @@ TEST(PhysicalVehicle, SlidesWhereStaticFrictionFailsAndHoldsWhereItDoesNot) {
   auto t = SlopeTerrain(32.0);
   for (const char* name : {"tank", "jeep"}) {
     const double x0 = 150.0;
-    auto v = PhysicalVehicle::MakeAt(PhysType(name), *t, x0, 200, 1.5708,
-                                     10.0 + 50.0 * std::tan(32.0 * 3.14159265358979323846 / 180.0) + 0.3)
-                 .value();
+    auto v =
+        PhysicalVehicle::MakeAt(PhysType(name), *t, x0, 200, 1.5708,
+                                10.0 + 50.0 * std::tan(32.0 * 3.14159265358979323846 / 180.0) + 0.3)
+            .value();
     Drive(*t, v, 0, 0, 2);  // settle onto the slope
     const double settled = v.x_m();
     const DriveLog log = Drive(*t, v, 0, 0, 5);
-    std::printf("%s parked across a 32 deg grass slope: moved %.3f m downhill in 5 s (sliding %d "
-                "ticks), roll %.1f deg\n",
-                name, settled - v.x_m(), log.sliding_ticks, Deg(v.roll_rad()));
+    std::printf(
+        "%s parked across a 32 deg grass slope: moved %.3f m downhill in 5 s (sliding %d "
+        "ticks), roll %.1f deg\n",
+        name, settled - v.x_m(), log.sliding_ticks, Deg(v.roll_rad()));
     if (std::string(name) == "tank") {
       EXPECT_LT(std::abs(settled - v.x_m()), 0.01);
     } else {
@@ -186,10 +191,12 @@ TEST(PhysicalVehicle, FallDamageFollowsTheTypesThresholds) {
     double height_m;
     Damage expected;
   };
-  for (const Case& c : {Case{"tank", 0.5, Damage::kNone}, Case{"tank", 3.0, Damage::kImmobilised},
-                        Case{"tank", 6.0, Damage::kDestroyed}, Case{"jeep", 0.5, Damage::kNone},
-                        Case{"jeep", 2.0, Damage::kImmobilised}, Case{"jeep", 4.0, Damage::kDestroyed}}) {
-    auto v = PhysicalVehicle::MakeAt(PhysType(c.type), *t, 100, 100, 0, kGround + c.height_m).value();
+  for (const Case& c :
+       {Case{"tank", 0.5, Damage::kNone}, Case{"tank", 3.0, Damage::kImmobilised},
+        Case{"tank", 6.0, Damage::kDestroyed}, Case{"jeep", 0.5, Damage::kNone},
+        Case{"jeep", 2.0, Damage::kImmobilised}, Case{"jeep", 4.0, Damage::kDestroyed}}) {
+    auto v =
+        PhysicalVehicle::MakeAt(PhysType(c.type), *t, 100, 100, 0, kGround + c.height_m).value();
     double lowest_drop_tick = 0.0;
     double prev = v.elevation_m();
     const DriveLog log = Drive(*t, v, 0, 0, 3, [&](const PhysicalVehicle& pv) {

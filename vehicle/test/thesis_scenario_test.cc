@@ -77,16 +77,17 @@ LightLog DriveLight(const Terrain& t, LightVehicle& v, double speed, double rate
 }
 void PrintLight(const char* scenario, const LightVehicle& v, const LightLog& l) {
   const Vehicle& k = v.vehicle();
-  std::printf("%s [light tank]: end x %.1f z %.1f elevation %.2f m; pitch %.1f..%.1f deg, roll "
-              "%.1f..%.1f deg; events mounted %d drove-off %d fell-off %d; alive %d\n",
-              scenario, k.x_m(), k.z_m(), k.elevation_m(), Deg(l.min_pitch_rad),
-              Deg(l.max_pitch_rad), Deg(l.min_roll_rad), Deg(l.max_roll_rad), l.mounted,
-              l.drove_off, l.fell_off, k.alive());
+  std::printf(
+      "%s [light tank]: end x %.1f z %.1f elevation %.2f m; pitch %.1f..%.1f deg, roll "
+      "%.1f..%.1f deg; events mounted %d drove-off %d fell-off %d; alive %d\n",
+      scenario, k.x_m(), k.z_m(), k.elevation_m(), Deg(l.min_pitch_rad), Deg(l.max_pitch_rad),
+      Deg(l.min_roll_rad), Deg(l.max_roll_rad), l.mounted, l.drove_off, l.fell_off, k.alive());
 }
 
 TEST(ThesisScenario, CraterOnOneTrack) {
   auto t = FlatTerrain();
-  ASSERT_TRUE(t->Add({1, 1, 9}, FeatureParams::Crater(100, 100, 10)).ok());  // rim 1.5 m, 6..8 m out
+  ASSERT_TRUE(
+      t->Add({1, 1, 9}, FeatureParams::Crater(100, 100, 10)).ok());  // rim 1.5 m, 6..8 m out
   // Heading east with the left (north) track over the rim's middle, 7 m from the centre; the
   // right track passes outside the crater.
   auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 70, 93 - 1.85, 0).value();
@@ -118,7 +119,8 @@ TEST(ThesisScenario, BermHeadOnAndReversing) {
   double worst = 0.0, first_pitch = 0.0;
   auto watch = [&](const PhysicalVehicle& pv) {
     worst = std::max(worst, GroundPenetration(*t, pv));
-    if (first_pitch == 0.0 && std::abs(pv.pitch_rad()) > 2.0 * kPi / 180) first_pitch = pv.pitch_rad();
+    if (first_pitch == 0.0 && std::abs(pv.pitch_rad()) > 2.0 * kPi / 180)
+      first_pitch = pv.pitch_rad();
     return false;
   };
   DriveLog l = Drive(*t, v, 4, 0, 12, watch);
@@ -132,7 +134,10 @@ TEST(ThesisScenario, BermHeadOnAndReversing) {
 
   first_pitch = 0.0;
   worst = 0.0;
-  l = Drive(*t, v, -4, 0, 15, [&](const PhysicalVehicle& pv) { watch(pv); return pv.x_m() < 85; });
+  l = Drive(*t, v, -4, 0, 15, [&](const PhysicalVehicle& pv) {
+    watch(pv);
+    return pv.x_m() < 85;
+  });
   Print("berm reversing", v, l);
   std::printf("  first tilt %.1f deg, deepest hull penetration %.3f m\n", Deg(first_pitch), worst);
   EXPECT_LT(v.x_m(), 90.0);
@@ -160,7 +165,8 @@ TEST(ThesisScenario, BermHeadOnAndReversing) {
 TEST(ThesisScenario, BridgeGetOnAlignedGoesOverAndOff) {
   auto t = BridgeTerrain();
   auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 50, 200, 0).value();
-  const DriveLog l = Drive(*t, v, 8, 0, 25, [](const PhysicalVehicle& pv) { return pv.x_m() > 190; });
+  const DriveLog l =
+      Drive(*t, v, 8, 0, 25, [](const PhysicalVehicle& pv) { return pv.x_m() > 190; });
   Print("bridge aligned, over", v, l);
   EXPECT_EQ(l.mounted, 1);
   EXPECT_EQ(l.drove_off, 1);
@@ -226,7 +232,8 @@ TEST(ThesisScenario, BackOffTheBridge) {
   auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 50, 200, 0).value();
   Drive(*t, v, 8, 0, 20, [](const PhysicalVehicle& pv) { return pv.x_m() > 120; });
   ASSERT_TRUE(v.on_bridge());
-  const DriveLog l = Drive(*t, v, -5, 0, 30, [](const PhysicalVehicle& pv) { return pv.x_m() < 50; });
+  const DriveLog l =
+      Drive(*t, v, -5, 0, 30, [](const PhysicalVehicle& pv) { return pv.x_m() < 50; });
   Print("back off", v, l);
   EXPECT_EQ(l.drove_off, 1);
   EXPECT_EQ(l.fell_off, 0);
@@ -298,11 +305,13 @@ TEST(ThesisScenario, LightModelReportsAFallOnce) {
   Vehicle raw = Vehicle::Make(TankType(), 75, 196, 0, t->ground().size_m()).value();
   ASSERT_TRUE(raw.Command(0.2, 0).ok());
   int raw_falls = 0;
-  for (int i = 0; i < 20; ++i) raw_falls += DriveVehicle(*t, raw, kTick).value().event == BridgeEvent::kFellOff;
+  for (int i = 0; i < 20; ++i)
+    raw_falls += DriveVehicle(*t, raw, kTick).value().event == BridgeEvent::kFellOff;
   auto k = LightVehicle::Make(TankType(), *t, 75, 196, 0).value();
   const LightLog ll = DriveLight(*t, k, 0.2, 0, 20 * kTick);
-  std::printf("hanging in a hot spot for 20 ticks: SettleVehicle reports %d falls, the light model %d\n",
-              raw_falls, ll.fell_off);
+  std::printf(
+      "hanging in a hot spot for 20 ticks: SettleVehicle reports %d falls, the light model %d\n",
+      raw_falls, ll.fell_off);
   EXPECT_GT(raw_falls, 1);
   EXPECT_EQ(ll.fell_off, 1);
   EXPECT_EQ(ll.mounted, 0);

@@ -27,7 +27,8 @@ inline PhysicalVehicleType PhysType(const char* name) {
 }
 
 // Flat ground at 10 m elevation, 2 m posts, `size` metres a side.
-inline std::unique_ptr<Terrain> FlatTerrain(double size_m = 400.0, Material soil = Material::kGrass) {
+inline std::unique_ptr<Terrain> FlatTerrain(double size_m = 400.0,
+                                            Material soil = Material::kGrass) {
   const int posts = static_cast<int>(size_m / 2.0) + 1;
   return std::make_unique<Terrain>(HeightGrid(posts, 2.0, 10.0f, soil));
 }

@@ -38,17 +38,23 @@ World RandomWorld(uint64_t seed) {
   std::uniform_real_distribution<double> pos(40, 160), unit(0, 1);
   uint32_t number = 1;
   for (int k = 0; k < 6; ++k) {
-    w.features += w.terrain->Add({1, 1, number++}, FeatureParams::Crater(pos(rng), pos(rng), 3 + 7 * unit(rng))).ok();
+    w.features +=
+        w.terrain
+            ->Add({1, 1, number++}, FeatureParams::Crater(pos(rng), pos(rng), 3 + 7 * unit(rng)))
+            .ok();
   }
   for (int k = 0; k < 4; ++k) {
-    w.features += w.terrain->Add({1, 1, number++},
-                                 FeatureParams::Berm(pos(rng), pos(rng), 6.28 * unit(rng), 10 + 20 * unit(rng),
-                                                     4 + 4 * unit(rng), 0.5 + unit(rng)))
-                      .ok();
+    w.features +=
+        w.terrain
+            ->Add({1, 1, number++},
+                  FeatureParams::Berm(pos(rng), pos(rng), 6.28 * unit(rng), 10 + 20 * unit(rng),
+                                      4 + 4 * unit(rng), 0.5 + unit(rng)))
+            .ok();
   }
   if (seed % 2 == 1) {
-    FeatureParams b = FeatureParams::Bridge(80 + 20 * unit(rng), 80 + 40 * unit(rng), 6.28 * unit(rng), 10, 20, 20, 20,
-                                            2 + 4 * unit(rng), 2 + 4 * unit(rng));
+    FeatureParams b =
+        FeatureParams::Bridge(80 + 20 * unit(rng), 80 + 40 * unit(rng), 6.28 * unit(rng), 10, 20,
+                              20, 20, 2 + 4 * unit(rng), 2 + 4 * unit(rng));
     if (unit(rng) < 0.5) b.status = BridgeStatus::kDestroyed;
     w.features += w.terrain->Add({1, 1, number++}, b).ok();
   }
@@ -65,7 +71,9 @@ Worst RandomDrive(const Terrain& t, uint64_t seed, double seconds) {
   std::mt19937_64 rng(seed * 7919 + 1);
   std::uniform_real_distribution<double> unit(0, 1);
   const PhysicalVehicleType type = PhysType(kTypes[seed % 3]);
-  auto v = PhysicalVehicle::Make(type, t, 60 + 80 * unit(rng), 60 + 80 * unit(rng), 6.28 * unit(rng)).value();
+  auto v =
+      PhysicalVehicle::Make(type, t, 60 + 80 * unit(rng), 60 + 80 * unit(rng), 6.28 * unit(rng))
+          .value();
   Worst worst;
   double y_prev = v.position_m().y(), vy_prev = v.velocity_mps().y();
   for (int i = 0; i < static_cast<int>(seconds / kTick); ++i) {
@@ -79,9 +87,11 @@ Worst RandomDrive(const Terrain& t, uint64_t seed, double seconds) {
     // 45-degree face is 0.14 m below it).
     for (const Eigen::Vector3d& p : v.HullBottomPoints(0.25)) {
       const SurfaceSample s = SampleSurface(t, {}, p.x(), p.z(), p.y());
-      worst.ground_m = std::max(worst.ground_m, (t.ElevationAt(p.x(), p.z()) - p.y()) * s.normal.y());
+      worst.ground_m =
+          std::max(worst.ground_m, (t.ElevationAt(p.x(), p.z()) - p.y()) * s.normal.y());
     }
-    const std::vector<Solid> solids = SolidsNear(t, Rect{v.x_m(), v.z_m(), v.x_m(), v.z_m()}.Expanded(15));
+    const std::vector<Solid> solids =
+        SolidsNear(t, Rect{v.x_m(), v.z_m(), v.x_m(), v.z_m()}.Expanded(15));
     const std::vector<Eigen::Vector3d> bottom = v.HullBottomPoints(0.5);
     const HullPenetration in = DeepestPenetration(bottom, solids, INFINITY);
     worst.solid_m = std::max(worst.solid_m, in.depth_m);
@@ -90,7 +100,8 @@ Worst RandomDrive(const Terrain& t, uint64_t seed, double seconds) {
     // A tick runs whole 5 ms steps (6 or 7 of them), and semi-implicit Euler falls
     // g T (T + h) / 2 in T = n h from rest.
     const double T = r.steps * kPhysicsStepS;
-    const double allowed = std::max(0.0, -vy_prev) * T + 0.5 * kGravityMps2 * T * (T + kPhysicsStepS);
+    const double allowed =
+        std::max(0.0, -vy_prev) * T + 0.5 * kGravityMps2 * T * (T + kPhysicsStepS);
     worst.drop_excess_m = std::max(worst.drop_excess_m, (y_prev - y) - allowed);
     y_prev = y;
     vy_prev = v.velocity_mps().y();
@@ -103,10 +114,11 @@ TEST(VehicleProperty, HullStaysOutOfGroundAndFeaturesAndNoTickOutfallsFreeFall) 
   for (int s = 1; s <= Seeds(); ++s) {
     const World w = RandomWorld(static_cast<uint64_t>(s));
     const Worst worst = RandomDrive(*w.terrain, static_cast<uint64_t>(s), 20.0);
-    std::printf("seed %d (%s, %d features): deepest hull penetration ground %.3f m, bridge solids "
-                "%.3f m; largest drop beyond free fall %.4f m; damage %s\n",
-                s, kTypes[s % 3], w.features, worst.ground_m, worst.solid_m, worst.drop_excess_m,
-                worst.damage.c_str());
+    std::printf(
+        "seed %d (%s, %d features): deepest hull penetration ground %.3f m, bridge solids "
+        "%.3f m; largest drop beyond free fall %.4f m; damage %s\n",
+        s, kTypes[s % 3], w.features, worst.ground_m, worst.solid_m, worst.drop_excess_m,
+        worst.damage.c_str());
     EXPECT_LE(worst.ground_m, 0.1) << "seed " << s;
     EXPECT_LE(worst.solid_m, 0.1) << "seed " << s;
     EXPECT_LE(worst.drop_excess_m, 1e-3) << "seed " << s;
@@ -114,20 +126,21 @@ TEST(VehicleProperty, HullStaysOutOfGroundAndFeaturesAndNoTickOutfallsFreeFall) 
 }
 
 TEST(VehicleProperty, AtRestOnFlatGroundStaysAtRest) {
-  constexpr Material kSoils[] = {Material::kGrass, Material::kMud, Material::kConcrete, Material::kSand};
+  constexpr Material kSoils[] = {Material::kGrass, Material::kMud, Material::kConcrete,
+                                 Material::kSand};
   for (int s = 1; s <= Seeds(); ++s) {
     std::mt19937_64 rng(static_cast<uint64_t>(s));
     std::uniform_real_distribution<double> unit(0, 1);
     const float elevation = static_cast<float>(100 * unit(rng));
     Terrain t(HeightGrid(101, 2.0, elevation, kSoils[s % 4]));
-    auto v = PhysicalVehicle::Make(PhysType(kTypes[s % 3]), t, 50 + 100 * unit(rng), 50 + 100 * unit(rng),
-                                   6.28 * unit(rng) - 3.14)
+    auto v = PhysicalVehicle::Make(PhysType(kTypes[s % 3]), t, 50 + 100 * unit(rng),
+                                   50 + 100 * unit(rng), 6.28 * unit(rng) - 3.14)
                  .value();
     const Eigen::Vector3d x0 = v.position_m();
     Drive(t, v, 0, 0, 30);
-    std::printf("seed %d (%s on %s at %.1f m): moved %.3g m in 30 s, speed %.3g m/s\n", s, kTypes[s % 3],
-                std::string(MaterialName(kSoils[s % 4])).c_str(), elevation, (v.position_m() - x0).norm(),
-                v.velocity_mps().norm());
+    std::printf("seed %d (%s on %s at %.1f m): moved %.3g m in 30 s, speed %.3g m/s\n", s,
+                kTypes[s % 3], std::string(MaterialName(kSoils[s % 4])).c_str(), elevation,
+                (v.position_m() - x0).norm(), v.velocity_mps().norm());
     EXPECT_LT((v.position_m() - x0).norm(), 1e-6) << "seed " << s;
     EXPECT_LT(v.velocity_mps().norm(), 1e-6) << "seed " << s;
   }

@@ -1,6 +1,7 @@
 #include "vehicle/bridge_solids.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace dt {
@@ -84,30 +85,41 @@ std::vector<Solid> BridgeSolids(const Bridge& b, const HeightGrid& ground) {
 }
 
 std::vector<Solid> SolidsNear(const Terrain& terrain, const Rect& area) {
+  std::vector<Solid> out;
+  SolidsNear(terrain, area, out);
+  return out;
+}
+
+void SolidsNear(const Terrain& terrain, const Rect& area, std::vector<Solid>& out) {
+  out.clear();
   const HeightGrid& g = terrain.ground();
   const double size = g.size_m();
   const SquareIndex lo =
       g.SquareAt(std::clamp(area.min_x, 0.0, size), std::clamp(area.min_z, 0.0, size));
   const SquareIndex hi =
       g.SquareAt(std::clamp(area.max_x, 0.0, size), std::clamp(area.max_z, 0.0, size));
-  std::vector<const Bridge*> bridges;
+  // Bridges are few: gathered in a small array, sorted by ID, duplicates (one bridge indexed in
+  // several squares) dropped.
+  std::array<const Bridge*, 16> bridges;
+  size_t count = 0;
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i) {
+      if (terrain.SquareBits({i, j}) == 0) continue;
       for (const Feature* f : terrain.FeaturesInSquare({i, j})) {
         if (f->type() != FeatureType::kBridge) continue;
-        bridges.push_back(static_cast<const Bridge*>(f));
+        const auto* b = static_cast<const Bridge*>(f);
+        if (std::find(bridges.begin(), bridges.begin() + count, b) != bridges.begin() + count)
+          continue;
+        if (count < bridges.size()) bridges[count++] = b;
       }
     }
   }
-  std::sort(bridges.begin(), bridges.end(),
-            [](const Bridge* a, const Bridge* b) { return a->id() < b->id(); });
-  bridges.erase(std::unique(bridges.begin(), bridges.end()), bridges.end());
-  std::vector<Solid> out;
-  for (const Bridge* b : bridges) {
-    std::vector<Solid> s = BridgeSolids(*b, g);
+  std::sort(bridges.begin(), bridges.begin() + count,
+            [](const Bridge* x, const Bridge* y) { return x->id() < y->id(); });
+  for (size_t k = 0; k < count; ++k) {
+    std::vector<Solid> s = BridgeSolids(*bridges[k], g);
     out.insert(out.end(), s.begin(), s.end());
   }
-  return out;
 }
 
 }  // namespace dt

@@ -53,5 +53,7 @@ std::vector<Solid> BridgeSolids(const Bridge& bridge, const HeightGrid& ground);
 
 // The solids of every bridge indexed in the grid squares the rectangle touches, by bridge ID.
 std::vector<Solid> SolidsNear(const Terrain& terrain, const Rect& area);
+// The same into `out` (cleared first), reusing its storage.
+void SolidsNear(const Terrain& terrain, const Rect& area, std::vector<Solid>& out);
 
 }  // namespace dt

@@ -258,26 +258,25 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
                              type_.base.name, x_.x(), x_.z(), terrain.ground().size_m())};
   }
   PhysicalReport report;
-  for (Contact& c : contacts_) c.ground.valid = false;
+  ++epoch_;
   pending_ns_ += std::llround(dt_s * 1e9);
   const int64_t steps = pending_ns_ / kPhysicsStepNs;
   pending_ns_ -= steps * kPhysicsStepNs;
   if (frozen_) return report;
   const double reach =
       std::hypot(type_.base.length_m, type_.base.width_m) / 2.0 + type_.hull_height_m + 2.0;
-  std::vector<Solid> solids;
   // Solids are gathered for chunks of steps, over the area the vehicle can reach in one.
   constexpr int64_t kChunkSteps = 40;
   for (int64_t done = 0; done < steps && !frozen_;) {
     const int64_t n = std::min(kChunkSteps, steps - done);
     const double margin = reach + (v_.norm() + 20.0) * kPhysicsStepS * static_cast<double>(n);
-    solids = SolidsNear(terrain, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(margin));
+    SolidsNear(terrain, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(margin), solids_);
     for (int64_t k = 0; k < n && !frozen_; ++k) {
       // Substeps keep every move under kMaxMovePerStepM, so no solid is tunnelled through.
       const double fastest = v_.norm() + w_.norm() * reach;
       const int sub =
           std::max(1, static_cast<int>(std::ceil(fastest * kPhysicsStepS / kMaxMovePerStepM)));
-      for (int s = 0; s < sub; ++s) Step(terrain, solids, kPhysicsStepS / sub, report);
+      for (int s = 0; s < sub; ++s) Step(terrain, solids_, kPhysicsStepS / sub, report);
       ++report.steps;
     }
     done += n;
@@ -298,7 +297,6 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
     double normal_n;
     const SoilGrip* grip;
     bool gear;
-    FeatureId bridge;
     size_t index;
   };
   std::array<Touch, 256> touches;
@@ -325,6 +323,10 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
     if (c.dense && solids.empty() && terrain.ElevationAt(p.x(), p.z()) <= p.y()) {
       c.air_steps = std::min(c.air_steps + 1, 1 << 20);
       continue;
+    }
+    if (c.ground.epoch != epoch_) {
+      c.ground.valid = false;
+      c.ground.epoch = epoch_;
     }
     const SurfaceSample s =
         SampleSurface(terrain, solids, p.x(), p.z(), p.y() + c.reach_m, c.ground);
@@ -355,7 +357,6 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
                         normal_n,
                         &type_.grip[static_cast<size_t>(s.material)],
                         c.gear,
-                        s.bridge,
                         k};
   }
 

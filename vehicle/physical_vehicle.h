@@ -113,7 +113,7 @@ class PhysicalVehicle {
     double reach_m = 0.0;  // a solid top this far above the point still carries it
     int air_steps = 0;
     bool dense = false;       // belly grid: only sampled where features lie under the footprint
-    GroundPlaneCache ground;  // reset at every Advance: the terrain may have changed
+    GroundPlaneCache ground;  // valid for one Advance (epoch_): the terrain may change between
   };
 
   PhysicalVehicle(const PhysicalVehicleType& type, double x_m, double z_m, double heading_rad,
@@ -144,6 +144,8 @@ class PhysicalVehicle {
   double cmd_speed_mps_ = 0.0;
   double cmd_rate_rad_s_ = 0.0;
   int64_t pending_ns_ = 0;
+  uint32_t epoch_ = 0;         // counts Advance calls: ground caches of an earlier one are stale
+  std::vector<Solid> solids_;  // reused between Advance calls
   Damage damage_ = Damage::kNone;
   bool frozen_ = false;  // tipped over: the wreck stays where it came to lie
   double sin_pitch_limit_ = 0.0, tan_roll_limit_ = 0.0;

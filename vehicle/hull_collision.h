@@ -19,9 +19,11 @@ struct HullPenetration {
 };
 
 // The deepest of the points inside a solid (strictly between its bottom and top, in its plan),
-// with the shortest way out: through one of the four sides, or up through the top when that is
-// at most `max_up_m` (a belly resting on a slab edge), or down through the bottom.
+// with the shortest way out: through one of the four sides; up through the top or down through
+// the bottom when that is at most `max_vertical_m` (a belly or a roof grazing a slab); or level
+// along the bridge, out from under a sloping bottom or off a sloping top (a roof meeting a ramp's
+// underside goes back the way the underside rises, not out of the ramp's side).
 HullPenetration DeepestPenetration(std::span<const Eigen::Vector3d> points,
-                                   std::span<const Solid> solids, double max_up_m);
+                                   std::span<const Solid> solids, double max_vertical_m);
 
 }  // namespace dt

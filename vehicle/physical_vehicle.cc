@@ -143,6 +143,7 @@ Result<PhysicalVehicle> PhysicalVehicle::MakeAt(const PhysicalVehicleType& type,
                     "[0, {}]^2",
                     type.base.name, x_m, z_m, heading_rad, terrain.ground().size_m())};
   }
+  if (Status s = v.CheckClearOfSolids(terrain); !s) return s.error();
   return v;
 }
 
@@ -159,7 +160,24 @@ Result<PhysicalVehicle> PhysicalVehicle::Make(const PhysicalVehicleType& type,
     top = std::max(top, terrain.ElevationAt(at.x(), at.z()));
   }
   p.x_.y() = top - kStaticSagM + type.cg_height_m;
+  if (Status s = p.CheckClearOfSolids(terrain); !s) return s.error();
   return v;
+}
+
+Status PhysicalVehicle::CheckClearOfSolids(const Terrain& terrain) const {
+  const double reach = std::hypot(type_.base.length_m, type_.base.width_m);
+  const std::vector<Solid> solids =
+      SolidsNear(terrain, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(reach));
+  if (solids.empty()) return Status::Ok();
+  const Matrix3d r = q_.toRotationMatrix();
+  std::vector<Vector3d> world;
+  for (const Vector3d& b : hull_points_) world.push_back(x_ + r * b);
+  const HullPenetration in = DeepestPenetration(world, solids, 0.0);
+  if (!in.hit) return Status::Ok();
+  return Error{fmt::format(
+      "the {} at (x {}, z {}) m, elevation {} m, would start {:.2f} m inside "
+      "bridge {}",
+      type_.base.name, x_.x(), x_.z(), elevation_m(), in.depth_m, in.bridge.ToString())};
 }
 
 Status PhysicalVehicle::Command(double speed_mps, double heading_rate_rad_s) {

@@ -57,8 +57,8 @@ struct PhysicalReport {
 class PhysicalVehicle {
  public:
   // Places the vehicle level at rest on the ground and earthworks under its running gear, with the
-  // gear's static sag. Refused for an invalid type, a non-finite pose or a footprint off the
-  // terrain.
+  // gear's static sag. Refused for an invalid type, a non-finite pose, a footprint off the
+  // terrain, or a hull that would start inside a bridge solid.
   static Result<PhysicalVehicle> Make(const PhysicalVehicleType& type, const Terrain& terrain,
                                       double x_m, double z_m, double heading_rad);
   // The same with the bottom of the running gear at `gear_bottom_m` (a deck, or in the air).
@@ -122,6 +122,7 @@ class PhysicalVehicle {
             PhysicalReport& report);
   void ResolveHull(std::span<const Solid> solids, PhysicalReport& report);
   bool OnTerrain(const Terrain& terrain) const;
+  Status CheckClearOfSolids(const Terrain& terrain) const;
   // True if the deck last carried the gear within half a hot spot of one of the bridge's ramp
   // feet: leaving it there is driving off, elsewhere falling off.
   bool NearRampFoot(const Terrain& terrain, FeatureId bridge) const;

@@ -94,6 +94,13 @@ TEST(PhysicalVehicle, RefusesBadInputAndChangesNothing) {
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.error().message.find("mass_kg = -1"), std::string::npos)
       << refused.error().message;
+  auto bridged = FlatTerrain();
+  ASSERT_TRUE(
+      bridged->Add({1, 1, 1}, FeatureParams::Bridge(100, 200, 0.0, 10, 30, 40, 30, 2, 2)).ok());
+  const auto inside = PhysicalVehicle::Make(PhysType("tank"), *bridged, 120, 200, 0);
+  ASSERT_FALSE(inside.ok());  // under a 2 m span: the roof would be inside the deck
+  EXPECT_NE(inside.error().message.find("inside bridge 1:1:1"), std::string::npos)
+      << inside.error().message;
   auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 100, 100, 0).value();
   ASSERT_TRUE(v.Command(5, 0.1).ok());
   const Status s = v.Command(NAN, 0);

@@ -71,9 +71,13 @@ Worst RandomDrive(const Terrain& t, uint64_t seed, double seconds) {
   std::mt19937_64 rng(seed * 7919 + 1);
   std::uniform_real_distribution<double> unit(0, 1);
   const PhysicalVehicleType type = PhysType(kTypes[seed % 3]);
-  auto v =
-      PhysicalVehicle::Make(type, t, 60 + 80 * unit(rng), 60 + 80 * unit(rng), 6.28 * unit(rng))
-          .value();
+  // Random places until one is clear of bridge solids (a hull inside one is refused).
+  Result<PhysicalVehicle> made = Error{"not placed"};
+  while (!made) {
+    made =
+        PhysicalVehicle::Make(type, t, 60 + 80 * unit(rng), 60 + 80 * unit(rng), 6.28 * unit(rng));
+  }
+  PhysicalVehicle v = std::move(made).value();
   Worst worst;
   double y_prev = v.position_m().y(), vy_prev = v.velocity_mps().y();
   for (int i = 0; i < static_cast<int>(seconds / kTick); ++i) {
@@ -102,6 +106,10 @@ Worst RandomDrive(const Terrain& t, uint64_t seed, double seconds) {
     const double T = r.steps * kPhysicsStepS;
     const double allowed =
         std::max(0.0, -vy_prev) * T + 0.5 * kGravityMps2 * T * (T + kPhysicsStepS);
+    if ((y_prev - y) - allowed > 1e-3 && std::getenv("WHERE")) {
+      std::printf("  tick %d drop %.4f allowed %.4f blocked %d at (%.1f, %.1f) bridge %u\n", i,
+                  y_prev - y, allowed, r.blocked, v.x_m(), v.z_m(), v.bridge().number);
+    }
     worst.drop_excess_m = std::max(worst.drop_excess_m, (y_prev - y) - allowed);
     y_prev = y;
     vy_prev = v.velocity_mps().y();

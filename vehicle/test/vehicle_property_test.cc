@@ -1,7 +1,7 @@
 // Property tests of the physical model over seeded random terrains, features and drives: the hull
 // never enters the ground or a feature by more than 0.1 m, no tick drops the vehicle further than
 // free fall allows, and a vehicle at rest on flat ground stays at rest. DT_VEHICLE_SEEDS sets the
-// number of seeds (default 4).
+// number of seeds (default 4); DT_VEHICLE_TRACE=1 prints each tick that drops beyond free fall.
 #include <cstdlib>
 #include <random>
 
@@ -106,7 +106,7 @@ Worst RandomDrive(const Terrain& t, uint64_t seed, double seconds) {
     const double T = r.steps * kPhysicsStepS;
     const double allowed =
         std::max(0.0, -vy_prev) * T + 0.5 * kGravityMps2 * T * (T + kPhysicsStepS);
-    if ((y_prev - y) - allowed > 1e-3 && std::getenv("WHERE")) {
+    if ((y_prev - y) - allowed > 1e-3 && std::getenv("DT_VEHICLE_TRACE")) {
       std::printf("  tick %d drop %.4f allowed %.4f blocked %d at (%.1f, %.1f) bridge %u\n", i,
                   y_prev - y, allowed, r.blocked, v.x_m(), v.z_m(), v.bridge().number);
     }

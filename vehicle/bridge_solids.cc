@@ -1,0 +1,125 @@
+#include "vehicle/bridge_solids.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace dt {
+
+std::vector<Solid> BridgeSolids(const Bridge& b, const HeightGrid& ground) {
+  const FeatureParams p = b.params();
+  Solid base;
+  base.bridge = b.id();
+  base.material = b.material();
+  base.origin_x_m = p.x_m;
+  base.origin_z_m = p.z_m;
+  base.ux = std::cos(p.direction_rad);
+  base.uz = std::sin(p.direction_rad);
+  auto ground_at = [&](double along_m, double right_m) {
+    // Right of direction d is (sin d, -cos d) = (uz, -ux).
+    const double x = p.x_m + along_m * base.ux + right_m * base.uz;
+    const double z = p.z_m + along_m * base.uz - right_m * base.ux;
+    return ground.ElevationAt(std::clamp(x, 0.0, ground.size_m()),
+                              std::clamp(z, 0.0, ground.size_m()));
+  };
+  const std::vector<DeckSection> profile = b.DeckProfile();  // 4 intact, 6 destroyed
+  const double half_w = b.width_m() / 2.0;
+  const double foot1 = profile.front().elevation_m, foot2 = profile.back().elevation_m;
+  const double top1 = profile[1].elevation_m;
+  const double top2 = profile[profile.size() - 2].elevation_m;
+  const double span = b.span_length_m();
+
+  std::vector<Solid> out;
+  auto slab = [&](double a0, double a1, double t0, double t1) {
+    Solid s = base;
+    s.a0_m = a0;
+    s.a1_m = a1;
+    s.r0_m = -half_w;
+    s.r1_m = half_w;
+    s.top0_m = t0;
+    s.top1_m = t1;
+    s.bottom0_m = t0 - kDeckThicknessM;
+    s.bottom1_m = t1 - kDeckThicknessM;
+    s.deck = true;
+    out.push_back(s);
+  };
+  slab(b.start_along_m(), 0.0, foot1, top1);
+  if (!b.destroyed()) slab(0.0, span, top1, top2);
+  slab(span, b.end_along_m(), top2, foot2);
+
+  // Piers under both deck edges at both joints, from below the ground to the slab's underside.
+  const double pier = std::min(kPierWidthM, half_w);
+  for (const auto& [along, top] : {std::pair{0.0, top1}, std::pair{span, top2}}) {
+    for (const double r0 : {-half_w, half_w - pier}) {
+      Solid s = base;
+      s.a0_m = along - pier / 2.0;
+      s.a1_m = along + pier / 2.0;
+      s.r0_m = r0;
+      s.r1_m = r0 + pier;
+      const double g = std::min(ground_at(along, r0), ground_at(along, r0 + pier));
+      s.bottom0_m = s.bottom1_m = g - 1.0;
+      s.top0_m = s.top1_m = std::max(g, top - kDeckThicknessM);
+      out.push_back(s);
+    }
+  }
+
+  if (b.destroyed()) {
+    // The fallen span: rubble on the ground between the piers, never higher than the deck's
+    // underside at the joints, so falling from a joint is a drop.
+    const double g1 = ground_at(0.0, 0.0), g2 = ground_at(span, 0.0);
+    const double lowest_deck = std::min(top1 - g1, top2 - g2);
+    const double h = std::clamp(lowest_deck - kDeckThicknessM, 0.05, kRubbleHeightM);
+    Solid s = base;
+    s.a0_m = std::min(pier / 2.0, span / 4.0);
+    s.a1_m = span - s.a0_m;
+    s.r0_m = -half_w;
+    s.r1_m = half_w;
+    const double ga = ground_at(s.a0_m, 0.0), gb = ground_at(s.a1_m, 0.0);
+    s.top0_m = ga + h;
+    s.top1_m = gb + h;
+    s.bottom0_m = ga - 1.0;
+    s.bottom1_m = gb - 1.0;
+    out.push_back(s);
+  }
+  return out;
+}
+
+std::vector<Solid> SolidsNear(const Terrain& terrain, const Rect& area) {
+  std::vector<Solid> out;
+  SolidsNear(terrain, area, out);
+  return out;
+}
+
+void SolidsNear(const Terrain& terrain, const Rect& area, std::vector<Solid>& out) {
+  out.clear();
+  const HeightGrid& g = terrain.ground();
+  const double size = g.size_m();
+  const SquareIndex lo =
+      g.SquareAt(std::clamp(area.min_x, 0.0, size), std::clamp(area.min_z, 0.0, size));
+  const SquareIndex hi =
+      g.SquareAt(std::clamp(area.max_x, 0.0, size), std::clamp(area.max_z, 0.0, size));
+  // Bridges are few: gathered in a small array, sorted by ID, duplicates (one bridge indexed in
+  // several squares) dropped.
+  std::array<const Bridge*, 16> bridges;
+  size_t count = 0;
+  for (int j = lo.j; j <= hi.j; ++j) {
+    for (int i = lo.i; i <= hi.i; ++i) {
+      if (terrain.SquareBits({i, j}) == 0) continue;
+      for (const Feature* f : terrain.FeaturesInSquare({i, j})) {
+        if (f->type() != FeatureType::kBridge) continue;
+        const auto* b = static_cast<const Bridge*>(f);
+        if (std::find(bridges.begin(), bridges.begin() + count, b) != bridges.begin() + count)
+          continue;
+        if (count < bridges.size()) bridges[count++] = b;
+      }
+    }
+  }
+  std::sort(bridges.begin(), bridges.begin() + count,
+            [](const Bridge* x, const Bridge* y) { return x->id() < y->id(); });
+  for (size_t k = 0; k < count; ++k) {
+    std::vector<Solid> s = BridgeSolids(*bridges[k], g);
+    out.insert(out.end(), s.begin(), s.end());
+  }
+}
+
+}  // namespace dt

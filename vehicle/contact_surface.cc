@@ -1,0 +1,141 @@
+#include "vehicle/contact_surface.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dt {
+namespace {
+
+// Step of the central differences that give the normal over earthworks.
+constexpr double kNormalStepM = 0.1;
+
+}  // namespace
+
+namespace {
+
+void RaiseToSolids(std::span<const Solid> solids, double x_m, double z_m, double reach_m,
+                   SurfaceSample& out) {
+  for (const Solid& s : solids) {
+    double a, r;
+    s.ToLocal(x_m, z_m, a, r);
+    if (!s.InPlan(a, r)) continue;
+    const double top = s.TopAt(a);
+    if (top > reach_m || top <= out.height_m) continue;
+    out.height_m = top;
+    const double slope = s.TopSlope();
+    out.normal = Eigen::Vector3d(-slope * s.ux, 1.0, -slope * s.uz).normalized();
+    out.material = s.material;
+    out.bridge = s.deck ? s.bridge : FeatureId{};
+  }
+}
+
+SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlaneCache* cache) {
+  const HeightGrid& g = terrain.ground();
+  const HeightGrid::Location at = g.Locate(x_m, z_m);
+  SurfaceSample out;
+  const int cx = std::min(static_cast<int>(at.u * kBitgridCellsPerSide), kBitgridCellsPerSide - 1);
+  const int cz = std::min(static_cast<int>(at.v * kBitgridCellsPerSide), kBitgridCellsPerSide - 1);
+  const bool feature_cell =
+      ((terrain.SquareBits(at.square) >> (cz * kBitgridCellsPerSide + cx)) & 1u) != 0;
+  // Where no earthwork raises the surface (no feature in the cell, or none covering the point
+  // above the ground) one ground triangle gives height, normal and soil.
+  const double ground = g.ElevationAt(at);
+  const double surface = feature_cell ? terrain.ElevationAt(x_m, z_m) : ground;
+  if (surface == ground) {
+    const SquareIndex& s = at.square;
+    const double h01 = g.post(s.i, s.j + 1), h10 = g.post(s.i + 1, s.j);
+    double dh_du, dh_dv;
+    TriangleHalf half;
+    if (at.u + at.v >= 1.0) {
+      const double h11 = g.post(s.i + 1, s.j + 1);
+      dh_du = h11 - h01;
+      dh_dv = h11 - h10;
+      half = TriangleHalf::kUpper;
+    } else {
+      const double h00 = g.post(s.i, s.j);
+      dh_du = h10 - h00;
+      dh_dv = h01 - h00;
+      half = TriangleHalf::kLower;
+    }
+    out.height_m = ground;
+    const double inv = 1.0 / g.spacing_m();
+    out.normal = Eigen::Vector3d(-dh_du * inv, 1.0, -dh_dv * inv).normalized();
+    out.material = g.soil(s, half);
+    if (cache != nullptr && !feature_cell) {
+      const double sp = g.spacing_m(), cell = sp / kBitgridCellsPerSide;
+      GroundPlaneCache& c = *cache;
+      c.valid = true;
+      c.square_x0 = s.i * sp;
+      c.square_z0 = s.j * sp;
+      c.inverse_spacing = inv;
+      c.x0 = c.square_x0 + cx * cell;
+      c.z0 = c.square_z0 + cz * cell;
+      c.x1 = c.x0 + cell;
+      c.z1 = c.z0 + cell;
+      c.upper = half == TriangleHalf::kUpper;
+      c.slope_x = dh_du * inv;
+      c.slope_z = dh_dv * inv;
+      c.h0 = ground - c.slope_x * (x_m - c.x0) - c.slope_z * (z_m - c.z0);
+      c.normal = out.normal;
+      c.material = out.material;
+    }
+  } else {
+    // On an earthwork: forward differences (backward at the terrain's far edges) for the normal.
+    const double size = g.size_m();
+    const double dx = x_m + kNormalStepM <= size ? kNormalStepM : -kNormalStepM;
+    const double dz = z_m + kNormalStepM <= size ? kNormalStepM : -kNormalStepM;
+    out.height_m = surface;
+    const double sx = (terrain.ElevationAt(x_m + dx, z_m) - surface) / dx;
+    const double sz = (terrain.ElevationAt(x_m, z_m + dz) - surface) / dz;
+    out.normal = Eigen::Vector3d(-sx, 1.0, -sz).normalized();
+    out.material = terrain.SoilAt(x_m, z_m);
+  }
+  return out;
+}
+
+}  // namespace
+
+SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids, double x_m,
+                            double z_m, double reach_m) {
+  SurfaceSample out = Sample(terrain, x_m, z_m, nullptr);
+  RaiseToSolids(solids, x_m, z_m, reach_m, out);
+  return out;
+}
+
+SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids, double x_m,
+                            double z_m, double reach_m, GroundPlaneCache& c) {
+  SurfaceSample out;
+  // The cell's far edges belong to the next cell, as Locate's truncation decides.
+  if (c.valid && x_m >= c.x0 && x_m < c.x1 && z_m >= c.z0 && z_m < c.z1 &&
+      ((x_m - c.square_x0) * c.inverse_spacing + (z_m - c.square_z0) * c.inverse_spacing >= 1.0) ==
+          c.upper) {
+    out.height_m = c.h0 + c.slope_x * (x_m - c.x0) + c.slope_z * (z_m - c.z0);
+    out.normal = c.normal;
+    out.material = c.material;
+  } else {
+    c.valid = false;
+    out = Sample(terrain, x_m, z_m, &c);
+  }
+  RaiseToSolids(solids, x_m, z_m, reach_m, out);
+  return out;
+}
+
+bool EarthworkNear(const Terrain& terrain, const Rect& area) {
+  const HeightGrid& g = terrain.ground();
+  const double size = g.size_m();
+  const SquareIndex lo =
+      g.SquareAt(std::clamp(area.min_x, 0.0, size), std::clamp(area.min_z, 0.0, size));
+  const SquareIndex hi =
+      g.SquareAt(std::clamp(area.max_x, 0.0, size), std::clamp(area.max_z, 0.0, size));
+  for (int j = lo.j; j <= hi.j; ++j) {
+    for (int i = lo.i; i <= hi.i; ++i) {
+      if (terrain.SquareBits({i, j}) == 0) continue;
+      for (const Feature* f : terrain.FeaturesInSquare({i, j})) {
+        if (f->type() != FeatureType::kBridge && f->Bounds().Intersects(area)) return true;
+      }
+    }
+  }
+  return false;
+}
+
+}  // namespace dt

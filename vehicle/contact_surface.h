@@ -1,0 +1,56 @@
+// Contact surface: the height, normal and material a vehicle contact meets at a ground point.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include <Eigen/Core>
+
+#include "terrain/feature_id.h"
+#include "terrain/material.h"
+#include "terrain/terrain.h"
+#include "vehicle/bridge_solids.h"
+
+namespace dt {
+
+struct SurfaceSample {
+  double height_m = 0.0;
+  Eigen::Vector3d normal{0.0, 1.0, 0.0};  // unit, upward (y up, docs/conventions.md)
+  Material material = Material::kGrass;
+  FeatureId bridge;  // the bridge whose deck slab this is the top of; number 0 otherwise
+};
+
+// The whole surface under (x, z) as seen from a contact at height `reach_m` and above: the ground
+// with its craters and berms (Terrain::ElevationAt, Terrain::SoilAt), raised to the top of any
+// bridge solid over the point whose top is at or below `reach_m`. So a contact on a deck stands
+// on it, one under a deck meets the ground, and a solid top above `reach_m` is an obstacle for
+// the hull instead (hull_collision.h). Where no earthwork raises the surface above the ground
+// (a crater's floor included) the ground triangle gives the normal and the soil; on an earthwork
+// the normal comes from forward differences 0.1 m long and the soil from Terrain::SoilAt. (x, z)
+// must be on the terrain.
+SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids, double x_m,
+                            double z_m, double reach_m);
+
+// The bare ground plane last found around one contact: a bitgrid cell no feature may cover,
+// clipped to one triangle. Valid while the terrain does not change (callers reset it between
+// terrain updates); a point inside it needs no grid look-up.
+struct GroundPlaneCache {
+  bool valid = false;
+  uint32_t epoch = 0;  // the owner's count of terrain states: a cache of another is stale
+  double x0 = 0, z0 = 0, x1 = 0, z1 = 0;  // the cell
+  double square_x0 = 0, square_z0 = 0, inverse_spacing = 0;
+  bool upper = false;                       // which triangle of the square
+  double h0 = 0, slope_x = 0, slope_z = 0;  // height = h0 + slope_x (x - x0) + slope_z (z - z0)
+  Eigen::Vector3d normal{0.0, 1.0, 0.0};
+  Material material = Material::kGrass;
+};
+
+// SampleSurface, answering from and refilling `cache` where the ground is bare.
+SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids, double x_m,
+                            double z_m, double reach_m, GroundPlaneCache& cache);
+
+// True if the bounds of a crater or berm indexed in the squares the rectangle touches overlap
+// it: only there can the surface rise between a vehicle's always-sampled contacts.
+bool EarthworkNear(const Terrain& terrain, const Rect& area);
+
+}  // namespace dt

@@ -1,0 +1,160 @@
+// PhysicalVehicle: a rigid body on spring-damper contacts, driven within the grip of the ground.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "terrain/feature_id.h"
+#include "terrain/result.h"
+#include "terrain/terrain.h"
+#include "vehicle/bridge_solids.h"
+#include "vehicle/contact_surface.h"
+#include "vehicle/physical_type.h"
+
+namespace dt {
+
+// The fixed internal step: every Advance runs whole steps of this length, whatever the caller's
+// tick, and keeps the remainder for the next call (docs/vehicles.md "Time step").
+inline constexpr int64_t kPhysicsStepNs = 5'000'000;
+inline constexpr double kPhysicsStepS = 0.005;
+inline constexpr double kGravityMps2 = 9.81;
+// Static sag of the running gear under the vehicle's weight; the springs follow from it.
+inline constexpr double kStaticSagM = 0.05;
+// Largest compression of a running-gear contact before it bottoms out (a hard stop).
+inline constexpr double kGearTravelM = 0.2;
+// The most a body point moves in one (sub)step: half the thinnest solid (deck slab 0.5 m).
+inline constexpr double kMaxMovePerStepM = 0.2;
+// A contact that was clear of the ground this long and touches again is a landing.
+inline constexpr int kLandingAirSteps = 4;
+
+enum class Damage : uint8_t { kNone = 0, kImmobilised = 1, kDestroyed = 2 };
+std::string_view DamageName(Damage damage);  // "none", "immobilised", "destroyed"
+
+// What happened during one Advance.
+struct PhysicalReport {
+  int steps = 0;
+  FeatureId mounted;    // got onto this bridge's deck (number 0: no)
+  FeatureId drove_off;  // drove off this bridge's deck onto the ground
+  FeatureId fell_off;   // fell off this bridge's deck (reported once per fall)
+  // Leaving a deck (0.1 s without it under the running gear) within half a hot spot of a ramp
+  // foot is driving off; leaving it anywhere else is falling off.
+  double max_landing_mps = 0.0;       // fastest landing (normal speed of a contact touching down)
+  bool blocked = false;               // the hull met a solid and was stopped against it
+  bool sliding = false;               // the grip needed exceeded static friction at some step
+  Damage damage_now = Damage::kNone;  // damage that happened in this call
+  std::string cause;                  // why, when damage_now is not kNone
+};
+
+// Axes: world x east, y up, z north (docs/conventions.md). The body frame is (ahead, up, left) so
+// that it is a proper rotation of the world frame in these coordinates; a heading d (counter-
+// clockwise from +x) is the rotation by -d about +y. Position and velocity are the centre of
+// mass's. Not thread-safe; deterministic: the same inputs give the same bits in the same build.
+class PhysicalVehicle {
+ public:
+  // Places the vehicle level at rest on the ground and earthworks under its running gear, with the
+  // gear's static sag. Refused for an invalid type, a non-finite pose, a footprint off the
+  // terrain, or a hull that would start inside a bridge solid.
+  static Result<PhysicalVehicle> Make(const PhysicalVehicleType& type, const Terrain& terrain,
+                                      double x_m, double z_m, double heading_rad);
+  // The same with the bottom of the running gear at `gear_bottom_m` (a deck, or in the air).
+  static Result<PhysicalVehicle> MakeAt(const PhysicalVehicleType& type, const Terrain& terrain,
+                                        double x_m, double z_m, double heading_rad,
+                                        double gear_bottom_m);
+
+  // The driver's demand: forward speed (negative reverses) and heading rate (positive counter-
+  // clockwise), clamped to the type's limits; the vehicle gets there as engine and grip allow.
+  // Refused for non-finite values and for an immobilised or destroyed vehicle.
+  Status Command(double speed_mps, double heading_rate_rad_s);
+
+  // Runs as many fixed steps as dt_s and the remainder kept from earlier calls make. Refused,
+  // changing nothing, for a non-finite or negative dt_s or one over 60 s.
+  Result<PhysicalReport> Advance(const Terrain& terrain, double dt_s);
+
+  const PhysicalVehicleType& type() const { return type_; }
+  const Eigen::Vector3d& position_m() const { return x_; }
+  const Eigen::Vector3d& velocity_mps() const { return v_; }
+  const Eigen::Quaterniond& orientation() const { return q_; }
+  const Eigen::Vector3d& angular_velocity_rad_s() const { return w_; }
+  double x_m() const { return x_.x(); }
+  double z_m() const { return x_.z(); }
+  double heading_rad() const;
+  double pitch_rad() const;  // nose up positive
+  double roll_rad() const;   // right side down positive
+  // Height of the bottom of the running gear under the centre, plus its static sag: the surface
+  // it rests on (the thesis's vehicle elevation).
+  double elevation_m() const;
+  // Forward speed along the heading (negative reversing).
+  double speed_mps() const;
+  double commanded_speed_mps() const { return cmd_speed_mps_; }
+  double commanded_rate_rad_s() const { return cmd_rate_rad_s_; }
+
+  Damage damage() const { return damage_; }
+  bool alive() const { return damage_ != Damage::kDestroyed; }
+  bool mobile() const { return damage_ == Damage::kNone; }
+  // The deck the running gear stands on (number 0: none).
+  FeatureId bridge() const { return bridge_; }
+  bool on_bridge() const { return bridge_.number != 0; }
+  bool airborne() const { return air_steps_ > 0; }
+
+  // World points of the hull box's bottom face on a grid at most `spacing_m` apart, and the
+  // bottom of the running gear at its contacts: for checks of penetration.
+  std::vector<Eigen::Vector3d> HullBottomPoints(double spacing_m) const;
+  std::vector<Eigen::Vector3d> GearPoints() const;
+
+ private:
+  struct Contact {
+    Eigen::Vector3d body;  // from the centre of mass, body frame
+    bool gear = true;      // running gear (drives) or belly (slides)
+    double reach_m = 0.0;  // a solid top this far above the point still carries it
+    int air_steps = 0;
+    bool dense = false;       // belly grid: only sampled where features lie under the footprint
+    GroundPlaneCache ground;  // valid for one Advance (epoch_): the terrain may change between
+  };
+
+  PhysicalVehicle(const PhysicalVehicleType& type, double x_m, double z_m, double heading_rad,
+                  double gear_bottom_m);
+  void Step(const Terrain& terrain, std::span<const Solid> solids, double h_s,
+            PhysicalReport& report);
+  void ResolveHull(std::span<const Solid> solids, PhysicalReport& report);
+  bool OnTerrain(const Terrain& terrain) const;
+  Status CheckClearOfSolids(const Terrain& terrain) const;
+  // True if the deck last carried the gear within half a hot spot of one of the bridge's ramp
+  // feet: leaving it there is driving off, elsewhere falling off.
+  bool NearRampFoot(const Terrain& terrain, FeatureId bridge) const;
+  void Damaged(Damage damage, std::string cause, PhysicalReport& report);
+  Eigen::Matrix3d WorldInverseInertia(const Eigen::Matrix3d& r) const;
+
+  PhysicalVehicleType type_;
+  std::vector<Contact> contacts_;
+  std::vector<Eigen::Vector3d> hull_points_;  // body frame, perimeter at three heights
+  Eigen::Vector3d inertia_;                   // principal moments, body frame (ahead, up, left)
+  double spring_n_per_m_ = 0.0;               // per contact
+  double damper_n_s_per_m_ = 0.0;             // per contact
+  int gear_count_ = 0;
+  size_t always_count_ = 0;  // the running gear; the belly (centre line, then grid) follows
+
+  Eigen::Vector3d x_;
+  Eigen::Vector3d v_ = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q_;
+  Eigen::Vector3d w_ = Eigen::Vector3d::Zero();
+  double cmd_speed_mps_ = 0.0;
+  double cmd_rate_rad_s_ = 0.0;
+  int64_t pending_ns_ = 0;
+  uint32_t epoch_ = 0;         // counts Advance calls: ground caches of an earlier one are stale
+  std::vector<Solid> solids_;  // reused between Advance calls
+  Damage damage_ = Damage::kNone;
+  bool frozen_ = false;  // tipped over: the wreck stays where it came to lie
+  double sin_pitch_limit_ = 0.0, tan_roll_limit_ = 0.0;
+  FeatureId bridge_;
+  FeatureId fell_from_;  // a fall from this bridge was reported; cleared on the ground
+  double last_deck_x_m_ = 0.0, last_deck_z_m_ = 0.0;  // where the deck last carried the gear
+  int air_steps_ = 0;       // steps since the running gear last touched anything
+  int off_deck_steps_ = 0;  // steps since a deck last carried the running gear
+};
+
+}  // namespace dt

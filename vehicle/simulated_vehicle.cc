@@ -1,0 +1,83 @@
+#include "vehicle/simulated_vehicle.h"
+
+namespace dt {
+
+std::string_view VehicleModelName(VehicleModel model) {
+  return model == VehicleModel::kLight ? "light" : "physical";
+}
+
+std::optional<VehicleModel> ParseVehicleModel(std::string_view name) {
+  if (name == "physical") return VehicleModel::kPhysical;
+  if (name == "light") return VehicleModel::kLight;
+  return std::nullopt;
+}
+
+Result<SimulatedVehicle> SimulatedVehicle::Make(const PhysicalVehicleType& type,
+                                                const Terrain& terrain, double x_m, double z_m,
+                                                double heading_rad, VehicleModel model) {
+  SimulatedVehicle out;
+  if (model == VehicleModel::kLight) {
+    Result<LightVehicle> v = LightVehicle::Make(type.base, terrain, x_m, z_m, heading_rad);
+    if (!v) return v.error();
+    out.light_.emplace(std::move(v).value());
+  } else {
+    Result<PhysicalVehicle> v = PhysicalVehicle::Make(type, terrain, x_m, z_m, heading_rad);
+    if (!v) return v.error();
+    out.physical_.emplace(std::move(v).value());
+  }
+  return out;
+}
+
+const std::string& SimulatedVehicle::type_name() const {
+  return light_ ? light_->vehicle().type().name : physical_->type().base.name;
+}
+
+Status SimulatedVehicle::Command(double speed_mps, double heading_rate_rad_s) {
+  return light_ ? light_->Command(speed_mps, heading_rate_rad_s)
+                : physical_->Command(speed_mps, heading_rate_rad_s);
+}
+
+Result<VehicleEvents> SimulatedVehicle::Advance(const Terrain& terrain, double dt_s) {
+  VehicleEvents e;
+  if (light_) {
+    Result<LightReport> r = light_->Advance(terrain, dt_s);
+    if (!r) return r.error();
+    const LightReport& l = r.value();
+    if (l.event == BridgeEvent::kMounted) e.mounted = l.bridge;
+    if (l.event == BridgeEvent::kDroveOff) e.drove_off = l.bridge;
+    if (l.event == BridgeEvent::kFellOff) e.fell_off = l.bridge;
+    e.died = l.traversal.died;
+    if (e.died) e.cause = "fell off a bridge tilted past the type's limits";
+    return e;
+  }
+  Result<PhysicalReport> r = physical_->Advance(terrain, dt_s);
+  if (!r) return r.error();
+  const PhysicalReport& p = r.value();
+  e.mounted = p.mounted;
+  e.drove_off = p.drove_off;
+  e.fell_off = p.fell_off;
+  e.died = p.damage_now == Damage::kDestroyed;
+  e.cause = p.cause;
+  return e;
+}
+
+VehiclePose SimulatedVehicle::pose() const {
+  if (light_) {
+    const Vehicle& v = light_->vehicle();
+    return {v.x_m(),       v.z_m(),      v.elevation_m(), v.heading_rad(),
+            v.pitch_rad(), v.roll_rad(), v.speed_mps()};
+  }
+  const PhysicalVehicle& v = *physical_;
+  return {v.x_m(),       v.z_m(),      v.elevation_m(), v.heading_rad(),
+          v.pitch_rad(), v.roll_rad(), v.speed_mps()};
+}
+
+bool SimulatedVehicle::alive() const {
+  return light_ ? light_->vehicle().alive() : physical_->alive();
+}
+
+FeatureId SimulatedVehicle::bridge() const {
+  return light_ ? light_->vehicle().bridge() : physical_->bridge();
+}
+
+}  // namespace dt

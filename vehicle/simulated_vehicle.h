@@ -1,0 +1,61 @@
+// SimulatedVehicle: a vehicle moved by the model it names, physical (the default) or light.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "terrain/result.h"
+#include "terrain/terrain.h"
+#include "vehicle/light_vehicle.h"
+#include "vehicle/physical_vehicle.h"
+
+namespace dt {
+
+enum class VehicleModel : uint8_t {
+  kPhysical = 0,  // vehicle/physical_vehicle.h
+  kLight = 1,     // the thesis's kinematic rules, vehicle/light_vehicle.h
+};
+std::string_view VehicleModelName(VehicleModel model);  // "physical", "light"
+std::optional<VehicleModel> ParseVehicleModel(std::string_view name);
+
+// Where a vehicle is, under either model (docs/conventions.md for the axes and signs).
+struct VehiclePose {
+  double x_m = 0.0, z_m = 0.0, elevation_m = 0.0;
+  double heading_rad = 0.0, pitch_rad = 0.0, roll_rad = 0.0;
+  double speed_mps = 0.0;
+};
+
+// One Advance's events, under either model. Each is reported once.
+struct VehicleEvents {
+  FeatureId mounted, drove_off, fell_off;
+  bool died = false;
+  std::string cause;  // why it died or was immobilised
+};
+
+class SimulatedVehicle {
+ public:
+  static Result<SimulatedVehicle> Make(const PhysicalVehicleType& type, const Terrain& terrain,
+                                       double x_m, double z_m, double heading_rad,
+                                       VehicleModel model = VehicleModel::kPhysical);
+
+  VehicleModel model() const { return light_ ? VehicleModel::kLight : VehicleModel::kPhysical; }
+  const std::string& type_name() const;
+  Status Command(double speed_mps, double heading_rate_rad_s);
+  Result<VehicleEvents> Advance(const Terrain& terrain, double dt_s);
+
+  VehiclePose pose() const;
+  bool alive() const;
+  FeatureId bridge() const;
+  // The model's own state: exactly one is non-null.
+  const PhysicalVehicle* physical() const { return physical_ ? &*physical_ : nullptr; }
+  const LightVehicle* light() const { return light_ ? &*light_ : nullptr; }
+
+ private:
+  SimulatedVehicle() = default;
+  std::optional<PhysicalVehicle> physical_;
+  std::optional<LightVehicle> light_;
+};
+
+}  // namespace dt

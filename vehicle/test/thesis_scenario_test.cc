@@ -1,0 +1,321 @@
+// Thesis chapter IV vehicle behaviours as named scenarios: each prints its figures and checks
+// them, under the physical model and, where the thesis's rule applies, the light model.
+#include <cstdio>
+
+#include "terrain/bridge.h"
+#include "terrain/vehicle_traversal.h"
+#include "vehicle/light_vehicle.h"
+#include "vehicle/test/vehicle_fixtures.h"
+
+namespace dt::test {
+namespace {
+
+constexpr FeatureId kBridge{1, 1, 1};
+constexpr double kPi = 3.14159265358979323846;
+
+// A 6 m bridge on flat ground at 10 m: ramp 1 from x 70 to 100, span to 140, ramp 2 to 170, at
+// z = 200, 10 m wide (deck 16 m at the span).
+std::unique_ptr<Terrain> BridgeTerrain(double height_m = 6.0, bool destroyed = false) {
+  auto t = FlatTerrain();
+  FeatureParams p = FeatureParams::Bridge(100, 200, 0.0, 10, 30, 40, 30, height_m, height_m);
+  if (destroyed) p.status = BridgeStatus::kDestroyed;
+  EXPECT_TRUE(t->Add(kBridge, p).ok());
+  return t;
+}
+
+// The deepest any point of the hull's bottom lies below the ground and earthworks.
+double GroundPenetration(const Terrain& t, const PhysicalVehicle& v) {
+  double worst = 0.0;
+  for (const Eigen::Vector3d& p : v.HullBottomPoints(0.25)) {
+    worst = std::max(worst, t.ElevationAt(p.x(), p.z()) - p.y());
+  }
+  return worst;
+}
+
+void Print(const char* scenario, const PhysicalVehicle& v, const DriveLog& l) {
+  std::printf(
+      "%s [physical %s]: end x %.1f z %.1f elevation %.2f m, speed %.2f m/s; pitch %.1f..%.1f "
+      "deg, roll %.1f..%.1f deg, elevation %.2f..%.2f m; landing %.2f m/s; events mounted %d "
+      "drove-off %d fell-off %d; blocked %d ticks; damage %s %s\n",
+      scenario, v.type().base.name.c_str(), v.x_m(), v.z_m(), v.elevation_m(), v.speed_mps(),
+      Deg(l.min_pitch_rad), Deg(l.max_pitch_rad), Deg(l.min_roll_rad), Deg(l.max_roll_rad),
+      l.min_elevation_m, l.max_elevation_m, l.max_landing_mps, l.mounted, l.drove_off, l.fell_off,
+      l.blocked_ticks, std::string(DamageName(v.damage())).c_str(), l.cause.c_str());
+}
+
+// The light model driven the same way; records tilt extremes and events.
+struct LightLog {
+  double max_pitch_rad = -INFINITY, min_pitch_rad = INFINITY;
+  double max_roll_rad = -INFINITY, min_roll_rad = INFINITY, max_elevation_m = -INFINITY;
+  int mounted = 0, drove_off = 0, fell_off = 0;
+  double first_pitch_rad = 0.0;  // sign of the first tilt over 2 deg
+};
+template <typename Stop>
+LightLog DriveLight(const Terrain& t, LightVehicle& v, double speed, double rate, double seconds,
+                    Stop stop) {
+  LightLog log;
+  EXPECT_TRUE(v.Command(speed, rate).ok());
+  for (int i = 0; i < static_cast<int>(seconds * 30) && !stop(v.vehicle()); ++i) {
+    const LightReport r = v.Advance(t, kTick).value();
+    const Vehicle& k = v.vehicle();
+    log.max_pitch_rad = std::max(log.max_pitch_rad, k.pitch_rad());
+    log.min_pitch_rad = std::min(log.min_pitch_rad, k.pitch_rad());
+    log.max_roll_rad = std::max(log.max_roll_rad, k.roll_rad());
+    log.min_roll_rad = std::min(log.min_roll_rad, k.roll_rad());
+    log.max_elevation_m = std::max(log.max_elevation_m, k.elevation_m());
+    if (log.first_pitch_rad == 0.0 && std::abs(k.pitch_rad()) > 2.0 * kPi / 180) {
+      log.first_pitch_rad = k.pitch_rad();
+    }
+    log.mounted += r.event == BridgeEvent::kMounted;
+    log.drove_off += r.event == BridgeEvent::kDroveOff;
+    log.fell_off += r.event == BridgeEvent::kFellOff;
+  }
+  return log;
+}
+LightLog DriveLight(const Terrain& t, LightVehicle& v, double speed, double rate, double seconds) {
+  return DriveLight(t, v, speed, rate, seconds, [](const Vehicle&) { return false; });
+}
+void PrintLight(const char* scenario, const LightVehicle& v, const LightLog& l) {
+  const Vehicle& k = v.vehicle();
+  std::printf(
+      "%s [light tank]: end x %.1f z %.1f elevation %.2f m; pitch %.1f..%.1f deg, roll "
+      "%.1f..%.1f deg; events mounted %d drove-off %d fell-off %d; alive %d\n",
+      scenario, k.x_m(), k.z_m(), k.elevation_m(), Deg(l.min_pitch_rad), Deg(l.max_pitch_rad),
+      Deg(l.min_roll_rad), Deg(l.max_roll_rad), l.mounted, l.drove_off, l.fell_off, k.alive());
+}
+
+TEST(ThesisScenario, CraterOnOneTrack) {
+  auto t = FlatTerrain();
+  ASSERT_TRUE(
+      t->Add({1, 1, 9}, FeatureParams::Crater(100, 100, 10)).ok());  // rim 1.5 m, 6..8 m out
+  // Heading east with the left (north) track over the rim's middle, 7 m from the centre; the
+  // right track passes outside the crater.
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 70, 93 - 1.85, 0).value();
+  double worst = 0.0;
+  const DriveLog l = Drive(*t, v, 4, 0, 20, [&](const PhysicalVehicle& pv) {
+    worst = std::max(worst, GroundPenetration(*t, pv));
+    return pv.x_m() > 125;
+  });
+  Print("crater on one track", v, l);
+  std::printf("  deepest hull penetration %.3f m\n", worst);
+  // Left side up is right side down: positive roll, about atan(1.5 / 3.7) = 22 deg.
+  EXPECT_GT(Deg(l.max_roll_rad), 15.0);
+  EXPECT_LT(Deg(l.max_roll_rad), 35.0);
+  EXPECT_GT(v.x_m(), 125.0);
+  EXPECT_TRUE(v.mobile());
+  EXPECT_LT(worst, 0.1);
+
+  auto k = LightVehicle::Make(TankType(), *t, 70, 93 - 1.85, 0).value();
+  const LightLog ll = DriveLight(*t, k, 4, 0, 20, [](const Vehicle& kv) { return kv.x_m() > 125; });
+  PrintLight("crater on one track", k, ll);
+  EXPECT_GT(Deg(ll.max_roll_rad), 15.0);
+}
+
+TEST(ThesisScenario, BermHeadOnAndReversing) {
+  auto t = FlatTerrain();
+  // A berm 1 m high, 6 m wide at the base (2 m slopes, 27 deg), crest along z at x = 100.
+  ASSERT_TRUE(t->Add({1, 1, 9}, FeatureParams::Berm(100, 150, kPi / 2, 40, 6, 1.0)).ok());
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 80, 170, 0).value();
+  double worst = 0.0, first_pitch = 0.0;
+  auto watch = [&](const PhysicalVehicle& pv) {
+    worst = std::max(worst, GroundPenetration(*t, pv));
+    if (first_pitch == 0.0 && std::abs(pv.pitch_rad()) > 2.0 * kPi / 180)
+      first_pitch = pv.pitch_rad();
+    return false;
+  };
+  DriveLog l = Drive(*t, v, 4, 0, 12, watch);
+  Print("berm head-on", v, l);
+  std::printf("  first tilt %.1f deg, deepest hull penetration %.3f m\n", Deg(first_pitch), worst);
+  EXPECT_GT(v.x_m(), 110.0);            // over it
+  EXPECT_GT(first_pitch, 0.0);          // nose up first
+  EXPECT_LT(l.min_pitch_rad, -0.05);    // then down
+  EXPECT_LT(worst, 0.1);                // never 1.2 m inside the hull
+  EXPECT_LT(Deg(l.max_pitch_rad), 30);  // never balanced on one end with the other in the air
+
+  first_pitch = 0.0;
+  worst = 0.0;
+  l = Drive(*t, v, -4, 0, 15, [&](const PhysicalVehicle& pv) {
+    watch(pv);
+    return pv.x_m() < 85;
+  });
+  Print("berm reversing", v, l);
+  std::printf("  first tilt %.1f deg, deepest hull penetration %.3f m\n", Deg(first_pitch), worst);
+  EXPECT_LT(v.x_m(), 90.0);
+  EXPECT_LT(first_pitch, 0.0);  // the rear climbs first: nose down
+  EXPECT_LT(worst, 0.1);
+
+  // A 3 m berm with 56-degree faces is steeper than any grip: the tank stops against it.
+  auto steep = FlatTerrain();
+  ASSERT_TRUE(steep->Add({1, 1, 9}, FeatureParams::Berm(100, 150, kPi / 2, 40, 6, 3.0)).ok());
+  auto s = PhysicalVehicle::Make(PhysType("tank"), *steep, 80, 170, 0).value();
+  l = Drive(*steep, s, 4, 0, 15);
+  Print("steep berm head-on", s, l);
+  EXPECT_LT(s.x_m(), 97.0);
+  EXPECT_LT(l.max_elevation_m, 12.0);
+
+  auto k = LightVehicle::Make(TankType(), *t, 80, 170, 0).value();
+  LightLog ll = DriveLight(*t, k, 4, 0, 12);
+  PrintLight("berm head-on", k, ll);
+  EXPECT_GT(ll.first_pitch_rad, 0.0);
+  ll = DriveLight(*t, k, -4, 0, 12, [](const Vehicle& kv) { return kv.x_m() < 85; });
+  PrintLight("berm reversing", k, ll);
+  EXPECT_LT(ll.first_pitch_rad, 0.0);
+}
+
+TEST(ThesisScenario, BridgeGetOnAlignedGoesOverAndOff) {
+  auto t = BridgeTerrain();
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 50, 200, 0).value();
+  const DriveLog l =
+      Drive(*t, v, 8, 0, 25, [](const PhysicalVehicle& pv) { return pv.x_m() > 190; });
+  Print("bridge aligned, over", v, l);
+  EXPECT_EQ(l.mounted, 1);
+  EXPECT_EQ(l.drove_off, 1);
+  EXPECT_EQ(l.fell_off, 0);
+  EXPECT_NEAR(l.max_elevation_m, 16.0, 0.1);
+  EXPECT_GT(v.x_m(), 190.0);
+  EXPECT_TRUE(v.mobile());
+
+  auto k = LightVehicle::Make(TankType(), *t, 50, 200, 0).value();
+  const LightLog ll = DriveLight(*t, k, 8, 0, 25, [](const Vehicle& kv) { return kv.x_m() > 190; });
+  PrintLight("bridge aligned, over", k, ll);
+  EXPECT_EQ(ll.mounted, 1);
+  EXPECT_EQ(ll.drove_off, 1);
+  EXPECT_NEAR(ll.max_elevation_m, 16.0, 0.1);
+}
+
+TEST(ThesisScenario, BridgeGetOnMisalignedDoesNotReachTheSpan) {
+  auto t = BridgeTerrain();
+  // 45 degrees off the bridge, aimed at the side of ramp 1 half-way up (deck 3 m there).
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 70, 180, kPi / 4).value();
+  const DriveLog l = Drive(*t, v, 5, 0, 15);
+  Print("bridge misaligned", v, l);
+  EXPECT_LT(l.max_elevation_m, 12.0);  // never up on the deck
+  EXPECT_GT(l.blocked_ticks, 0);       // stopped by the ramp's side
+  EXPECT_LT(v.z_m(), 196.0);
+
+  auto k = LightVehicle::Make(TankType(), *t, 70, 180, kPi / 4).value();
+  const LightLog ll = DriveLight(*t, k, 5, 0, 15);
+  PrintLight("bridge misaligned", k, ll);
+  EXPECT_EQ(ll.mounted, 0);
+}
+
+TEST(ThesisScenario, UnderTheSpanOnlyWhereTheHullFits) {
+  // Under a 6 m span (underside 5.5 m above the ground) a 2.4 m tank passes across.
+  auto t = BridgeTerrain();
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 120, 180, kPi / 2).value();
+  DriveLog l = Drive(*t, v, 6, 0, 8);
+  Print("under a 6 m span", v, l);
+  EXPECT_GT(v.z_m(), 215.0);
+  EXPECT_EQ(l.blocked_ticks, 0);
+  EXPECT_EQ(l.mounted, 0);
+  EXPECT_NEAR(l.max_elevation_m, 10.0, 0.05);
+
+  // Under a 2.5 m span (underside 2.0 m) it does not fit: it stops at the deck's edge.
+  auto low = BridgeTerrain(2.5);
+  auto w = PhysicalVehicle::Make(PhysType("tank"), *low, 120, 180, kPi / 2).value();
+  l = Drive(*low, w, 6, 0, 8);
+  Print("under a 2.5 m span", w, l);
+  EXPECT_LT(w.z_m() + 7.9 / 2, 195.0 + 0.1);
+  EXPECT_GT(l.blocked_ticks, 0);
+
+  // Along the bridge under the span towards ramp 2, the ramp's underside comes down to the roof.
+  auto x = PhysicalVehicle::Make(PhysType("tank"), *t, 125, 200, 0).value();
+  l = Drive(*t, x, 6, 0, 10);
+  Print("along under the span into ramp 2", x, l);
+  EXPECT_LT(l.max_elevation_m, 10.1);  // never jumps up onto the ramp
+  EXPECT_GT(l.blocked_ticks, 0);
+  EXPECT_LT(x.x_m(), 160.0);
+}
+
+TEST(ThesisScenario, BackOffTheBridge) {
+  auto t = BridgeTerrain();
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 50, 200, 0).value();
+  Drive(*t, v, 8, 0, 20, [](const PhysicalVehicle& pv) { return pv.x_m() > 120; });
+  ASSERT_TRUE(v.on_bridge());
+  const DriveLog l =
+      Drive(*t, v, -5, 0, 30, [](const PhysicalVehicle& pv) { return pv.x_m() < 50; });
+  Print("back off", v, l);
+  EXPECT_EQ(l.drove_off, 1);
+  EXPECT_EQ(l.fell_off, 0);
+  EXPECT_FALSE(v.on_bridge());
+  EXPECT_NEAR(v.elevation_m(), 10.0, 0.05);
+  EXPECT_TRUE(v.mobile());
+}
+
+TEST(ThesisScenario, FallOffTheSideDiesFromSixMetresNotFromOne) {
+  for (const double height : {6.0, 1.0}) {
+    auto t = BridgeTerrain(height);
+    auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 50, 200, 0).value();
+    Drive(*t, v, 8, 0, 20, [](const PhysicalVehicle& pv) { return pv.x_m() > 115; });
+    ASSERT_TRUE(v.on_bridge());
+    const DriveLog l = Drive(*t, v, 5, 0.4, 10);
+    Print(height == 6.0 ? "fall off a 6 m span (die)" : "fall off a 1 m span", v, l);
+    EXPECT_EQ(l.fell_off, 1);  // once, not once per tick
+    EXPECT_FALSE(v.on_bridge());
+    EXPECT_NEAR(v.elevation_m(), 10.0, 0.2);
+    if (height == 6.0) {
+      EXPECT_EQ(v.damage(), Damage::kDestroyed);
+      EXPECT_GT(l.max_landing_mps, PhysType("tank").land_kill_mps);
+    } else {
+      EXPECT_EQ(v.damage(), Damage::kNone);
+    }
+  }
+}
+
+TEST(ThesisScenario, DestroyedBridgeIsImpassableAtAnyHeight) {
+  auto t = BridgeTerrain(6.0, true);
+  // On the deck: ramp 1 ends in a drop at the break; the fall kills.
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 50, 200, 0).value();
+  DriveLog l = Drive(*t, v, 8, 0, 30);
+  Print("destroyed bridge, on the deck", v, l);
+  EXPECT_EQ(l.mounted, 1);
+  EXPECT_EQ(l.fell_off, 1);
+  EXPECT_EQ(v.damage(), Damage::kDestroyed);
+  EXPECT_LT(v.x_m(), 140.0);  // never out at the far side
+  // Below: the fallen span lies in the way.
+  auto w = PhysicalVehicle::Make(PhysType("tank"), *t, 120, 180, kPi / 2).value();
+  l = Drive(*t, w, 6, 0, 8);
+  Print("destroyed bridge, from below", w, l);
+  EXPECT_GT(l.blocked_ticks, 0);
+  EXPECT_LT(w.z_m(), 195.0);
+  // A low destroyed bridge (2 m: a 1.5 m drop onto the rubble) is survived, and still not
+  // crossed: ramp 2 is out of reach above the rubble.
+  auto low = BridgeTerrain(2.0, true);
+  auto s = PhysicalVehicle::Make(PhysType("tank"), *low, 50, 200, 0).value();
+  l = Drive(*low, s, 6, 0, 40);
+  Print("low destroyed bridge", s, l);
+  EXPECT_TRUE(s.alive());
+  EXPECT_LT(s.x_m(), 150.0);
+}
+
+TEST(ThesisScenario, RampSideStopsAVehicleWhereItIsHigherThanTheBelly) {
+  // Ramp 1 at x = 80 (along -20): deck 2 m, underside 1.5 m: a side the tank cannot pass.
+  auto t = BridgeTerrain();
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 80, 180, kPi / 2).value();
+  const DriveLog l = Drive(*t, v, 8, 0, 6);
+  Print("across ramp 1 at 2 m", v, l);
+  EXPECT_GT(l.blocked_ticks, 0);
+  EXPECT_LT(v.z_m() + 7.9 / 2, 195.1);
+}
+
+TEST(ThesisScenario, LightModelReportsAFallOnce) {
+  // A tank in ramp 1's hot spot with its right side off the deck, creeping along the bridge: the
+  // kinematic rules tag it and drop it again every tick.
+  auto t = BridgeTerrain();
+  Vehicle raw = Vehicle::Make(TankType(), 75, 196, 0, t->ground().size_m()).value();
+  ASSERT_TRUE(raw.Command(0.2, 0).ok());
+  int raw_falls = 0;
+  for (int i = 0; i < 20; ++i)
+    raw_falls += DriveVehicle(*t, raw, kTick).value().event == BridgeEvent::kFellOff;
+  auto k = LightVehicle::Make(TankType(), *t, 75, 196, 0).value();
+  const LightLog ll = DriveLight(*t, k, 0.2, 0, 20 * kTick);
+  std::printf(
+      "hanging in a hot spot for 20 ticks: SettleVehicle reports %d falls, the light model %d\n",
+      raw_falls, ll.fell_off);
+  EXPECT_GT(raw_falls, 1);
+  EXPECT_EQ(ll.fell_off, 1);
+  EXPECT_EQ(ll.mounted, 0);
+}
+
+}  // namespace
+}  // namespace dt::test

@@ -1,0 +1,158 @@
+// Property tests of the physical model over seeded random terrains, features and drives: the hull
+// never enters the ground or a feature by more than 0.1 m, no tick drops the vehicle further than
+// free fall allows, and a vehicle at rest on flat ground stays at rest. DT_VEHICLE_SEEDS sets the
+// number of seeds (default 4); DT_VEHICLE_TRACE=1 prints each tick that drops beyond free fall.
+#include <cstdlib>
+#include <random>
+
+#include "terrain/random_terrain.h"
+#include "vehicle/contact_surface.h"
+#include "vehicle/hull_collision.h"
+#include "vehicle/test/vehicle_fixtures.h"
+
+namespace dt::test {
+namespace {
+
+int Seeds() {
+  const char* s = std::getenv("DT_VEHICLE_SEEDS");
+  return s ? std::max(1, std::atoi(s)) : 4;
+}
+
+constexpr const char* kTypes[] = {"tank", "truck", "jeep"};
+
+struct World {
+  std::unique_ptr<Terrain> terrain;
+  int features = 0;
+};
+
+// 200 m of value-noise ground (8 m relief, 2 m posts) with craters, berms and, on odd seeds, an
+// intact or destroyed bridge, all at random.
+World RandomWorld(uint64_t seed) {
+  RandomTerrainParams p;
+  p.posts_per_side = 101;
+  p.spacing_m = 2.0;
+  p.relief_m = 8.0;
+  p.seed = seed;
+  World w{std::make_unique<Terrain>(MakeRandomTerrain(p))};
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> pos(40, 160), unit(0, 1);
+  uint32_t number = 1;
+  for (int k = 0; k < 6; ++k) {
+    w.features +=
+        w.terrain
+            ->Add({1, 1, number++}, FeatureParams::Crater(pos(rng), pos(rng), 3 + 7 * unit(rng)))
+            .ok();
+  }
+  for (int k = 0; k < 4; ++k) {
+    w.features +=
+        w.terrain
+            ->Add({1, 1, number++},
+                  FeatureParams::Berm(pos(rng), pos(rng), 6.28 * unit(rng), 10 + 20 * unit(rng),
+                                      4 + 4 * unit(rng), 0.5 + unit(rng)))
+            .ok();
+  }
+  if (seed % 2 == 1) {
+    FeatureParams b =
+        FeatureParams::Bridge(80 + 20 * unit(rng), 80 + 40 * unit(rng), 6.28 * unit(rng), 10, 20,
+                              20, 20, 2 + 4 * unit(rng), 2 + 4 * unit(rng));
+    if (unit(rng) < 0.5) b.status = BridgeStatus::kDestroyed;
+    w.features += w.terrain->Add({1, 1, number++}, b).ok();
+  }
+  return w;
+}
+
+struct Worst {
+  double ground_m = 0.0, solid_m = 0.0, drop_excess_m = -INFINITY;
+  std::string damage;
+};
+
+// Drives a random vehicle with random demands changed every 2 s for `seconds`, checking each tick.
+Worst RandomDrive(const Terrain& t, uint64_t seed, double seconds) {
+  std::mt19937_64 rng(seed * 7919 + 1);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const PhysicalVehicleType type = PhysType(kTypes[seed % 3]);
+  // Random places until one is clear of bridge solids (a hull inside one is refused).
+  Result<PhysicalVehicle> made = Error{"not placed"};
+  while (!made) {
+    made =
+        PhysicalVehicle::Make(type, t, 60 + 80 * unit(rng), 60 + 80 * unit(rng), 6.28 * unit(rng));
+  }
+  PhysicalVehicle v = std::move(made).value();
+  Worst worst;
+  double y_prev = v.position_m().y(), vy_prev = v.velocity_mps().y();
+  for (int i = 0; i < static_cast<int>(seconds / kTick); ++i) {
+    if (i % 60 == 0 && v.mobile()) {
+      const double speed = -type.base.max_reverse_speed_mps +
+                           unit(rng) * (type.base.max_speed_mps + type.base.max_reverse_speed_mps);
+      EXPECT_TRUE(v.Command(speed, (2 * unit(rng) - 1) * type.base.max_turn_rate_rad_s).ok());
+    }
+    const PhysicalReport r = v.Advance(t, kTick).value();
+    // Depth below the ground and earthworks, along the surface's normal (a point 0.1 m into a
+    // 45-degree face is 0.14 m below it).
+    for (const Eigen::Vector3d& p : v.HullBottomPoints(0.25)) {
+      const SurfaceSample s = SampleSurface(t, {}, p.x(), p.z(), p.y());
+      worst.ground_m =
+          std::max(worst.ground_m, (t.ElevationAt(p.x(), p.z()) - p.y()) * s.normal.y());
+    }
+    const std::vector<Solid> solids =
+        SolidsNear(t, Rect{v.x_m(), v.z_m(), v.x_m(), v.z_m()}.Expanded(15));
+    const std::vector<Eigen::Vector3d> bottom = v.HullBottomPoints(0.5);
+    const HullPenetration in = DeepestPenetration(bottom, solids, INFINITY);
+    worst.solid_m = std::max(worst.solid_m, in.depth_m);
+    // Free fall from the last tick's vertical speed bounds how far the centre of mass can drop.
+    const double y = v.position_m().y();
+    // A tick runs whole 5 ms steps (6 or 7 of them), and semi-implicit Euler falls
+    // g T (T + h) / 2 in T = n h from rest.
+    const double T = r.steps * kPhysicsStepS;
+    const double allowed =
+        std::max(0.0, -vy_prev) * T + 0.5 * kGravityMps2 * T * (T + kPhysicsStepS);
+    if ((y_prev - y) - allowed > 1e-3 && std::getenv("DT_VEHICLE_TRACE")) {
+      std::printf("  tick %d drop %.4f allowed %.4f blocked %d at (%.1f, %.1f) bridge %u\n", i,
+                  y_prev - y, allowed, r.blocked, v.x_m(), v.z_m(), v.bridge().number);
+    }
+    worst.drop_excess_m = std::max(worst.drop_excess_m, (y_prev - y) - allowed);
+    y_prev = y;
+    vy_prev = v.velocity_mps().y();
+  }
+  worst.damage = std::string(DamageName(v.damage()));
+  return worst;
+}
+
+TEST(VehicleProperty, HullStaysOutOfGroundAndFeaturesAndNoTickOutfallsFreeFall) {
+  for (int s = 1; s <= Seeds(); ++s) {
+    const World w = RandomWorld(static_cast<uint64_t>(s));
+    const Worst worst = RandomDrive(*w.terrain, static_cast<uint64_t>(s), 20.0);
+    std::printf(
+        "seed %d (%s, %d features): deepest hull penetration ground %.3f m, bridge solids "
+        "%.3f m; largest drop beyond free fall %.4f m; damage %s\n",
+        s, kTypes[s % 3], w.features, worst.ground_m, worst.solid_m, worst.drop_excess_m,
+        worst.damage.c_str());
+    EXPECT_LE(worst.ground_m, 0.1) << "seed " << s;
+    EXPECT_LE(worst.solid_m, 0.1) << "seed " << s;
+    EXPECT_LE(worst.drop_excess_m, 1e-3) << "seed " << s;
+  }
+}
+
+TEST(VehicleProperty, AtRestOnFlatGroundStaysAtRest) {
+  constexpr Material kSoils[] = {Material::kGrass, Material::kMud, Material::kConcrete,
+                                 Material::kSand};
+  for (int s = 1; s <= Seeds(); ++s) {
+    std::mt19937_64 rng(static_cast<uint64_t>(s));
+    std::uniform_real_distribution<double> unit(0, 1);
+    const float elevation = static_cast<float>(100 * unit(rng));
+    Terrain t(HeightGrid(101, 2.0, elevation, kSoils[s % 4]));
+    auto v = PhysicalVehicle::Make(PhysType(kTypes[s % 3]), t, 50 + 100 * unit(rng),
+                                   50 + 100 * unit(rng), 6.28 * unit(rng) - 3.14)
+                 .value();
+    const Eigen::Vector3d x0 = v.position_m();
+    Drive(t, v, 0, 0, 30);
+    std::printf("seed %d (%s on %s at %.1f m): moved %.3g m in 30 s, speed %.3g m/s\n", s,
+                kTypes[s % 3], std::string(MaterialName(kSoils[s % 4])).c_str(), elevation,
+                (v.position_m() - x0).norm(), v.velocity_mps().norm());
+    EXPECT_LT((v.position_m() - x0).norm(), 1e-6) << "seed " << s;
+    EXPECT_LT(v.velocity_mps().norm(), 1e-6) << "seed " << s;
+  }
+}
+
+}  // namespace
+}  // namespace dt::test

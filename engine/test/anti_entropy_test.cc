@@ -10,6 +10,7 @@
 #include "engine/change_hash.h"
 #include "engine/memory_change_store.h"
 #include "engine/replica.h"
+#include "engine/test/replica_test_config.h"
 #include "engine/test/sim_cluster.h"
 #include "pdu/pdu_traits.h"
 
@@ -18,10 +19,10 @@ namespace {
 
 using testing::SimCluster;
 
-const NodeAddress kServer{1, 100};
-const NodeAddress kStandby{1, 101};
-const NodeAddress kA{1, 1};
-const NodeAddress kB{1, 2};
+constexpr NodeAddress kServer = testing::kTestServer;
+constexpr NodeAddress kStandby = testing::kTestStandby;
+constexpr NodeAddress kA = testing::kTestA;
+constexpr NodeAddress kB = testing::kTestB;
 const NodeAddress kC{1, 3};
 constexpr int kPeriodMs = 500;
 
@@ -69,24 +70,14 @@ const Change& Held(const Replica& r, NodeAddress author, int64_t seq) {
   return *r.log(author)->Find(seq);
 }
 
-class AntiEntropyTest : public ::testing::Test {
+class AntiEntropyTest : public ::testing::Test, public testing::ServerAndTwoNodes {
  protected:
-  AntiEntropyTest() : cluster_(1, HeightGrid(33, 4.0, 10.0f), Defaults()) {
-    cluster_.Start(kServer, NodeRole::kServer, &store_);
-    cluster_.Start(kA, NodeRole::kNode);
-    cluster_.Start(kB, NodeRole::kNode);
-    cluster_.Run(1000);
+  AntiEntropyTest() : ServerAndTwoNodes(1, Defaults()) {
     for (int i = 0; i < 20; ++i) {
       if (!A().Create(FeatureParams::Crater(10 + 5 * i, 40, 2)).ok()) std::abort();
     }
     cluster_.Run(1000);
   }
-  Replica& A() { return cluster_.at(kA); }
-  Replica& B() { return cluster_.at(kB); }
-  Replica& S() { return cluster_.at(kServer); }
-
-  MemoryChangeStore store_;
-  SimCluster cluster_;
 };
 
 TEST_F(AntiEntropyTest, OneSlotHeldDifferentlyIsFoundWithinAPeriodAndRepairedToEqualDigests) {

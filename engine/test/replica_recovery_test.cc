@@ -22,19 +22,14 @@ constexpr NodeAddress kB = testing::kTestB;
 
 ReplicaConfig Defaults() { return testing::TestReplicaConfig(); }
 
-class RecoveryTest : public ::testing::Test {
- protected:
-  RecoveryTest() : cluster_(7, HeightGrid(33, 4.0, 10.0f), Defaults()) {
-    cluster_.Start(kServer, NodeRole::kServer, &store_);
-    cluster_.Start(kA, NodeRole::kNode, nullptr, &ids_a_);
-    cluster_.Start(kB, NodeRole::kNode);
-    cluster_.Run(1000);
-  }
-  Replica& A() { return cluster_.at(kA); }
-
-  MemoryChangeStore store_;
+// The reservation outlives the replicas, as A's file would (a base, so built before them).
+struct IdsOfA {
   MemoryIdReservation ids_a_;
-  SimCluster cluster_;
+};
+
+class RecoveryTest : public ::testing::Test, protected IdsOfA, public testing::ServerAndTwoNodes {
+ protected:
+  RecoveryTest() : ServerAndTwoNodes(7, Defaults(), &ids_a_) {}
 };
 
 // Reproduces issue 15 item 2: while the server and B are down, A creates two features; A is then

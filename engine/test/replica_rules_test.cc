@@ -34,17 +34,9 @@ ReplicaConfig Defaults() {
   return c;
 }
 
-class RulesTest : public ::testing::Test {
+class RulesTest : public ::testing::Test, public testing::ServerAndTwoNodes {
  protected:
-  RulesTest() : cluster_(3, HeightGrid(33, 4.0, 10.0f), Defaults()) {
-    cluster_.Start(kServer, NodeRole::kServer, &store_);
-    cluster_.Start(kA, NodeRole::kNode);
-    cluster_.Start(kB, NodeRole::kNode);
-    cluster_.Run(1000);
-  }
-  Replica& A() { return cluster_.at(kA); }
-  Replica& B() { return cluster_.at(kB); }
-  Replica& S() { return cluster_.at(kServer); }
+  RulesTest() : ServerAndTwoNodes(3, Defaults()) {}
 
   // A bus that sends as `who`, on the cluster's network.
   PduBus& Forger(NodeAddress who) {
@@ -84,8 +76,7 @@ class RulesTest : public ::testing::Test {
     }
   }
 
-  MemoryChangeStore store_;
-  SimCluster cluster_;
+  // On cluster_'s network, so declared after it (destroyed first).
   std::vector<std::unique_ptr<Transport>> transports_;
   std::vector<std::unique_ptr<PduBus>> buses_;
 };

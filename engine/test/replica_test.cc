@@ -20,20 +20,9 @@ constexpr NodeAddress kB = testing::kTestB;
 
 ReplicaConfig Defaults() { return testing::TestReplicaConfig(); }
 
-class ReplicaTest : public ::testing::Test {
+class ReplicaTest : public ::testing::Test, public testing::ServerAndTwoNodes {
  protected:
-  ReplicaTest() : cluster_(1, HeightGrid(33, 4.0, 10.0f), Defaults()) {
-    cluster_.Start(kServer, NodeRole::kServer, &store_);
-    cluster_.Start(kA, NodeRole::kNode);
-    cluster_.Start(kB, NodeRole::kNode);
-    cluster_.Run(1000);
-  }
-  Replica& A() { return cluster_.at(kA); }
-  Replica& B() { return cluster_.at(kB); }
-  Replica& S() { return cluster_.at(kServer); }
-
-  MemoryChangeStore store_;
-  SimCluster cluster_;
+  ReplicaTest() : ServerAndTwoNodes(1, Defaults()) {}
 };
 
 TEST_F(ReplicaTest, ACreatedFeatureReachesEveryReplica) {

@@ -1,7 +1,12 @@
 // The addresses and protocol timing the replica tests share: a server, a standby and two nodes.
 #pragma once
 
+#include <cstdint>
+
+#include "engine/id_reservation.h"
+#include "engine/memory_change_store.h"
 #include "engine/replica.h"
+#include "engine/test/sim_cluster.h"
 
 namespace dt::testing {
 
@@ -19,5 +24,28 @@ inline ReplicaConfig TestReplicaConfig() {
   c.playback_window = 64;
   return c;
 }
+
+// The ground the replica tests share: 33 x 33 posts 4 m apart, relief 10 m.
+inline HeightGrid TestGround() { return HeightGrid(33, 4.0, 10.0f); }
+
+// A server and nodes A and B on one SimCluster, started and given 1 s of virtual time to sign
+// on; the base of the replica test fixtures. `ids_a`: A's feature number reservation, if any.
+class ServerAndTwoNodes {
+ public:
+  ServerAndTwoNodes(uint64_t seed, const ReplicaConfig& config, IdReservation* ids_a = nullptr)
+      : cluster_(seed, TestGround(), config) {
+    cluster_.Start(kTestServer, NodeRole::kServer, &store_);
+    cluster_.Start(kTestA, NodeRole::kNode, nullptr, ids_a);
+    cluster_.Start(kTestB, NodeRole::kNode);
+    cluster_.Run(1000);
+  }
+  Replica& A() { return cluster_.at(kTestA); }
+  Replica& B() { return cluster_.at(kTestB); }
+  Replica& S() { return cluster_.at(kTestServer); }
+
+ protected:
+  MemoryChangeStore store_;
+  SimCluster cluster_;
+};
 
 }  // namespace dt::testing

@@ -15,6 +15,7 @@
 #include "pdu/bench/raw_lcm_link.h"
 #include "pdu/pdu_traits.h"
 #include "pdu/test/private_netns.h"
+#include "server/bench/latency_stats.h"
 #include "server/bench/lcm_cluster.h"
 
 namespace dt {
@@ -33,12 +34,7 @@ const NodeAddress kA{1, 1}, kB{1, 2}, kServer{1, 100};
 // acknowledges every 500 ms, so the sustained rate is at most 256 / 0.5 s = 512 features/s.
 ReplicaConfig Defaults() { return ReplicaConfig{}; }
 
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  const auto k = static_cast<size_t>(p * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
+using bench::Percentile;
 
 // A server (changes in memory), node A and node B, signed on, and a tap on B's bus that runs
 // right after B's replica has handled each Construct: the moment the feature is applied on B.
@@ -353,16 +349,7 @@ void BM_LatencyAuthVsPlain(benchmark::State& state, std::string plain_url, std::
     }
     state.SetIterationTime(static_cast<double>(ns) / 1e9);
   }
-  const double plain_p50 = Percentile(plain.latencies_us(), 0.50);
-  const double auth_p50 = Percentile(authed.latencies_us(), 0.50);
-  const double plain_p99 = Percentile(plain.latencies_us(), 0.99);
-  const double auth_p99 = Percentile(authed.latencies_us(), 0.99);
-  state.counters["plain_p50_us"] = plain_p50;
-  state.counters["auth_p50_us"] = auth_p50;
-  state.counters["plain_p99_us"] = plain_p99;
-  state.counters["auth_p99_us"] = auth_p99;
-  state.counters["ratio_p50"] = plain_p50 / auth_p50;
-  state.counters["ratio_p99"] = plain_p99 / auth_p99;
+  bench::ReportAuthLatencyRatios(state, plain.latencies_us(), authed.latencies_us());
   const PduBus& b = authed.cluster().bus(kB);
   if (b.authenticator() == nullptr || b.rejects().total() != 0) {
     state.SkipWithError("the authenticated exercise is not authenticating, or rejected PDUs");

@@ -14,6 +14,7 @@
 #include "pdu/bench/bench_main.h"
 #include "pdu/bench/raw_lcm_link.h"
 #include "pdu/test/private_netns.h"
+#include "server/bench/latency_stats.h"
 #include "server/bench/lcm_cluster.h"
 #include "server/bench/replica_thread.h"
 
@@ -273,13 +274,6 @@ void BM_NodeToNodeThreadsAuthVsPlain(benchmark::State& state) {
   if (!plain.Complete() || !authed.Complete()) state.SkipWithError("B does not hold every feature");
 }
 
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  const auto k = static_cast<size_t>(p * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
-
 // Latency authenticated against unauthenticated with one thread per replica, same run,
 // interleaved: the two exercises above; per iteration one crater from A to B in each (the order
 // alternating), timed from before it is handed to A's thread until B's thread has applied it.
@@ -319,14 +313,7 @@ void BM_LatencyThreadsAuthVsPlain(benchmark::State& state) {
     auth_us.push_back(static_cast<double>(a) / 1000.0);
     state.SetIterationTime(static_cast<double>(p + a) / 1e9);
   }
-  const double plain_p50 = Percentile(plain_us, 0.5), auth_p50 = Percentile(auth_us, 0.5);
-  const double plain_p99 = Percentile(plain_us, 0.99), auth_p99 = Percentile(auth_us, 0.99);
-  state.counters["plain_p50_us"] = plain_p50;
-  state.counters["auth_p50_us"] = auth_p50;
-  state.counters["plain_p99_us"] = plain_p99;
-  state.counters["auth_p99_us"] = auth_p99;
-  state.counters["ratio_p50"] = plain_p50 / auth_p50;
-  state.counters["ratio_p99"] = plain_p99 / auth_p99;
+  bench::ReportAuthLatencyRatios(state, plain_us, auth_us);
   if (!plain.Complete() || !authed.Complete()) state.SkipWithError("B does not hold every feature");
 }
 

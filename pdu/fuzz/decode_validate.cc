@@ -4,6 +4,7 @@
 #include <span>
 
 #include "pdu/conversion.h"
+#include "pdu/pdu_auth.h"
 #include "pdu/validation.h"
 
 namespace dt::fuzz {
@@ -26,12 +27,8 @@ bool One(std::span<const uint8_t> bytes) {
   return true;
 }
 
-}  // namespace
-
-bool DecodeValidateOne(const uint8_t* data, size_t size) {
-  if (size == 0) return false;
-  const std::span<const uint8_t> bytes(data + 1, size - 1);
-  switch (data[0] % 6) {
+bool DecodeAs(uint8_t selector, std::span<const uint8_t> bytes) {
+  switch (selector % 6) {
     case 0:
       return One<dtpdu::construct_t>(bytes);
     case 1:
@@ -45,6 +42,25 @@ bool DecodeValidateOne(const uint8_t* data, size_t size) {
     default:
       return One<dtpdu::anti_entropy_t>(bytes);
   }
+}
+
+}  // namespace
+
+std::vector<uint8_t> FuzzKey() { return std::vector<uint8_t>(32, 0x42); }
+
+bool DecodeValidateOne(const uint8_t* data, size_t size) {
+  if (size == 0) return false;
+  const std::span<const uint8_t> bytes(data + 1, size - 1);
+  if ((data[0] / 6) % 2 == 0) return DecodeAs(data[0], bytes);
+  static const auto key = std::make_shared<const ExerciseKey>(FuzzKey());
+  // A fresh receiver per input, so its replay window never makes one input depend on another.
+  PduAuthenticator receiver(
+      {9, 9}, PduAuthConfig{.key = key, .wall_clock_ms = [] { return kFuzzClockMs; }});
+  std::span<const uint8_t> pdu;
+  if (receiver.Verify(bytes, pdu)) return false;
+  // What Verify lets through lies inside the input and ends before the trailer.
+  if (pdu.data() != bytes.data() || pdu.size() >= bytes.size()) std::abort();
+  return DecodeAs(data[0], pdu);
 }
 
 }  // namespace dt::fuzz

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "pdu/fuzz/decode_validate.h"
+#include "pdu/pdu_auth.h"
 #include "pdu/test/sample_pdus.h"
 
 namespace {
@@ -58,6 +60,24 @@ int main(int argc, char** argv) {
   Family(dir, "playback", 4, sample::Playback());
   Family(dir, "antientropy", 5, sample::AntiEntropySummary());
   Family(dir, "antientropy_hashes", 5, sample::AntiEntropyHashes());
+  // Signed by the samples' sender with the fuzz key and clock (selector + 6: authenticated).
+  auto key = std::make_shared<const ExerciseKey>(fuzz::FuzzKey());
+  PduAuthenticator signer({1, 2}, PduAuthConfig{.key = key,
+                                                .wall_clock_ms = [] { return fuzz::kFuzzClockMs; },
+                                                .incarnation = 1});
+  auto signed_pdu = [&](std::vector<uint8_t> bytes) {
+    signer.Sign(bytes);
+    return bytes;
+  };
+  Write(dir, "signed_construct_valid", 6, signed_pdu(EncodePdu(sample::Construct())));
+  Write(dir, "signed_update_valid", 7, signed_pdu(EncodePdu(sample::Update())));
+  Write(dir, "signed_maxfeature_valid", 9, signed_pdu(EncodePdu(sample::MaxFeature())));
+  auto forged = signed_pdu(EncodePdu(sample::Destruct()));
+  forged[forged.size() - 1] ^= 0x01;  // the MAC's last byte
+  Write(dir, "signed_destruct_bad_mac", 8, forged);
+  auto old_magic = signed_pdu(EncodePdu(sample::Playback()));
+  old_magic[EncodePdu(sample::Playback()).size() + 3] = '1';  // DTA1: the HMAC trailer
+  Write(dir, "signed_playback_old_trailer", 10, old_magic);
   Family(dir, "antientropy_copies", 5, sample::AntiEntropyCopies());
 
   auto c = sample::Construct();

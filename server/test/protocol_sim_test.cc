@@ -5,6 +5,7 @@
 //   DT_SIM_SEEDS=<n>       seeds to run (default 1000), starting at DT_SIM_FIRST_SEED (default 1)
 //   DT_SIM_SEED=<s>        run only seed s (reproduces a failure exactly)
 //   DT_SIM_TRACE=1         print the schedule's events; DT_SIM_LOG=info the replicas' log lines
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -55,6 +56,8 @@ class SimRun {
 
   // "" when the guarantee holds, otherwise what failed.
   std::string Run();
+  // Virtual time the run covered (printed with the wall time, to size long runs).
+  int64_t simulated_ms() const { return cluster_ != nullptr ? cluster_->now_ms() : 0; }
 
  private:
   uint64_t Next(uint64_t n) { return rng_() % n; }
@@ -705,11 +708,15 @@ TEST(ProtocolSimTest, TheGuaranteeHoldsForEverySeed) {
                    fmt::format("dt_protocol_sim_{}", static_cast<long>(::getpid()));
   int failures = 0;
   int64_t sqlite_seeds = 0;
+  int64_t simulated_ms = 0;
+  const auto wall_start = std::chrono::steady_clock::now();
   for (int64_t seed = first; seed < first + count; ++seed) {
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     sqlite_seeds += seed % 10 == 3 ? 1 : 0;
-    const std::string failure = SimRun(static_cast<uint64_t>(seed), dir).Run();
+    SimRun run(static_cast<uint64_t>(seed), dir);
+    const std::string failure = run.Run();
+    simulated_ms += run.simulated_ms();
     if (!failure.empty()) {
       ++failures;
       ADD_FAILURE() << "seed " << seed << ": " << failure << "\n  reproduce: DT_SIM_SEED=" << seed
@@ -718,11 +725,19 @@ TEST(ProtocolSimTest, TheGuaranteeHoldsForEverySeed) {
       if (failures >= 10) break;
     }
   }
+  const double wall_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start)
+          .count();
   std::filesystem::remove_all(dir);
   RecordProperty("seeds", static_cast<int>(count));
   std::printf("%lld seeds from %lld (%lld with SQLite files): %d failed\n",
               static_cast<long long>(count), static_cast<long long>(first),
               static_cast<long long>(sqlite_seeds), failures);
+  // A figure, not a check: how long runs of many seeds take (docs/performance.md).
+  std::printf("simulated %.1f s in %.1f s wall (%.0fx real time), %.1f ms wall per seed\n",
+              static_cast<double>(simulated_ms) / 1000.0, wall_ms / 1000.0,
+              wall_ms > 0 ? static_cast<double>(simulated_ms) / wall_ms : 0.0,
+              count > 0 ? wall_ms / static_cast<double>(count) : 0.0);
 }
 
 }  // namespace

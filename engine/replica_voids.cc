@@ -100,17 +100,11 @@ void Replica::GiveUpOnGoneAuthors() {
     const auto candidates = Candidates(author);
     if (!candidates.empty() && scheduler_.attempts(author) <= 3 * candidates.size()) continue;
     if (HeldByLiveServer(log, start)) continue;
-    // One replica gives up, so the slot gets one void: the slot's authority among the live
-    // replicas (a server, else a standby, else the lowest address). Two that see liveness
-    // differently may both void it; anti-entropy then keeps the authority's copy.
-    std::vector<SlotHolder> live{{config_.address, config_.role}};
-    for (const auto& [addr, p] : peers_) {
-      if (addr != config_.address && !IsSilent(addr)) live.push_back({addr, p.role});
-    }
-    if (SlotAuthority(author, live) != config_.address) continue;
     if (start > log.max_held()) {
       // Only claims say these exist, and no claimant sent them when asked: drop the claims
-      // rather than fill slots no one is known to have used.
+      // rather than fill slots no one is known to have used. Any replica may: it decides
+      // nothing for the others (a claim can outlive what backed it, e.g. a peer restarted
+      // without state within silence_ms).
       DT_LOG_WARN(
           "replica {}: changes {}..{} of {} were claimed but never sent by any live replica, and "
           "{} has been silent for {} ms; the claims are dropped",
@@ -120,6 +114,14 @@ void Replica::GiveUpOnGoneAuthors() {
       gap_stuck_.erase(it);
       continue;
     }
+    // One replica gives up, so the slot gets one void: the slot's authority among the live
+    // replicas (a server, else a standby, else the lowest address). Two that see liveness
+    // differently may both void it; anti-entropy then keeps the authority's copy.
+    std::vector<SlotHolder> live{{config_.address, config_.role}};
+    for (const auto& [addr, p] : peers_) {
+      if (addr != config_.address && !IsSilent(addr)) live.push_back({addr, p.role});
+    }
+    if (SlotAuthority(author, live) != config_.address) continue;
     end = std::min(end, start + int64_t{config_.playback_window} - 1);
     if (!CanVoid(start, end)) continue;
     DT_LOG_WARN(

@@ -577,7 +577,21 @@ std::string SimRun::Check() {
           logs += fmt::format(" {}:[{} of {}", author.ToString(), l->contiguous(), l->max_known());
           for (const auto& [by, seq] : l->reports())
             logs += fmt::format(" {}says{}", by.ToString(), seq);
+          for (const auto& [by, seq] : l->held_by())
+            logs += fmt::format(" {}holds{}", by.ToString(), seq);
+          if (l->max_held() > 0) logs += fmt::format(" held{}", l->max_held());
           logs += "]";
+        }
+      }
+      if (trace_) {
+        for (NodeAddress x : cluster_->live()) {
+          if (const ChangeLog* g = cluster_->at(x).log(kGhost)) {
+            std::printf("%s's log of the gone author: %lld of %lld, held %lld, gave_up %llu\n",
+                        x.ToString().c_str(), static_cast<long long>(g->contiguous()),
+                        static_cast<long long>(g->max_known()),
+                        static_cast<long long>(g->max_held()),
+                        static_cast<unsigned long long>(cluster_->at(x).counters().gave_up));
+          }
         }
       }
       return fmt::format("{} is not caught up after healing:{}", a.ToString(), logs);

@@ -136,6 +136,9 @@ class PhysicalVehicle {
   double spring_n_per_m_ = 0.0;               // per contact
   double damper_n_s_per_m_ = 0.0;             // per contact
   int gear_count_ = 0;
+  int per_side_ = 0;                // gear points per side; as many belly centre-line points
+  double grid_step_ahead_m_ = 0.0;  // belly grid spacing
+  double grid_step_left_m_ = 0.0;
   size_t always_count_ = 0;  // the running gear; the belly (centre line, then grid) follows
 
   Eigen::Vector3d x_;

@@ -609,8 +609,25 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
                         type_.StaticPitchLimitRad() * 180.0 / std::numbers::pi,
                         type_.StaticRollLimitRad() * 180.0 / std::numbers::pi),
             report);
-    frozen_ = true;
+    // The wreck stays where it came to lie: once it rests on something (a contact touched in
+    // this step, or a hull corner is down at the ground). One that tips in the air falls on.
+    if (count > 0 || HullCornerAtGround(terrain)) frozen_ = true;
   }
+}
+
+bool PhysicalVehicle::HullCornerAtGround(const Terrain& terrain) const {
+  const double L = type_.base.length_m / 2.0, W = type_.base.width_m / 2.0;
+  const double lo = -type_.cg_height_m, hi = type_.hull_height_m - type_.cg_height_m;
+  const Matrix3d r = q_.toRotationMatrix();
+  for (const double a : {-L, L}) {
+    for (const double l : {-W, W}) {
+      for (const double u : {lo, hi}) {
+        const Vector3d p = x_ + r * Vector3d(a, u, l);
+        if (p.y() <= terrain.ElevationAt(p.x(), p.z())) return true;
+      }
+    }
+  }
+  return false;
 }
 
 bool PhysicalVehicle::NearRampFoot(const Terrain& terrain, FeatureId id) const {

@@ -122,6 +122,8 @@ class PhysicalVehicle {
             PhysicalReport& report);
   void ResolveHull(std::span<const Solid> solids, PhysicalReport& report);
   bool OnTerrain(const Terrain& terrain) const;
+  // True if a corner of the box from the gear's bottom to the roof is at or below the ground.
+  bool HullCornerAtGround(const Terrain& terrain) const;
   Status CheckClearOfSolids(const Terrain& terrain) const;
   // True if the deck last carried the gear within half a hot spot of one of the bridge's ramp
   // feet: leaving it there is driving off, elsewhere falling off.

@@ -8,7 +8,7 @@
 #include "log/log.h"
 #include "runtime/control_command.h"
 #include "terrain/random_terrain.h"
-#include "terrain/vehicle_traversal.h"
+#include "vehicle/physical_type.h"
 
 namespace dt {
 
@@ -30,13 +30,17 @@ NodeApp::NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process)
   if (!replica_->load_status()) throw std::runtime_error(replica_->load_status().error().message);
   for (size_t i = 0; i < process.vehicles.size(); ++i) {
     const VehicleConfig& vc = process.vehicles[i];
-    Result<Vehicle> v = Vehicle::Make(BuiltInVehicleType(vc.type).value(), vc.x_m, vc.z_m,
-                                      vc.heading_rad, exercise.terrain_size_m());
-    if (!v) {
-      throw std::invalid_argument(fmt::format("{}: {} vehicle {}: {}", exercise.source.string(),
-                                              process.name, i, v.error().message));
-    }
-    (void)SettleVehicle(replica_->terrain(), v.value());
+    auto fail = [&](const std::string& message) {
+      return std::invalid_argument(
+          fmt::format("{}: {} vehicle {}: {}", exercise.source.string(), process.name, i, message));
+    };
+    Result<PhysicalVehicleType> type = BuiltInPhysicalType(vc.type, *exercise.friction);
+    if (!type) throw fail(type.error().message);
+    Result<SimulatedVehicle> v = SimulatedVehicle::Make(type.value(), replica_->terrain(), vc.x_m,
+                                                        vc.z_m, vc.heading_rad, vc.model);
+    if (!v) throw fail(v.error().message);
+    DT_LOG_INFO("vehicle {}: a {} at ({:.1f}, {:.1f}) moved by the {} model", i, vc.type, vc.x_m,
+                vc.z_m, VehicleModelName(vc.model));
     vehicles_.push_back(std::move(v).value());
   }
 }
@@ -49,9 +53,27 @@ void NodeApp::Start(int64_t now_ms) {
 
 void NodeApp::Tick(int64_t now_ms, double dt_s) {
   replica_->Tick(now_ms);
-  for (Vehicle& v : vehicles_) {
-    Result<TraversalReport> r = DriveVehicle(replica_->terrain(), v, dt_s);
-    if (r && r.value().died) DT_LOG_WARN("a {} died falling off a bridge", v.type().name);
+  for (size_t i = 0; i < vehicles_.size(); ++i) {
+    SimulatedVehicle& v = vehicles_[i];
+    Result<VehicleEvents> r = v.Advance(replica_->terrain(), dt_s);
+    if (!r) {
+      DT_LOG_WARN("vehicle {} ({}): {}", i, v.type_name(), r.error().message);
+      continue;
+    }
+    const VehicleEvents& e = r.value();
+    if (e.mounted.number != 0) {
+      DT_LOG_INFO("vehicle {} ({}) got on bridge {}", i, v.type_name(), e.mounted.ToString());
+    }
+    if (e.drove_off.number != 0) {
+      DT_LOG_INFO("vehicle {} ({}) drove off bridge {}", i, v.type_name(), e.drove_off.ToString());
+    }
+    if (e.fell_off.number != 0) {
+      DT_LOG_WARN("vehicle {} ({}) fell off bridge {}", i, v.type_name(), e.fell_off.ToString());
+    }
+    if (e.died)
+      DT_LOG_WARN("vehicle {} ({}) destroyed: {}", i, v.type_name(), e.cause);
+    else if (!e.cause.empty())
+      DT_LOG_WARN("vehicle {} ({}) {}", i, v.type_name(), e.cause);
   }
   if (!was_ready_) {
     if (ready()) {
@@ -123,9 +145,9 @@ Result<AppliedDrive> NodeApp::Drive(int index, double speed_mps, double heading_
     return Error{
         fmt::format("vehicle {} does not exist (this node has {})", index, vehicle_count())};
   }
-  Vehicle& v = vehicles_[static_cast<size_t>(index)];
+  SimulatedVehicle& v = vehicles_[static_cast<size_t>(index)];
   if (Status s = v.Command(speed_mps, heading_rate_rad_s); !s) return s.error();
-  return AppliedDrive{v.type().name, v.speed_mps(), v.heading_rate_rad_s()};
+  return AppliedDrive{v.type_name(), v.commanded_speed_mps(), v.commanded_rate_rad_s()};
 }
 
 }  // namespace dt

@@ -13,20 +13,22 @@
 #include "runtime/id_reservation_file.h"
 #include "runtime/node_actions.h"
 #include "runtime/process_runtime.h"
-#include "terrain/vehicle.h"
+#include "vehicle/simulated_vehicle.h"
 
 namespace dt {
 
 class NodeApp final : public NodeActions {
  public:
   // Loads the scenario (a bad one throws std::invalid_argument before anything runs), builds the
-  // ground, the transport, the replica and the vehicles. Throws std::invalid_argument for a bad
-  // vehicle placement.
+  // ground, the transport, the replica and the vehicles (each moved by the model its config names,
+  // gripping by the exercise's friction table). Throws std::invalid_argument for a bad vehicle
+  // placement.
   NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process);
 
   // Signs on; the scenario starts once the node is ready (signed on and caught up).
   void Start(int64_t now_ms);
-  // One loop tick: protocol timers, vehicles, scenario. dt_s is the simulated time step.
+  // One loop tick: protocol timers, vehicles (their events logged), scenario. dt_s is the
+  // simulated time step.
   void Tick(int64_t now_ms, double dt_s);
   // Receives PDUs for up to timeout_ms.
   void Receive(int timeout_ms);
@@ -37,6 +39,7 @@ class NodeApp final : public NodeActions {
   bool ready() const { return replica_->signed_on() && replica_->caught_up(); }
   bool quit_requested() const { return quit_; }
   const Replica& replica() const { return *replica_; }
+  const std::vector<SimulatedVehicle>& vehicles() const { return vehicles_; }
 
   // NodeActions.
   Result<FeatureId> Create(const FeatureParams& params) override;
@@ -55,7 +58,7 @@ class NodeApp final : public NodeActions {
   ProcessTransport transport_;
   std::unique_ptr<IdReservationFile> ids_;  // outlives the replica
   std::unique_ptr<Replica> replica_;
-  std::vector<Vehicle> vehicles_;
+  std::vector<SimulatedVehicle> vehicles_;
   CatchUpProgress progress_;
   int64_t sign_on_ms_ = 0;
   int64_t scenario_start_ms_ = -1;

@@ -12,6 +12,7 @@
 #include "runtime/toml_reader.h"
 #include "terrain/height_grid.h"
 #include "terrain/vehicle_type.h"
+#include "vehicle/shipped_friction.h"
 
 namespace dt {
 namespace {
@@ -29,6 +30,10 @@ VehicleConfig ReadVehicle(const TomlReader& r) {
   v.x_m = r.Double("x_m", 0.0, 1e9);
   v.z_m = r.Double("z_m", 0.0, 1e9);
   v.heading_rad = r.Double("heading_deg", 0.0, -360.0, 360.0) * kDegToRad;
+  const std::string model = r.String("model", "physical");
+  const std::optional<VehicleModel> m = ParseVehicleModel(model);
+  if (!m) r.Fail("model", "expected \"physical\" or \"light\"");
+  v.model = *m;
   r.Finish();
   return v;
 }
@@ -45,7 +50,8 @@ ProcessConfig ReadProcess(const TomlReader& r, const std::filesystem::path& base
   if (is_node) {
     const std::string scenario = r.String("scenario", "");
     if (!scenario.empty()) p.scenario = std::filesystem::absolute(base_dir / scenario);
-    for (const TomlReader& v : r.TableArray("vehicle", {"type", "x_m", "z_m", "heading_deg"})) {
+    for (const TomlReader& v :
+         r.TableArray("vehicle", {"type", "x_m", "z_m", "heading_deg", "model"})) {
       VehicleConfig vc = ReadVehicle(v);
       if (vc.x_m > terrain_size_m || vc.z_m > terrain_size_m) {
         v.Fail("x_m", fmt::format("vehicle at ({}, {}) is off the {} m terrain", vc.x_m, vc.z_m,
@@ -135,7 +141,8 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   ExerciseConfig c;
   c.source = std::string(source_name);
 
-  const TomlReader ex = top.Table("exercise", {"name", "id", "transport", "run_dir", "tick_hz"});
+  const TomlReader ex =
+      top.Table("exercise", {"name", "id", "transport", "run_dir", "tick_hz", "friction_file"});
   c.name = ex.String("name");
   c.exercise_id = static_cast<uint8_t>(ex.Int("id", 1, 0, 255));
   c.transport_url = ex.String("transport", std::string(kDefaultTransportUrl));
@@ -144,6 +151,8 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   }
   c.run_dir = std::filesystem::absolute(ex.String("run_dir", "run/" + c.name));
   c.tick_hz = static_cast<int>(ex.Int("tick_hz", 30, 1, 1000));
+  // Read below, once base_dir is known.
+  const std::string friction_file = ex.String("friction_file", "");
   ex.Finish();
 
   const TomlReader t = top.Table("terrain", {"posts_per_side", "spacing_m", "relief_m", "seed"});
@@ -183,6 +192,17 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   const std::filesystem::path base =
       base_dir.empty() ? std::filesystem::current_path() : std::filesystem::absolute(base_dir);
   c.auth = ReadAuth(top, base);
+  if (friction_file.empty()) {
+    c.friction =
+        std::shared_ptr<const FrictionTable>(&ShippedFrictionTable(), [](const FrictionTable*) {});
+  } else {
+    c.friction_file = std::filesystem::absolute(base / friction_file).lexically_normal();
+    try {
+      c.friction = std::make_shared<const FrictionTable>(FrictionTable::LoadFile(c.friction_file));
+    } catch (const std::invalid_argument& e) {
+      ex.Fail("friction_file", e.what());
+    }
+  }
 
   if (auto f = top.OptionalTable("faults", {"drop_probability", "duplicate_probability",
                                             "reorder_probability", "reorder_window", "seed"})) {

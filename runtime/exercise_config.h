@@ -13,7 +13,9 @@
 #include "pdu/exercise_key.h"
 #include "pdu/fault_model.h"
 #include "terrain/feature_id.h"
+#include "terrain/friction_table.h"
 #include "terrain/random_terrain.h"
+#include "vehicle/simulated_vehicle.h"
 
 namespace dt {
 
@@ -23,6 +25,7 @@ struct VehicleConfig {
   double x_m = 0.0;
   double z_m = 0.0;
   double heading_rad = 0.0;
+  VehicleModel model = VehicleModel::kPhysical;  // docs/vehicles.md "Choosing the model"
 };
 
 // One process of the exercise: the server, the standby or a node.
@@ -59,6 +62,10 @@ struct ExerciseConfig {
   std::string transport_url;      // pdu/transport.h MakeTransport
   std::filesystem::path run_dir;  // sockets, databases, renders (absolute)
   int tick_hz = 30;
+  // The friction table vehicles grip by: [exercise] friction_file, read at load, or the built-in
+  // configs/friction.toml when the file names none (friction_file then empty). Never null.
+  std::filesystem::path friction_file;
+  std::shared_ptr<const FrictionTable> friction;
   RandomTerrainParams terrain;
   ProtocolTiming protocol;
   AuthSettings auth;
@@ -86,8 +93,8 @@ struct ExerciseConfig {
 // std::invalid_argument naming `source_name`, the key and the offending value for a syntax
 // error, a missing or mistyped key, a value out of range, an unknown key, duplicate process names
 // or addresses, a missing [server] (unless [protocol] require_server = false) or a [server] or
-// [standby] in an exercise without a server, a missing [auth] table, or a key file that cannot be
-// read or is too short (the message names its path and length).
+// [standby] in an exercise without a server, a missing [auth] table, a key file that cannot be
+// read or is too short (the message names its path and length), or a bad friction file.
 ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,
                                    const std::filesystem::path& base_dir);
 

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 
 #include <fmt/format.h>
 
@@ -14,7 +15,7 @@
 #include "render/camera.h"
 #include "render/png_io.h"
 #include "render/renderer.h"
-#include "render/vehicle_sprite.h"
+#include "runtime/simulated_vehicle_sprite.h"
 
 namespace dt {
 namespace {
@@ -109,7 +110,8 @@ int64_t MonotonicMs() {
 }
 
 std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
-                       const ProcessTransport& transport, const std::vector<Vehicle>& vehicles) {
+                       const ProcessTransport& transport,
+                       const std::vector<SimulatedVehicle>& vehicles) {
   const Replica::Counters c = replica.counters();
   const RetryingTransport::Counters w = transport.retrying->counters();
   std::string s = fmt::format(
@@ -150,24 +152,26 @@ std::string StatusText(const std::string& name, NodeRole role, const Replica& re
                      d.since_ms);
   }
   for (size_t i = 0; i < vehicles.size(); ++i) {
-    const Vehicle& v = vehicles[i];
+    const SimulatedVehicle& v = vehicles[i];
+    const VehiclePose p = v.pose();
     s += fmt::format(
         "\nvehicle {} {} x_m={:.2f} z_m={:.2f} y_m={:.2f} heading_rad={:.3f} "
-        "speed_mps={:.2f} on_bridge={} alive={}",
-        i, v.type().name, v.x_m(), v.z_m(), v.elevation_m(), v.heading_rad(), v.speed_mps(),
-        v.on_bridge() ? v.bridge().ToString() : "-", v.alive() ? 1 : 0);
+        "speed_mps={:.2f} on_bridge={} alive={} model={} damage={}",
+        i, v.type_name(), p.x_m, p.z_m, p.elevation_m, p.heading_rad, p.speed_mps,
+        v.bridge().number != 0 ? v.bridge().ToString() : "-", v.alive() ? 1 : 0,
+        VehicleModelName(v.model()), v.damage_name());
   }
   return s;
 }
 
-Status RenderMapPng(const Terrain& terrain, const std::vector<Vehicle>& vehicles,
+Status RenderMapPng(const Terrain& terrain, const std::vector<SimulatedVehicle>& vehicles,
                     const std::string& path) {
   try {
     static Renderer* renderer = new Renderer();  // one OSMesa context for the process's life
     const double size_m = terrain.ground().size_m();
     const Camera camera = Camera::MapOf(Rect{0.0, 0.0, size_m, size_m}, 512);
     std::vector<VehicleSprite> sprites;
-    for (const Vehicle& v : vehicles) sprites.push_back(SpriteOf(v));
+    for (const SimulatedVehicle& v : vehicles) sprites.push_back(SpriteOf(v));
     RenderOptions options;
     options.grid_spacing_m = 0.0;
     return WritePng(renderer->Render(terrain, sprites, camera, options), path);
@@ -179,7 +183,7 @@ Status RenderMapPng(const Terrain& terrain, const std::vector<Vehicle>& vehicles
 std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
                                                 const std::string& name, NodeRole role,
                                                 const Replica& replica, ProcessTransport& transport,
-                                                const std::vector<Vehicle>& vehicles) {
+                                                const std::vector<SimulatedVehicle>& vehicles) {
   FaultyTransport& faults = *transport.faults;
   switch (command.verb) {
     case ControlVerb::kPing:
@@ -221,6 +225,19 @@ std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
     default:
       return std::nullopt;
   }
+}
+
+std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
+                                                const std::string& name, NodeRole role,
+                                                const Replica& replica, ProcessTransport& transport,
+                                                const std::vector<Vehicle>& no_vehicles) {
+  if (!no_vehicles.empty()) {
+    DT_LOG_ERROR("AnswerCommonCommand: {} kinematic vehicles given; nodes pass SimulatedVehicle",
+                 no_vehicles.size());
+    std::abort();
+  }
+  static const std::vector<SimulatedVehicle> kNone;
+  return AnswerCommonCommand(command, name, role, replica, transport, kNone);
 }
 
 CatchUpProgress::CatchUpProgress() : tty_(isatty(STDOUT_FILENO) == 1) {}

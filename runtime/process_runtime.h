@@ -16,6 +16,7 @@
 #include "runtime/control_server.h"
 #include "runtime/exercise_config.h"
 #include "terrain/vehicle.h"
+#include "vehicle/simulated_vehicle.h"
 
 namespace dt {
 
@@ -64,18 +65,25 @@ int64_t MonotonicMs();
 // reason, authenticated, auth_senders, max_feature per origin, divergences, vehicles
 // (docs/node.md "status").
 std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
-                       const ProcessTransport& transport, const std::vector<Vehicle>& vehicles);
+                       const ProcessTransport& transport,
+                       const std::vector<SimulatedVehicle>& vehicles);
 
 // Answers status, digest, features, render, loss, partition, heal and ping; nullopt for the
 // others (feature commands, quit), which the process handles itself.
 std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
                                                 const std::string& name, NodeRole role,
                                                 const Replica& replica, ProcessTransport& transport,
-                                                const std::vector<Vehicle>& vehicles);
+                                                const std::vector<SimulatedVehicle>& vehicles);
+// The same for a process that drives no vehicles (the server), which names its empty list in
+// terrain's kinematic type: aborts if the list is not empty.
+std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
+                                                const std::string& name, NodeRole role,
+                                                const Replica& replica, ProcessTransport& transport,
+                                                const std::vector<Vehicle>& no_vehicles);
 
 // Renders the terrain and vehicles as a 512-pixel map PNG. Error if the file cannot be written
 // or no renderer can be made.
-Status RenderMapPng(const Terrain& terrain, const std::vector<Vehicle>& vehicles,
+Status RenderMapPng(const Terrain& terrain, const std::vector<SimulatedVehicle>& vehicles,
                     const std::string& path);
 
 // Reports a long catch-up: a rewritten line on a terminal, a log line every few seconds

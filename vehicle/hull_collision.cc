@@ -48,6 +48,7 @@ HullPenetration DeepestPenetration(std::span<const Eigen::Vector3d> points,
         best.depth_m = pick->depth;
         best.normal = pick->dir;
         best.push_m = pick->dir * pick->depth;
+        best.point_m = p;
         best.bridge = s.bridge;
       }
     }

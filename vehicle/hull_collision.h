@@ -12,8 +12,9 @@ namespace dt {
 
 struct HullPenetration {
   bool hit = false;
-  Eigen::Vector3d push_m = Eigen::Vector3d::Zero();  // translation that takes the point out
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit direction of push_m
+  Eigen::Vector3d push_m = Eigen::Vector3d::Zero();   // translation that takes the point out
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();   // unit direction of push_m
+  Eigen::Vector3d point_m = Eigen::Vector3d::Zero();  // the deepest point (world)
   double depth_m = 0.0;
   FeatureId bridge;
 };

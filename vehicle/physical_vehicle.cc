@@ -28,6 +28,11 @@ constexpr int kLeaveDeckSteps = 20;
 constexpr int kFallLatchSteps = 200;
 // Belly grid points are at most this far apart.
 constexpr double kBellyGridSpacingM = 0.5;
+// A belly grid point this close to the surface also samples half-way to its neighbours: a crease
+// of an earthwork (a crater ring, a berm's top edge) between two grid points can rise above the
+// line joining them by a quarter of the spacing times the slopes' sum, more than the 0.1 m the
+// hull may enter on a tilted hull; half-way points bring that under 0.04 m.
+constexpr double kBellyRefineGapM = 0.1;
 // Hull perimeter points are at most this far apart.
 constexpr double kHullSampleSpacingM = 0.5;
 // Contacts per side of a tracked vehicle: one every this many metres of track, at least three.
@@ -79,6 +84,7 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
     }
   }
   gear_count_ = static_cast<int>(contacts_.size());
+  per_side_ = per_side;
   always_count_ = contacts_.size();
   for (int k = 0; k < per_side; ++k) {
     const double ahead = L / 2.0 - L * k / (per_side - 1);
@@ -89,6 +95,8 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
   // spacing cannot rise into the hull between contacts.
   const int ga = std::max(2, static_cast<int>(std::ceil(L / kBellyGridSpacingM)) + 1);
   const int gl = std::max(3, static_cast<int>(std::ceil(W / kBellyGridSpacingM)) + 1);
+  grid_step_ahead_m_ = L / (ga - 1);
+  grid_step_left_m_ = W / (gl - 1);
   for (int i = 0; i < ga; ++i) {
     for (int j = 0; j < gl; ++j) {
       const double left = -W / 2.0 + W * j / (gl - 1);
@@ -315,9 +323,9 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
     double normal_n;
     const SoilGrip* grip;
     bool gear;
-    size_t index;
+    Vector3d body;  // the contact's point, body frame
   };
-  std::array<Touch, 256> touches;
+  std::array<Touch, 512> touches;
   size_t count = 0;
   Vector3d F(0.0, -kGravityMps2 * m, 0.0), tau = Vector3d::Zero();
   double total_n = 0.0;
@@ -375,7 +383,53 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
                         normal_n,
                         &type_.grip[static_cast<size_t>(s.material)],
                         c.gear,
-                        k};
+                        c.body};
+  }
+  // Half-way points of the belly grid near the surface (kBellyRefineGapM): each edge of the grid
+  // once, owned by the point towards +ahead / +left unless that neighbour is not near.
+  if (sampled > always_count_) {
+    const double L2 = type_.base.length_m / 2.0 + 1e-9, W2 = type_.base.width_m / 2.0 + 1e-9;
+    auto near = [&](const Vector3d& body) {
+      const Vector3d p = x_ + R * body;
+      return terrain.ElevationAt(p.x(), p.z()) > p.y() - kBellyRefineGapM;
+    };
+    auto is_grid = [&](const Vector3d& body) {
+      return std::abs(body.x()) <= L2 && std::abs(body.z()) <= W2 && std::abs(body.z()) > 1e-9;
+    };
+    const Vector3d steps[] = {{grid_step_ahead_m_, 0.0, 0.0},
+                              {-grid_step_ahead_m_, 0.0, 0.0},
+                              {0.0, 0.0, grid_step_left_m_},
+                              {0.0, 0.0, -grid_step_left_m_}};
+    for (size_t k = always_count_ + static_cast<size_t>(per_side_); k < sampled; ++k) {
+      const Contact& c = contacts_[k];
+      if (!near(c.body)) continue;
+      for (int d = 0; d < 4 && count < touches.size(); ++d) {
+        const Vector3d q = c.body + steps[d];
+        const Vector3d mid = c.body + 0.5 * steps[d];
+        if (std::abs(mid.x()) > L2 || std::abs(mid.z()) > W2) continue;
+        const bool towards_plus = d == 0 || d == 2;
+        if (is_grid(q) && near(q) && !towards_plus) continue;  // the neighbour owns this edge
+        const Vector3d r = R * mid;
+        const Vector3d p = x_ + r;
+        GroundPlaneCache cache;
+        const SurfaceSample s =
+            SampleSurface(terrain, solids, p.x(), p.z(), p.y() + c.reach_m, cache);
+        const double depth = (s.height_m - p.y()) * s.normal.y();
+        if (depth <= 0.0) continue;
+        const double vn = (v_ + w_.cross(r)).dot(s.normal);
+        const double normal_n = std::max(0.0, spring_n_per_m_ * depth - damper_n_s_per_m_ * vn);
+        F += normal_n * s.normal;
+        tau += r.cross(normal_n * s.normal);
+        total_n += normal_n;
+        touches[count++] = {r,
+                            s.normal,
+                            Vector3d(p.x(), s.height_m, p.z()),
+                            normal_n,
+                            &type_.grip[static_cast<size_t>(s.material)],
+                            false,
+                            mid};
+      }
+    }
   }
 
   // Grip: the driver's demand, limited by engine and by friction x normal force (docs/vehicles.md
@@ -462,7 +516,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
     Matrix3d Iw = WorldInverseInertia(Rn);
     for (size_t i = 0; i < count; ++i) {
       const Touch& t = touches[i];
-      const Vector3d r = Rn * contacts_[t.index].body;
+      const Vector3d r = Rn * t.body;
       const double travel = t.gear ? kGearTravelM : kBellyTravelM;
       const double depth = (t.plane_point - (x_ + r)).dot(t.n);
       if (depth <= travel) continue;
@@ -539,22 +593,41 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
                           report.max_landing_mps, type_.land_immobilise_mps),
               report);
     }
-    // |pitch| > limit is |forward.y| > sin(limit); |roll| > limit is |left.y| > tan(limit) up.y.
-    const Matrix3d Rn = q_.toRotationMatrix();
-    const double up_y = Rn(1, 1);
-    if (up_y <= 0.0 || std::abs(Rn(1, 0)) > sin_pitch_limit_ ||
-        std::abs(Rn(1, 2)) > tan_roll_limit_ * up_y) {
-      const double roll = roll_rad(), pitch = pitch_rad();
-      Damaged(Damage::kDestroyed,
-              fmt::format("tipped over (pitch {:.1f} deg, roll {:.1f} deg; static stability {:.1f} "
-                          "/ {:.1f} deg)",
-                          pitch * 180.0 / std::numbers::pi, roll * 180.0 / std::numbers::pi,
-                          type_.StaticPitchLimitRad() * 180.0 / std::numbers::pi,
-                          type_.StaticRollLimitRad() * 180.0 / std::numbers::pi),
-              report);
-      frozen_ = true;
+  }
+  // Static stability, for a wreck too: the hull has no contacts on its sides and roof, so one
+  // destroyed by a landing that then rolled over would sink into the ground on its side.
+  // |pitch| > limit is |forward.y| > sin(limit); |roll| > limit is |left.y| > tan(limit) up.y.
+  const Matrix3d Rn = q_.toRotationMatrix();
+  const double up_y = Rn(1, 1);
+  if (up_y <= 0.0 || std::abs(Rn(1, 0)) > sin_pitch_limit_ ||
+      std::abs(Rn(1, 2)) > tan_roll_limit_ * up_y) {
+    const double roll = roll_rad(), pitch = pitch_rad();
+    Damaged(Damage::kDestroyed,
+            fmt::format("tipped over (pitch {:.1f} deg, roll {:.1f} deg; static stability {:.1f} "
+                        "/ {:.1f} deg)",
+                        pitch * 180.0 / std::numbers::pi, roll * 180.0 / std::numbers::pi,
+                        type_.StaticPitchLimitRad() * 180.0 / std::numbers::pi,
+                        type_.StaticRollLimitRad() * 180.0 / std::numbers::pi),
+            report);
+    // The wreck stays where it came to lie: once it rests on something (a contact touched in
+    // this step, or a hull corner is down at the ground). One that tips in the air falls on.
+    if (count > 0 || HullCornerAtGround(terrain)) frozen_ = true;
+  }
+}
+
+bool PhysicalVehicle::HullCornerAtGround(const Terrain& terrain) const {
+  const double L = type_.base.length_m / 2.0, W = type_.base.width_m / 2.0;
+  const double lo = -type_.cg_height_m, hi = type_.hull_height_m - type_.cg_height_m;
+  const Matrix3d r = q_.toRotationMatrix();
+  for (const double a : {-L, L}) {
+    for (const double l : {-W, W}) {
+      for (const double u : {lo, hi}) {
+        const Vector3d p = x_ + r * Vector3d(a, u, l);
+        if (p.y() <= terrain.ElevationAt(p.x(), p.z())) return true;
+      }
     }
   }
+  return false;
 }
 
 bool PhysicalVehicle::NearRampFoot(const Terrain& terrain, FeatureId id) const {
@@ -595,9 +668,33 @@ void PhysicalVehicle::ResolveHull(std::span<const Solid> solids, PhysicalReport&
                            std::span<const Solid>(near.data(), near_count), kBellyTravelM);
     if (!hit.hit) return;
     report.blocked = true;
-    x_ += hit.push_m;
-    const double into = v_.dot(hit.normal);
-    if (into < 0.0) v_ -= into * hit.normal;
+    const Vector3d& face = hit.normal;
+    if (face.y() > -0.5) {
+      // Through a side, the top, or level out from under a sloping face: the hull moves out and
+      // loses its velocity into the face.
+      x_ += hit.push_m;
+      const double into = v_.dot(face);
+      if (into < 0.0) v_ -= into * face;
+      continue;
+    }
+    // Down through a slab's underside (a roof or corner grazing it): as the hard stops, the point
+    // is moved out and its velocity into the face removed with the point's effective mass, so the
+    // hull turns as well as moves. Moving it down alone left the angular velocity that had turned
+    // the corner in, and the corner was pushed down through the springs step after step: a fall
+    // with no speed, which the ground's hard stops then fought.
+    const Vector3d r = hit.point_m - x_;
+    const Matrix3d Iw = WorldInverseInertia(R);
+    const Vector3d rn = r.cross(face);
+    const double w = 1.0 / type_.mass_kg + rn.dot(Iw * rn);
+    const double p = hit.depth_m / w;
+    x_ += face * (p / type_.mass_kg);
+    Rotate(q_, Iw * rn * p);
+    const double vn = (v_ + w_.cross(r)).dot(face);
+    if (vn < 0.0) {
+      const double j = -vn / w;
+      v_ += face * (j / type_.mass_kg);
+      w_ += Iw * rn * j;
+    }
   }
 }
 

@@ -122,6 +122,8 @@ class PhysicalVehicle {
             PhysicalReport& report);
   void ResolveHull(std::span<const Solid> solids, PhysicalReport& report);
   bool OnTerrain(const Terrain& terrain) const;
+  // True if a corner of the box from the gear's bottom to the roof is at or below the ground.
+  bool HullCornerAtGround(const Terrain& terrain) const;
   Status CheckClearOfSolids(const Terrain& terrain) const;
   // True if the deck last carried the gear within half a hot spot of one of the bridge's ramp
   // feet: leaving it there is driving off, elsewhere falling off.
@@ -136,6 +138,9 @@ class PhysicalVehicle {
   double spring_n_per_m_ = 0.0;               // per contact
   double damper_n_s_per_m_ = 0.0;             // per contact
   int gear_count_ = 0;
+  int per_side_ = 0;                // gear points per side; as many belly centre-line points
+  double grid_step_ahead_m_ = 0.0;  // belly grid spacing
+  double grid_step_left_m_ = 0.0;
   size_t always_count_ = 0;  // the running gear; the belly (centre line, then grid) follows
 
   Eigen::Vector3d x_;

@@ -15,7 +15,7 @@ std::optional<VehicleModel> ParseVehicleModel(std::string_view name) {
 Result<SimulatedVehicle> SimulatedVehicle::Make(const PhysicalVehicleType& type,
                                                 const Terrain& terrain, double x_m, double z_m,
                                                 double heading_rad, VehicleModel model) {
-  SimulatedVehicle out;
+  SimulatedVehicle out(type);
   if (model == VehicleModel::kLight) {
     Result<LightVehicle> v = LightVehicle::Make(type.base, terrain, x_m, z_m, heading_rad);
     if (!v) return v.error();
@@ -28,13 +28,17 @@ Result<SimulatedVehicle> SimulatedVehicle::Make(const PhysicalVehicleType& type,
   return out;
 }
 
-const std::string& SimulatedVehicle::type_name() const {
-  return light_ ? light_->vehicle().type().name : physical_->type().base.name;
-}
-
 Status SimulatedVehicle::Command(double speed_mps, double heading_rate_rad_s) {
   return light_ ? light_->Command(speed_mps, heading_rate_rad_s)
                 : physical_->Command(speed_mps, heading_rate_rad_s);
+}
+
+double SimulatedVehicle::commanded_speed_mps() const {
+  return light_ ? light_->vehicle().speed_mps() : physical_->commanded_speed_mps();
+}
+
+double SimulatedVehicle::commanded_rate_rad_s() const {
+  return light_ ? light_->vehicle().heading_rate_rad_s() : physical_->commanded_rate_rad_s();
 }
 
 Result<VehicleEvents> SimulatedVehicle::Advance(const Terrain& terrain, double dt_s) {
@@ -74,6 +78,11 @@ VehiclePose SimulatedVehicle::pose() const {
 
 bool SimulatedVehicle::alive() const {
   return light_ ? light_->vehicle().alive() : physical_->alive();
+}
+
+std::string_view SimulatedVehicle::damage_name() const {
+  if (light_) return DamageName(light_->vehicle().alive() ? Damage::kNone : Damage::kDestroyed);
+  return DamageName(physical_->damage());
 }
 
 FeatureId SimulatedVehicle::bridge() const {

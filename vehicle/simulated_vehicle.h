@@ -41,19 +41,29 @@ class SimulatedVehicle {
                                        VehicleModel model = VehicleModel::kPhysical);
 
   VehicleModel model() const { return light_ ? VehicleModel::kLight : VehicleModel::kPhysical; }
-  const std::string& type_name() const;
+  // The type it was made with (the light model moves it by `type().base` alone).
+  const PhysicalVehicleType& type() const { return type_; }
+  const std::string& type_name() const { return type_.base.name; }
+  // Refused for non-finite values and for a vehicle that cannot be driven (destroyed; under the
+  // physical model also immobilised); out-of-range values are clamped to the type's limits.
   Status Command(double speed_mps, double heading_rate_rad_s);
+  // The demand after clamping: what the last accepted Command set.
+  double commanded_speed_mps() const;
+  double commanded_rate_rad_s() const;
   Result<VehicleEvents> Advance(const Terrain& terrain, double dt_s);
 
   VehiclePose pose() const;
   bool alive() const;
+  // "none", "immobilised", "destroyed" (the light model: "none" or "destroyed").
+  std::string_view damage_name() const;
   FeatureId bridge() const;
   // The model's own state: exactly one is non-null.
   const PhysicalVehicle* physical() const { return physical_ ? &*physical_ : nullptr; }
   const LightVehicle* light() const { return light_ ? &*light_ : nullptr; }
 
  private:
-  SimulatedVehicle() = default;
+  explicit SimulatedVehicle(const PhysicalVehicleType& type) : type_(type) {}
+  PhysicalVehicleType type_;
   std::optional<PhysicalVehicle> physical_;
   std::optional<LightVehicle> light_;
 };

@@ -14,6 +14,7 @@
 
 #include "runtime/toml_reader.h"
 #include "terrain/height_grid.h"
+#include "terrain/material.h"
 
 namespace dt {
 namespace {
@@ -106,10 +107,42 @@ TEST(ExerciseConfigTest, ReadsEveryField) {
   EXPECT_EQ(c.nodes[0].vehicles[0].type, "jeep");
   EXPECT_DOUBLE_EQ(c.nodes[0].vehicles[0].z_m, 20.5);
   EXPECT_NEAR(c.nodes[0].vehicles[0].heading_rad, std::numbers::pi / 2, 1e-12);
+  EXPECT_EQ(c.nodes[0].vehicles[0].model, VehicleModel::kPhysical);  // the default
+  EXPECT_TRUE(c.friction_file.empty());                              // the built-in table
+  ASSERT_NE(c.friction, nullptr);
+  EXPECT_EQ(c.friction->ClassOf("jeep"), "wheeled");
   EXPECT_EQ(c.Processes().size(), 3u);
   EXPECT_EQ(c.FindProcess("node-2")->address, (NodeAddress{1, 2}));
   EXPECT_EQ(c.FindProcess("nobody"), nullptr);
   EXPECT_EQ(c.SocketPath("node-1"), std::filesystem::path("/tmp/dt-run-t/node-1.sock"));
+}
+
+TEST(ExerciseConfigTest, AVehicleNamesItsModelAndTheExerciseItsFrictionFile) {
+  const ExerciseConfig light =
+      ParseExerciseConfig(Replace(kGood, "heading_deg = 90", "heading_deg = 90\nmodel = \"light\""),
+                          "ex.toml", "/base");
+  EXPECT_EQ(light.nodes[0].vehicles[0].model, VehicleModel::kLight);
+
+  std::string e = ErrorOf(Replace(kGood, "heading_deg = 90", "heading_deg = 90\nmodel = \"fast\""));
+  EXPECT_NE(e.find("node[0].vehicle[0].model"), std::string::npos) << e;
+  EXPECT_NE(e.find("fast"), std::string::npos) << e;
+  EXPECT_NE(e.find("\"physical\" or \"light\""), std::string::npos) << e;
+
+  // The shipped table named as a file gives the built-in table's coefficients.
+  const std::string shipped = std::string(DT_SOURCE_DIR) + "/configs/friction.toml";
+  const ExerciseConfig named = ParseExerciseConfig(
+      Replace(kGood, "tick_hz = 20", "tick_hz = 20\nfriction_file = \"" + shipped + "\""),
+      "ex.toml", "/base");
+  EXPECT_EQ(named.friction_file, std::filesystem::path(shipped).lexically_normal());
+  const ExerciseConfig built_in = ParseExerciseConfig(kGood, "ex.toml", "/base");
+  for (Material m : {Material::kGrass, Material::kMud, Material::kAsphalt}) {
+    EXPECT_EQ(named.friction->Lookup(m, "tracked"), built_in.friction->Lookup(m, "tracked"));
+    EXPECT_EQ(named.friction->Lookup(m, "wheeled"), built_in.friction->Lookup(m, "wheeled"));
+  }
+
+  e = ErrorOf(Replace(kGood, "tick_hz = 20", "tick_hz = 20\nfriction_file = \"none.toml\""));
+  EXPECT_NE(e.find("exercise.friction_file"), std::string::npos) << e;
+  EXPECT_NE(e.find("/base/none.toml"), std::string::npos) << e;
 }
 
 TEST(ExerciseConfigTest, ErrorsNameFileKeyAndValue) {

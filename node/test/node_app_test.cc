@@ -1,0 +1,195 @@
+// A whole node (NodeApp over an in-process memq transport, no server) driving its vehicles through
+// a scenario, watched through its control commands as dt_ctl would see them: the vehicles move by
+// the model the exercise file names for each.
+#include "node/node_app.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "runtime/exercise_config.h"
+
+namespace dt {
+namespace {
+
+// Two destroyed 6 m bridges on flat ground (ramp 1 from x 70 to 100, span to 140, ramp 2 to 170),
+// one at z 100 and one at z 220, and a tank heading east onto each (8 and 12 m/s) for 25 s.
+constexpr const char* kScenario = R"(
+[[step]]
+action = "bridge"
+name = "north"
+x_m = 100
+z_m = 220
+direction_deg = 0
+width_m = 10
+ramp1_m = 30
+span_m = 40
+ramp2_m = 30
+height1_m = 6
+height2_m = 6
+
+[[step]]
+action = "bridge"
+name = "south"
+x_m = 100
+z_m = 100
+direction_deg = 0
+width_m = 10
+ramp1_m = 30
+span_m = 40
+ramp2_m = 30
+height1_m = 6
+height2_m = 6
+
+[[step]]
+at_s = 0.5
+action = "update"
+target = "north"
+status = 1
+
+[[step]]
+action = "update"
+target = "south"
+status = 1
+
+[[step]]
+at_s = 1.0
+action = "drive"
+vehicle = 0
+speed_mps = 8
+duration_s = 25
+
+[[step]]
+action = "drive"
+vehicle = 1
+speed_mps = 12
+duration_s = 25
+)";
+
+// "vehicle <i> <type> key=value ..." lines of a status reply, by index, as key -> value.
+std::map<int, std::map<std::string, std::string>> VehicleLines(const std::string& status) {
+  std::map<int, std::map<std::string, std::string>> out;
+  std::istringstream in(status);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream words(line);
+    std::string key, type;
+    int index = -1;
+    if (!(words >> key) || key != "vehicle" || !(words >> index >> type)) continue;
+    out[index]["type"] = type;
+    for (std::string kv; words >> kv;) {
+      const size_t eq = kv.find('=');
+      if (eq != std::string::npos) out[index][kv.substr(0, eq)] = kv.substr(eq + 1);
+    }
+  }
+  return out;
+}
+
+class NodeAppTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() / fmt::format("dt-node-app-test-{}", ::getpid());
+    std::filesystem::create_directories(dir_);
+    std::ofstream(dir_ / "scenario.toml") << kScenario;
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  // The exercise of one node with these [[node.vehicle]] tables, playing kScenario if asked.
+  ExerciseConfig Exercise(const std::string& vehicles, bool scenario = true) const {
+    const std::string text = fmt::format(
+        "[exercise]\nname = \"node-app\"\ntransport = \"memq://\"\nrun_dir = \"{}\"\n"
+        "[auth]\nmode = \"none\"\n"
+        "[terrain]\nposts_per_side = 33\nspacing_m = 10\nrelief_m = 0\n"
+        "[protocol]\nrequire_server = false\nmax_feature_period_ms = 50\nsilence_ms = 200\n"
+        "[[node]]\nname = \"node-1\"\nsite = 1\nhost = 1\n{}{}",
+        dir_.string(), scenario ? "scenario = \"scenario.toml\"\n" : "", vehicles);
+    return ParseExerciseConfig(text, "ex.toml", dir_);
+  }
+
+  std::filesystem::path dir_;
+};
+
+TEST_F(NodeAppTest, APhysicalTankDiesAtADestroyedBridgesDropWhereALightOneDrivesOn) {
+  const ExerciseConfig exercise = Exercise(
+      "[[node.vehicle]]\ntype = \"tank\"\nx_m = 50\nz_m = 100\n"
+      "[[node.vehicle]]\ntype = \"tank\"\nx_m = 50\nz_m = 220\nmodel = \"light\"\n");
+  NodeApp node(exercise, exercise.nodes[0]);
+  ASSERT_EQ(node.vehicles().size(), 2u);
+  EXPECT_EQ(node.vehicles()[0].model(), VehicleModel::kPhysical);
+  EXPECT_EQ(node.vehicles()[1].model(), VehicleModel::kLight);
+
+  // Simulated time: 30 Hz ticks, the clock advanced by the test, not read.
+  constexpr int64_t kTickMs = 33;
+  int64_t now_ms = 0;
+  node.Start(now_ms);
+  std::map<int, std::map<std::string, std::string>> seen_on_bridge;
+  // Until the physical tank is dead and the light one past the bridge, for at most 30 s.
+  for (int tick = 0; tick < 30 * 30; ++tick) {
+    now_ms += kTickMs;
+    node.Tick(now_ms, static_cast<double>(kTickMs) / 1000.0);
+    node.Receive(0);
+    if (node.vehicles()[0].bridge().number != 0) {
+      seen_on_bridge = VehicleLines(node.Handle("status").body);
+    }
+    if (!node.vehicles()[0].alive() && node.vehicles()[1].pose().x_m > 180.0) break;
+  }
+  ASSERT_TRUE(node.ready());
+  EXPECT_EQ(node.replica().live_feature_count(), 2u);
+
+  const ControlReply status = node.Handle("status");
+  ASSERT_TRUE(status.ok) << status.error;
+  const auto lines = VehicleLines(status.body);
+  ASSERT_EQ(lines.size(), 2u) << status.body;
+  // The physical tank got on the south bridge, fell at the break and died there.
+  ASSERT_FALSE(seen_on_bridge.empty()) << "the physical tank never stood on a deck";
+  EXPECT_NE(seen_on_bridge.at(0).at("on_bridge"), "-");
+  EXPECT_EQ(lines.at(0).at("model"), "physical");
+  EXPECT_EQ(lines.at(0).at("alive"), "0") << status.body;
+  EXPECT_EQ(lines.at(0).at("damage"), "destroyed");
+  EXPECT_LT(std::stod(lines.at(0).at("x_m")), 140.0) << "past the break";
+  // The light tank keeps the thesis's rules: it drops at the break, survives and drives on.
+  EXPECT_EQ(lines.at(1).at("model"), "light");
+  EXPECT_EQ(lines.at(1).at("alive"), "1") << status.body;
+  EXPECT_GT(std::stod(lines.at(1).at("x_m")), 180.0);
+
+  // The dead tank refuses commands, with a message; the live one is still driven and clamped.
+  const ControlReply dead = node.Handle("drive 0 5 0");
+  EXPECT_FALSE(dead.ok);
+  EXPECT_NE(dead.error.find("destroyed"), std::string::npos) << dead.error;
+  const ControlReply clamped = node.Handle("drive 1 1e30 0");
+  ASSERT_TRUE(clamped.ok) << clamped.error;
+  EXPECT_NE(clamped.body.find("clamped to"), std::string::npos) << clamped.body;
+
+  // The render draws both (the dead one in its own colour) and writes the file.
+  const std::string png = (dir_ / "map.png").string();
+  const ControlReply render = node.Handle("render " + png);
+  ASSERT_TRUE(render.ok) << render.error;
+  EXPECT_GT(std::filesystem::file_size(png), 0u);
+}
+
+TEST_F(NodeAppTest, RefusesADriveThatIsNotFiniteAndClampsOneOutOfRange) {
+  const ExerciseConfig exercise =
+      Exercise("[[node.vehicle]]\ntype = \"jeep\"\nx_m = 50\nz_m = 50\n", false);
+  NodeApp node(exercise, exercise.nodes[0]);
+  ControlReply r = node.Handle("drive 0 nan 0");
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("speed_mps \"nan\" is not a finite number"), std::string::npos) << r.error;
+  r = node.Handle("drive 0 1e30 1e9");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_NE(r.body.find("the jeep's top speed"), std::string::npos) << r.body;
+  EXPECT_NE(r.body.find("heading rate"), std::string::npos) << r.body;
+  EXPECT_DOUBLE_EQ(node.vehicles()[0].commanded_speed_mps(),
+                   node.vehicles()[0].type().base.max_speed_mps);
+  r = node.Handle("drive 1 1 0");
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("vehicle 1 does not exist"), std::string::npos) << r.error;
+}
+
+}  // namespace
+}  // namespace dt

@@ -5,6 +5,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -215,6 +216,30 @@ void BM_NodeToNodeVsRawLcm(benchmark::State& state, std::string url, bool fast_a
   if (!equal) state.SkipWithError("B does not hold every feature A created");
 }
 
+// The two exercises of an authenticated-against-plain run, signed on; null (and the run skipped,
+// saying why) if udpm has no private namespace or A and B did not sign on.
+struct PlainAndAuthed {
+  PlainAndAuthed(const std::string& plain_url, const std::string& auth_url)
+      : plain(plain_url, bench::FastAckConfig()),
+        authed(auth_url, bench::FastAckConfig(),
+               std::make_shared<const ExerciseKey>(std::vector<uint8_t>(32, 0x42))) {}
+  static std::unique_ptr<PlainAndAuthed> Make(benchmark::State& state, const std::string& plain_url,
+                                              const std::string& auth_url) {
+    if (plain_url != kMemq && dt::testing::NetnsSkipReason()) {
+      state.SkipWithError("udpm runs only inside a private network namespace");
+      return nullptr;
+    }
+    auto pair = std::make_unique<PlainAndAuthed>(plain_url, auth_url);
+    if (!pair->plain.ready() || !pair->authed.ready()) {
+      state.SkipWithError("A and B did not sign on");
+      return nullptr;
+    }
+    return pair;
+  }
+  ThreeReplicas plain;
+  ThreeReplicas authed;
+};
+
 // Authenticated ÷ unauthenticated, same run, interleaved: two exercises of a server, A and B,
 // one with every PDU signed and verified (the exercise key), one without, on separate LCM
 // queues (memq) or ports (udpm). Per iteration kBatch craters from A to B in each, the order
@@ -222,17 +247,10 @@ void BM_NodeToNodeVsRawLcm(benchmark::State& state, std::string url, bool fast_a
 // and by this thread's CPU time (everything runs on it: over udpm the system calls too).
 void BM_NodeToNodeAuthVsPlain(benchmark::State& state, std::string plain_url,
                               std::string auth_url) {
-  if (plain_url != kMemq && dt::testing::NetnsSkipReason()) {
-    state.SkipWithError("udpm runs only inside a private network namespace");
-    return;
-  }
-  auto key = std::make_shared<const ExerciseKey>(std::vector<uint8_t>(32, 0x42));
-  ThreeReplicas plain(plain_url, bench::FastAckConfig());
-  ThreeReplicas authed(auth_url, bench::FastAckConfig(), key);
-  if (!plain.ready() || !authed.ready()) {
-    state.SkipWithError("A and B did not sign on");
-    return;
-  }
+  auto pair = PlainAndAuthed::Make(state, plain_url, auth_url);
+  if (!pair) return;
+  ThreeReplicas& plain = pair->plain;
+  ThreeReplicas& authed = pair->authed;
   std::string error;
   int64_t n_plain = 0, n_auth = 0, waits = 0, plain_ns = 0, auth_ns = 0, i = 0;
   int64_t plain_cpu = 0, auth_cpu = 0;
@@ -319,17 +337,10 @@ void BM_CreateToAppliedLatency(benchmark::State& state, std::string url) {
 // each on an otherwise idle exercise as in BM_CreateToAppliedLatency. Counters: percentiles of
 // each, and plain ÷ authenticated of the medians and 99th percentiles.
 void BM_LatencyAuthVsPlain(benchmark::State& state, std::string plain_url, std::string auth_url) {
-  if (plain_url != kMemq && dt::testing::NetnsSkipReason()) {
-    state.SkipWithError("udpm runs only inside a private network namespace");
-    return;
-  }
-  auto key = std::make_shared<const ExerciseKey>(std::vector<uint8_t>(32, 0x42));
-  ThreeReplicas plain(plain_url, bench::FastAckConfig());
-  ThreeReplicas authed(auth_url, bench::FastAckConfig(), key);
-  if (!plain.ready() || !authed.ready()) {
-    state.SkipWithError("A and B did not sign on");
-    return;
-  }
+  auto pair = PlainAndAuthed::Make(state, plain_url, auth_url);
+  if (!pair) return;
+  ThreeReplicas& plain = pair->plain;
+  ThreeReplicas& authed = pair->authed;
   std::string error;
   int64_t n_plain = 0, n_auth = 0, i = 0;
   auto one = [&](ThreeReplicas& r, int64_t* n) {

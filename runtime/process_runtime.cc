@@ -227,19 +227,6 @@ std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
   }
 }
 
-std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
-                                                const std::string& name, NodeRole role,
-                                                const Replica& replica, ProcessTransport& transport,
-                                                const std::vector<Vehicle>& no_vehicles) {
-  if (!no_vehicles.empty()) {
-    DT_LOG_ERROR("AnswerCommonCommand: {} kinematic vehicles given; nodes pass SimulatedVehicle",
-                 no_vehicles.size());
-    std::abort();
-  }
-  static const std::vector<SimulatedVehicle> kNone;
-  return AnswerCommonCommand(command, name, role, replica, transport, kNone);
-}
-
 CatchUpProgress::CatchUpProgress() : tty_(isatty(STDOUT_FILENO) == 1) {}
 
 void CatchUpProgress::Update(int64_t now_ms, const Replica& replica) {

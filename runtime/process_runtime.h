@@ -15,7 +15,6 @@
 #include "runtime/control_command.h"
 #include "runtime/control_server.h"
 #include "runtime/exercise_config.h"
-#include "terrain/vehicle.h"
 #include "vehicle/simulated_vehicle.h"
 
 namespace dt {
@@ -74,12 +73,6 @@ std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
                                                 const std::string& name, NodeRole role,
                                                 const Replica& replica, ProcessTransport& transport,
                                                 const std::vector<SimulatedVehicle>& vehicles);
-// The same for a process that drives no vehicles (the server), which names its empty list in
-// terrain's kinematic type: aborts if the list is not empty.
-std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
-                                                const std::string& name, NodeRole role,
-                                                const Replica& replica, ProcessTransport& transport,
-                                                const std::vector<Vehicle>& no_vehicles);
 
 // Renders the terrain and vehicles as a 512-pixel map PNG. Error if the file cannot be written
 // or no renderer can be made.

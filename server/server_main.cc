@@ -18,7 +18,7 @@ namespace {
 
 dt::ControlReply Handle(std::string_view line, const std::string& name, dt::NodeRole role,
                         dt::ServerReplica& server, dt::ProcessTransport& transport, bool& quit) {
-  static const std::vector<dt::Vehicle> kNoVehicles;
+  static const std::vector<dt::SimulatedVehicle> kNoVehicles;  // a server drives none
   dt::Result<dt::ControlCommand> c = dt::ParseControlCommand(line);
   if (!c) return dt::ControlReply::Fail(c.error().message);
   switch (c.value().verb) {

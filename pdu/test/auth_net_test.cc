@@ -8,6 +8,7 @@
 
 #include "pdu/dds_transport.h"
 #include "pdu/pdu_bus.h"
+#include "pdu/test/handle_until.h"
 #include "pdu/test/private_netns.h"
 #include "pdu/test/sample_pdus.h"
 
@@ -31,15 +32,7 @@ PduBusConfig Config(NodeAddress local, std::shared_ptr<const ExerciseKey> key) {
   return c;
 }
 
-bool HandleUntil(std::initializer_list<Transport*> transports, const std::function<bool()>& done) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (!done() && std::chrono::steady_clock::now() < deadline) {
-    for (Transport* t : transports) {
-      if (!t->HandleTimeout(20).ok()) return false;
-    }
-  }
-  return done();
-}
+using testing::HandleUntil;
 
 // The types the test sends (and its receiver subscribes to).
 constexpr PduType kSentTypes[] = {PduType::kConstruct, PduType::kUpdate, PduType::kDestruct,

@@ -12,6 +12,7 @@
 #include "pdu/dds_transport.h"
 #include "pdu/lcm_transport.h"
 #include "pdu/pdu_bus.h"
+#include "pdu/test/handle_until.h"
 #include "pdu/test/private_netns.h"
 #include "pdu/test/sample_pdus.h"
 
@@ -36,16 +37,7 @@ PduBusConfig Config(NodeAddress local, uint8_t exercise = sample::kSampleExercis
   return c;
 }
 
-// Handles until done() or 10 s pass; returns done().
-bool HandleUntil(std::initializer_list<Transport*> transports, const std::function<bool()>& done) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (!done() && std::chrono::steady_clock::now() < deadline) {
-    for (Transport* t : transports) {
-      if (!t->HandleTimeout(20).ok()) return false;
-    }
-  }
-  return done();
-}
+using testing::HandleUntil;
 
 // A sender and a receiver on one carrier; for memq they are the same object.
 struct Pair {

@@ -283,16 +283,8 @@ void BM_NodeToNodeAuthVsPlain(benchmark::State& state, std::string plain_url,
     auth_ns += a;
     state.SetIterationTime(static_cast<double>(p + a) / 1e9);
   }
-  const double features = static_cast<double>(state.iterations()) * kBatch;
-  const double plain_rate = features / (static_cast<double>(plain_ns) / 1e9);
-  const double auth_rate = features / (static_cast<double>(auth_ns) / 1e9);
-  state.SetItemsProcessed(static_cast<int64_t>(2 * features));
-  state.counters["plain_per_s"] = plain_rate;
-  state.counters["auth_per_s"] = auth_rate;
-  state.counters["ratio"] = auth_rate / plain_rate;
-  state.counters["cpu_ratio"] = static_cast<double>(plain_cpu) / static_cast<double>(auth_cpu);
-  state.counters["plain_cpu_us"] = static_cast<double>(plain_cpu) / features / 1000.0;
-  state.counters["auth_cpu_us"] = static_cast<double>(auth_cpu) / features / 1000.0;
+  bench::ReportAuthThroughputRatios(state, static_cast<double>(state.iterations()) * kBatch,
+                                    plain_ns, auth_ns, plain_cpu, auth_cpu);
   state.counters["window_waits"] = static_cast<double>(waits);
   const PduBus& b = authed.cluster().bus(kB);
   state.counters["auth_rejected"] = static_cast<double>(b.rejects().total());

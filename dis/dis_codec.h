@@ -1,0 +1,88 @@
+// Encoding and decoding of DIS 7 PDUs (big-endian, layouts in docs/dis.md), and the decoder
+// that drops and counts bad input.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "dis/dis_pdu.h"
+
+namespace dt::dis {
+
+// Encoders fill in the header's PDU type, protocol family and length; the rest of the header is
+// taken as given. They throw std::invalid_argument on misuse: a non-finite float, more than 255
+// variable parameters or segments.
+std::vector<uint8_t> Encode(const EntityStatePdu& pdu);
+std::vector<uint8_t> Encode(const PointObjectStatePdu& pdu);
+std::vector<uint8_t> Encode(const LinearObjectStatePdu& pdu);
+
+using Pdu = std::variant<EntityStatePdu, PointObjectStatePdu, LinearObjectStatePdu>;
+
+// Why a datagram was dropped. Values index DecodeCounters::rejected.
+enum class DecodeFailure : uint8_t {
+  kTooShort = 0,        // shorter than a header, or than its PDU type's fixed part
+  kTooLong,             // longer than a DIS PDU can be
+  kLengthMismatch,      // length field differs from the datagram, or from the record counts
+  kUnsupportedVersion,  // not DIS 7 (DIS 6 is accepted for Entity State, same layout)
+  kForeignExercise,     // another exercise ID than the decoder's
+  kUnsupportedPduType,  // a PDU type dynterrain does not read
+  kFamilyMismatch,      // protocol family not the one the PDU type belongs to
+  kNonFinite,           // a NaN or infinity in a floating-point field
+  kBadField,            // a field outside its enumeration (e.g. dead-reckoning algorithm)
+};
+inline constexpr size_t kDecodeFailureCount = 9;
+std::string_view DecodeFailureName(DecodeFailure failure);
+
+struct DecodeError {
+  DecodeFailure failure;
+  std::string message;  // names the offending values
+};
+
+// Either a whole PDU or the reason it was refused: nothing of a refused datagram is kept.
+class [[nodiscard]] DecodeResult {
+ public:
+  DecodeResult(Pdu pdu) : v_(std::move(pdu)) {}              // NOLINT: implicit by design
+  DecodeResult(DecodeError error) : v_(std::move(error)) {}  // NOLINT: implicit by design
+  bool ok() const { return std::holds_alternative<Pdu>(v_); }
+  const Pdu& pdu() const;            // aborts if !ok()
+  const DecodeError& error() const;  // aborts if ok()
+
+ private:
+  std::variant<Pdu, DecodeError> v_;
+};
+
+// Decodes one PDU occupying the whole datagram. exercise_id, when given, refuses PDUs of other
+// exercises (before their type is looked at: a foreign exercise's traffic is counted as such).
+DecodeResult DecodePdu(std::span<const uint8_t> datagram,
+                       std::optional<uint8_t> exercise_id = std::nullopt);
+
+struct DecodeCounters {
+  uint64_t entity_state = 0;
+  uint64_t point_object_state = 0;
+  uint64_t linear_object_state = 0;
+  std::array<uint64_t, kDecodeFailureCount> rejected{};
+  uint64_t rejected_total() const;
+  uint64_t rejected_for(DecodeFailure f) const { return rejected[static_cast<size_t>(f)]; }
+};
+
+// A decoder for one DIS exercise that counts what it accepts and why it drops the rest.
+class Decoder {
+ public:
+  explicit Decoder(uint8_t exercise_id) : exercise_id_(exercise_id) {}
+  DecodeResult Decode(std::span<const uint8_t> datagram);
+  const DecodeCounters& counters() const { return counters_; }
+  uint8_t exercise_id() const { return exercise_id_; }
+
+ private:
+  uint8_t exercise_id_;
+  DecodeCounters counters_;
+};
+
+}  // namespace dt::dis

@@ -1,0 +1,168 @@
+#include "dis/geodetic_frame.h"
+
+#include <fmt/format.h>
+#include <GeographicLib/Geocentric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+namespace dt::dis {
+namespace {
+
+using Vec = std::array<double, 3>;
+
+Vec Cross(const Vec& a, const Vec& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double Dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// Body axes (forward, right, down) in east/north/up of a local attitude.
+struct BodyAxes {
+  Vec forward, right, down;
+};
+BodyAxes AxesOf(const LocalAttitude& a) {
+  const double ch = std::cos(a.heading_rad), sh = std::sin(a.heading_rad);
+  const double cp = std::cos(a.pitch_rad), sp = std::sin(a.pitch_rad);
+  const double cr = std::cos(a.roll_rad), sr = std::sin(a.roll_rad);
+  const Vec forward = {cp * ch, cp * sh, sp};
+  const Vec level_right = {sh, -ch, 0.0};  // direction heading - pi/2, on the ground plane
+  const Vec level_down = Cross(forward, level_right);
+  BodyAxes axes;
+  axes.forward = forward;
+  // Positive roll turns the right axis towards down (right side down).
+  for (int i = 0; i < 3; ++i) {
+    axes.right[i] = cr * level_right[i] + sr * level_down[i];
+    axes.down[i] = -sr * level_right[i] + cr * level_down[i];
+  }
+  return axes;
+}
+
+LocalAttitude AttitudeOf(const Vec& forward, const Vec& right) {
+  LocalAttitude a;
+  const double up = std::clamp(forward[2], -1.0, 1.0);
+  a.pitch_rad = std::asin(up);
+  const double horizontal = std::hypot(forward[0], forward[1]);
+  Vec level_right;
+  if (horizontal > 1e-12) {
+    a.heading_rad = std::atan2(forward[1], forward[0]);
+    level_right = {std::sin(a.heading_rad), -std::cos(a.heading_rad), 0.0};
+  } else {
+    // Straight up or down: heading 0 and the whole rotation about the vertical goes to roll.
+    a.heading_rad = 0.0;
+    level_right = {0.0, -1.0, 0.0};
+  }
+  const Vec level_down = Cross(forward, level_right);
+  a.roll_rad = std::atan2(Dot(right, level_down), Dot(right, level_right));
+  return a;
+}
+
+}  // namespace
+
+GeodeticFrame::GeodeticFrame(const GeodeticOrigin& o) : origin_(o) {
+  if (!std::isfinite(o.latitude_deg) || std::abs(o.latitude_deg) > 90.0) {
+    throw std::invalid_argument(
+        fmt::format("geodetic origin latitude {} deg outside [-90, 90]", o.latitude_deg));
+  }
+  if (!std::isfinite(o.longitude_deg) || std::abs(o.longitude_deg) > 180.0) {
+    throw std::invalid_argument(
+        fmt::format("geodetic origin longitude {} deg outside [-180, 180]", o.longitude_deg));
+  }
+  if (!std::isfinite(o.height_m) || o.height_m < kMinOriginHeightM ||
+      o.height_m > kMaxOriginHeightM) {
+    throw std::invalid_argument(fmt::format("geodetic origin height {} m outside [{}, {}]",
+                                            o.height_m, kMinOriginHeightM, kMaxOriginHeightM));
+  }
+  std::vector<double> m(9);
+  GeographicLib::Geocentric::WGS84().Forward(o.latitude_deg, o.longitude_deg, o.height_m,
+                                             origin_ecef_[0], origin_ecef_[1], origin_ecef_[2], m);
+  // GeographicLib: geocentric = M * (east, north, up).
+  std::copy(m.begin(), m.end(), enu_to_ecef_.begin());
+}
+
+WorldCoordinates GeodeticFrame::ToGeocentric(const LocalPoint& p) const {
+  const Vec enu = {p.x_m, p.z_m, p.y_m};
+  const auto& m = enu_to_ecef_;
+  WorldCoordinates c;
+  c.x = origin_ecef_[0] + m[0] * enu[0] + m[1] * enu[1] + m[2] * enu[2];
+  c.y = origin_ecef_[1] + m[3] * enu[0] + m[4] * enu[1] + m[5] * enu[2];
+  c.z = origin_ecef_[2] + m[6] * enu[0] + m[7] * enu[1] + m[8] * enu[2];
+  return c;
+}
+
+LocalPoint GeodeticFrame::FromGeocentric(const WorldCoordinates& c) const {
+  const Vec d = {c.x - origin_ecef_[0], c.y - origin_ecef_[1], c.z - origin_ecef_[2]};
+  const auto& m = enu_to_ecef_;
+  // The inverse of a rotation is its transpose.
+  const double e = m[0] * d[0] + m[3] * d[1] + m[6] * d[2];
+  const double n = m[1] * d[0] + m[4] * d[1] + m[7] * d[2];
+  const double u = m[2] * d[0] + m[5] * d[1] + m[8] * d[2];
+  return {e, u, n};
+}
+
+Vector3F GeodeticFrame::VectorToGeocentric(const LocalPoint& v) const {
+  const auto& m = enu_to_ecef_;
+  const Vec enu = {v.x_m, v.z_m, v.y_m};
+  return {static_cast<float>(m[0] * enu[0] + m[1] * enu[1] + m[2] * enu[2]),
+          static_cast<float>(m[3] * enu[0] + m[4] * enu[1] + m[5] * enu[2]),
+          static_cast<float>(m[6] * enu[0] + m[7] * enu[1] + m[8] * enu[2])};
+}
+
+LocalPoint GeodeticFrame::VectorFromGeocentric(const Vector3F& v) const {
+  const auto& m = enu_to_ecef_;
+  const Vec d = {v.x, v.y, v.z};
+  const double e = m[0] * d[0] + m[3] * d[1] + m[6] * d[2];
+  const double n = m[1] * d[0] + m[4] * d[1] + m[7] * d[2];
+  const double u = m[2] * d[0] + m[5] * d[1] + m[8] * d[2];
+  return {e, u, n};
+}
+
+std::array<double, 3> GeodeticFrame::ToDisAnglesRad(const LocalAttitude& a) const {
+  const BodyAxes b = AxesOf(a);
+  const auto& m = enu_to_ecef_;
+  auto to_ecef = [&m](const Vec& v) {
+    return Vec{m[0] * v[0] + m[1] * v[1] + m[2] * v[2], m[3] * v[0] + m[4] * v[1] + m[5] * v[2],
+               m[6] * v[0] + m[7] * v[1] + m[8] * v[2]};
+  };
+  // R = Rz(psi) Ry(theta) Rx(phi) has the body axes in geocentric axes as its columns.
+  const Vec f = to_ecef(b.forward), r = to_ecef(b.right), d = to_ecef(b.down);
+  const double theta = std::asin(std::clamp(-f[2], -1.0, 1.0));
+  double psi, phi;
+  if (std::abs(f[2]) < 1.0 - 1e-12) {
+    psi = std::atan2(f[1], f[0]);
+    phi = std::atan2(r[2], d[2]);
+  } else {
+    // Gimbal lock: the X and Z rotations are about the same axis; psi takes the whole of it.
+    phi = 0.0;
+    psi = std::atan2(-r[0], r[1]);
+  }
+  return {psi, theta, phi};
+}
+
+LocalAttitude GeodeticFrame::FromDisAnglesRad(double psi, double theta, double phi) const {
+  const double cps = std::cos(psi), sps = std::sin(psi);
+  const double ct = std::cos(theta), st = std::sin(theta);
+  const double cph = std::cos(phi), sph = std::sin(phi);
+  // Columns of Rz(psi) Ry(theta) Rx(phi): forward (x) and right (y) body axes, geocentric.
+  const Vec f = {cps * ct, sps * ct, -st};
+  const Vec r = {cps * st * sph - sps * cph, sps * st * sph + cps * cph, ct * sph};
+  const auto& m = enu_to_ecef_;
+  auto to_enu = [&m](const Vec& v) {
+    return Vec{m[0] * v[0] + m[3] * v[1] + m[6] * v[2], m[1] * v[0] + m[4] * v[1] + m[7] * v[2],
+               m[2] * v[0] + m[5] * v[1] + m[8] * v[2]};
+  };
+  return AttitudeOf(to_enu(f), to_enu(r));
+}
+
+EulerAngles GeodeticFrame::ToDisOrientation(const LocalAttitude& a) const {
+  const auto angles = ToDisAnglesRad(a);
+  return {static_cast<float>(angles[0]), static_cast<float>(angles[1]),
+          static_cast<float>(angles[2])};
+}
+
+LocalAttitude GeodeticFrame::FromDisOrientation(const EulerAngles& e) const {
+  return FromDisAnglesRad(e.psi, e.theta, e.phi);
+}
+
+}  // namespace dt::dis

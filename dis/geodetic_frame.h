@@ -1,0 +1,75 @@
+// GeodeticFrame: the terrain's local east/north/up metres placed on WGS-84, and orientations
+// as DIS Euler angles relative to geocentric axes (conversions by GeographicLib).
+#pragma once
+
+#include <array>
+
+#include "dis/dis_pdu.h"
+
+namespace dt::dis {
+
+// Where the terrain's point (x, y, z) = (0, 0, 0) lies: geodetic latitude and longitude in
+// degrees, height in metres above the WGS-84 ellipsoid.
+struct GeodeticOrigin {
+  double latitude_deg = 0.0;
+  double longitude_deg = 0.0;
+  double height_m = 0.0;
+  bool operator==(const GeodeticOrigin&) const = default;
+};
+
+// Ranges accepted for an origin: latitude within +-90 deg, longitude within +-180 deg, height
+// between the deepest ocean floor and well above any terrain.
+inline constexpr double kMinOriginHeightM = -12000.0;
+inline constexpr double kMaxOriginHeightM = 100000.0;
+
+// A point in the terrain's axes (docs/conventions.md): x east, y up, z north, metres.
+struct LocalPoint {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double z_m = 0.0;
+};
+
+// A vehicle's attitude in the terrain's convention: heading counter-clockwise from east (+x),
+// pitch positive nose up, roll positive right side down.
+struct LocalAttitude {
+  double heading_rad = 0.0;
+  double pitch_rad = 0.0;
+  double roll_rad = 0.0;
+};
+
+// The terrain is a plane tangent to the ellipsoid at the origin: local x, z, y are the east,
+// north and up axes there, for every point of the terrain. Conversions are exact inverses of
+// each other (to rounding), which a round trip through DIS relies on.
+class GeodeticFrame {
+ public:
+  // Throws std::invalid_argument for an origin outside the ranges above or not finite.
+  explicit GeodeticFrame(const GeodeticOrigin& origin);
+
+  const GeodeticOrigin& origin() const { return origin_; }
+
+  WorldCoordinates ToGeocentric(const LocalPoint& p) const;
+  LocalPoint FromGeocentric(const WorldCoordinates& c) const;
+
+  // Velocities and other free vectors: (x, y, z) local to geocentric and back.
+  Vector3F VectorToGeocentric(const LocalPoint& v) const;
+  LocalPoint VectorFromGeocentric(const Vector3F& v) const;
+
+  // DIS orientation (psi, theta, phi: Z, then Y, then X rotation from the geocentric axes to the
+  // body axes x forward, y right, z down) of a local attitude, and back. Back, the heading is in
+  // (-pi, pi], pitch in [-pi/2, pi/2], roll in (-pi, pi]; straight up or down (pitch +-90 deg)
+  // the heading is ambiguous and roll takes it all.
+  EulerAngles ToDisOrientation(const LocalAttitude& a) const;
+  LocalAttitude FromDisOrientation(const EulerAngles& e) const;
+
+  // The same in double precision (the PDU carries floats).
+  std::array<double, 3> ToDisAnglesRad(const LocalAttitude& a) const;
+  LocalAttitude FromDisAnglesRad(double psi, double theta, double phi) const;
+
+ private:
+  GeodeticOrigin origin_;
+  std::array<double, 3> origin_ecef_{};
+  // Columns are the local east, north and up unit vectors in geocentric axes (row-major).
+  std::array<double, 9> enu_to_ecef_{};
+};
+
+}  // namespace dt::dis

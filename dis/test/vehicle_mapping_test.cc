@@ -1,0 +1,111 @@
+// Vehicle poses to Entity State PDUs and back, through the wire.
+#include "dis/vehicle_mapping.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "dis/dis_codec.h"
+
+namespace dt::dis {
+namespace {
+
+const GeodeticFrame& Frame() {
+  static const GeodeticFrame frame({36.6, -121.9, 20.0});
+  return frame;
+}
+
+VehiclePose SamplePose() {
+  VehiclePose p;
+  p.entity_id = {3, 4, 9};
+  p.entity_type = {1, 1, 225, 1, 1, 3, 0};
+  p.force_id = 1;
+  p.marking = "TANK-9";
+  p.position_m = {1523.25, 41.5, 2870.75};
+  p.attitude = {2.1, 0.05, -0.03};
+  p.velocity_mps = {4.0, 0.2, -3.0};
+  p.acceleration_mps2 = {0.5, 0.0, -0.25};
+  p.angular_velocity_rad_s = {0.01, -0.02, 0.3};
+  p.appearance = 0x10;
+  p.dead_reckoning = DeadReckoningAlgorithm::kRvw;
+  return p;
+}
+
+TEST(VehicleMapping, PoseRoundTripsThroughTheWire) {
+  const VehiclePose pose = SamplePose();
+  const EntityStatePdu pdu = ToEntityState(pose, Frame(), {5, 0x99});
+  EXPECT_EQ(pdu.header.exercise_id, 5);
+  EXPECT_EQ(pdu.header.timestamp, 0x99u);
+  EXPECT_EQ(pdu.dead_reckoning.algorithm, 4);
+  const std::vector<uint8_t> bytes = Encode(pdu);
+  ASSERT_EQ(bytes.size(), kEntityStateSize);
+  const DecodeResult r = DecodePdu(bytes, uint8_t{5});
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const auto back = FromEntityState(std::get<EntityStatePdu>(r.pdu()), Frame());
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  const VehiclePose& b = back.value();
+  EXPECT_EQ(b.entity_id, pose.entity_id);
+  EXPECT_EQ(b.entity_type, pose.entity_type);
+  EXPECT_EQ(b.force_id, 1);
+  EXPECT_EQ(b.marking, "TANK-9");
+  EXPECT_EQ(b.appearance, 0x10u);
+  EXPECT_EQ(b.dead_reckoning, DeadReckoningAlgorithm::kRvw);
+  EXPECT_NEAR(b.position_m.x_m, pose.position_m.x_m, 1e-3);
+  EXPECT_NEAR(b.position_m.y_m, pose.position_m.y_m, 1e-3);
+  EXPECT_NEAR(b.position_m.z_m, pose.position_m.z_m, 1e-3);
+  EXPECT_NEAR(b.attitude.heading_rad, pose.attitude.heading_rad, 2e-6);
+  EXPECT_NEAR(b.attitude.pitch_rad, pose.attitude.pitch_rad, 2e-6);
+  EXPECT_NEAR(b.attitude.roll_rad, pose.attitude.roll_rad, 2e-6);
+  EXPECT_NEAR(b.velocity_mps.x_m, 4.0, 1e-5);
+  EXPECT_NEAR(b.velocity_mps.y_m, 0.2, 1e-5);
+  EXPECT_NEAR(b.velocity_mps.z_m, -3.0, 1e-5);
+  EXPECT_NEAR(b.acceleration_mps2.z_m, -0.25, 1e-5);
+  EXPECT_NEAR(b.angular_velocity_rad_s[2], 0.3, 1e-7);
+}
+
+TEST(VehicleMapping, VelocityIsGeocentric) {
+  VehiclePose pose = SamplePose();
+  pose.velocity_mps = {10.0, 0.0, 0.0};  // 10 m/s east
+  const EntityStatePdu pdu = ToEntityState(pose, Frame(), {});
+  const WorldCoordinates a = Frame().ToGeocentric({0, 0, 0});
+  const WorldCoordinates b = Frame().ToGeocentric({10, 0, 0});
+  EXPECT_NEAR(pdu.linear_velocity.x, b.x - a.x, 1e-5);
+  EXPECT_NEAR(pdu.linear_velocity.y, b.y - a.y, 1e-5);
+  EXPECT_NEAR(pdu.linear_velocity.z, b.z - a.z, 1e-5);
+}
+
+TEST(VehicleMapping, BadPosesAreMisuse) {
+  VehiclePose pose = SamplePose();
+  pose.position_m.y_m = std::nan("");
+  EXPECT_THROW(ToEntityState(pose, Frame(), {}), std::invalid_argument);
+  pose = SamplePose();
+  pose.attitude.roll_rad = INFINITY;
+  EXPECT_THROW(ToEntityState(pose, Frame(), {}), std::invalid_argument);
+  pose = SamplePose();
+  pose.marking = "TWELVE-CHARS";
+  EXPECT_THROW(ToEntityState(pose, Frame(), {}), std::invalid_argument);
+  pose.marking = "tab\there";
+  EXPECT_THROW(ToEntityState(pose, Frame(), {}), std::invalid_argument);
+  pose.marking = "ELEVEN-CHRS";
+  EXPECT_NO_THROW(ToEntityState(pose, Frame(), {}));
+}
+
+TEST(VehicleMapping, MarkingOfAnotherCharacterSetIsDropped) {
+  EntityStatePdu pdu = ToEntityState(SamplePose(), Frame(), {});
+  pdu.marking.character_set = 2;
+  const auto back = FromEntityState(pdu, Frame());
+  ASSERT_TRUE(back.ok());
+  EXPECT_EQ(back.value().marking, "");
+}
+
+TEST(VehicleMapping, UndefinedDeadReckoningIsRefused) {
+  EntityStatePdu pdu = ToEntityState(SamplePose(), Frame(), {});
+  pdu.dead_reckoning.algorithm = 12;
+  const auto back = FromEntityState(pdu, Frame());
+  ASSERT_FALSE(back.ok());
+  EXPECT_NE(back.error().message.find("12"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace dt::dis

@@ -1,0 +1,23 @@
+// A vehicle's pose as a DIS Entity State PDU, and an outside Entity State as a pose.
+#pragma once
+
+#include "dis/dis_pdu.h"
+#include "dis/geodetic_frame.h"
+#include "dis/pdu_context.h"
+#include "dis/vehicle_pose.h"
+#include "terrain/result.h"
+
+namespace dt::dis {
+
+// Throws std::invalid_argument for a non-finite value, or a marking longer than 11 characters
+// or not printable ASCII (the pose is dynterrain's own: a bad one is a bug upstream).
+EntityStatePdu ToEntityState(const VehiclePose& pose, const GeodeticFrame& frame,
+                             const PduContext& context);
+
+// An Entity State (already decoded, so finite) as a pose. The marking is kept up to its first
+// NUL when the character set is ASCII, and left empty otherwise. Fails for a dead-reckoning
+// algorithm outside SISO-REF-010's 0..9 or a location that does not convert to finite local
+// metres.
+Result<VehiclePose> FromEntityState(const EntityStatePdu& pdu, const GeodeticFrame& frame);
+
+}  // namespace dt::dis

@@ -12,6 +12,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev libtomlplusplus-dev libspdlog-dev libfmt-dev
   libsqlite3-dev libpng-dev libxxhash-dev libsodium-dev
+  libgeographiclib-dev tshark
   clang libclang-rt-14-dev clang-format
   python3 python3-pip
 )
@@ -52,4 +53,11 @@ if ! command -v cyclonedds >/dev/null 2>&1; then
   CYCLONEDDS_HOME="$home" python3 -m pip install --quiet cyclonedds==0.10.2 ||
     echo "setup: warning: could not install the cyclonedds Python package; the DDS subscribe test will be skipped"
   rm -rf "$home"
+fi
+
+# PyPI opendis, an independent DIS implementation: dis_opendis_test has it read our Entity State
+# and write one we read (docs/dis.md "Outside peers").
+if ! python3 -c 'import opendis' 2>/dev/null; then
+  echo "setup: installing the opendis Python module"
+  python3 -m pip install --quiet opendis || echo "setup: warning: could not install the opendis Python module; the opendis test will be skipped"
 fi

@@ -186,7 +186,15 @@ Result<FeatureFromDis> FeatureFromDisPdu(const ObjectStatePdu& any, const Geodet
       out.params.status = damage == general_appearance::kDamageDestroyed ? BridgeStatus::kDestroyed
                                                                          : BridgeStatus::kIntact;
       out.complete = false;
-      return out;  // incomplete: not a FeatureParams ValidateFeatureParams would accept
+      // Incomplete: not a FeatureParams ValidateFeatureParams would accept, so its placement
+      // is checked here.
+      for (double v : {at.x_m, at.y_m, at.z_m}) {
+        if (!(std::abs(v) <= kMaxFeatureCoordinateM)) {
+          return Error{fmt::format("bridge from DIS at ({}, {}, {}) m, beyond +-{} m", at.x_m,
+                                   at.y_m, at.z_m, kMaxFeatureCoordinateM)};
+        }
+      }
+      return out;
     } else {
       return Error{fmt::format("point object type {} is none of dynterrain's features",
                                TypeText(point->object_type))};
@@ -213,6 +221,10 @@ Result<FeatureFromDis> FeatureFromDisPdu(const ObjectStatePdu& any, const Geodet
   }
   if (Status s = ValidateFeatureParams(out.params); !s.ok()) {
     return Error{"feature from DIS: " + s.error().message};
+  }
+  if (!(std::abs(out.ground_elevation_m) <= kMaxFeatureCoordinateM)) {
+    return Error{fmt::format("feature from DIS: elevation {} m beyond +-{} m",
+                             out.ground_elevation_m, kMaxFeatureCoordinateM)};
   }
   return out;
 }

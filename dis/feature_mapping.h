@@ -52,8 +52,8 @@ struct FeatureFromDis {
 };
 
 // Fails (naming the values) for object types that are none of dynterrain's, a crater of
-// diameter 0, a linear object without exactly one segment, or a result ValidateFeatureParams
-// refuses.
+// diameter 0, a linear object without exactly one segment, a location beyond
+// kMaxFeatureCoordinateM of the origin, or a result ValidateFeatureParams refuses.
 Result<FeatureFromDis> FeatureFromDisPdu(const ObjectStatePdu& pdu, const GeodeticFrame& frame);
 
 }  // namespace dt::dis

@@ -1,7 +1,9 @@
 // Writes a sample vehicle's Entity State (raw, or as a pcap of one UDP/3000 datagram) and
 // decodes Entity States others wrote, printing the checked fields as JSON for the outside-peer
 // tests (tshark_entity_state.py, opendis_entity_state.py).
-//   dis_sample_tool encode <out.bin> | pcap <out.pcap> | decode <in.bin>
+//   dis_sample_tool encode <out.bin> | pcap <out.pcap> | features-pcap <out.pcap> | decode <in.bin>
+// features-pcap writes a crater, a bridge and a berm (Point, Point, Linear Object State) and
+// prints one JSON line per PDU.
 #include <fmt/format.h>
 
 #include <cstdio>
@@ -11,6 +13,7 @@
 #include <vector>
 
 #include "dis/dis_codec.h"
+#include "dis/feature_mapping.h"
 #include "dis/vehicle_mapping.h"
 
 namespace {
@@ -66,8 +69,8 @@ void PutLe16(std::vector<uint8_t>& b, uint16_t v) {
   b.push_back(static_cast<uint8_t>(v >> 8));
 }
 
-// One IPv4/UDP datagram 127.0.0.1:3000 -> 127.0.0.1:3000 in a pcap file of raw IP frames.
-std::vector<uint8_t> Pcap(const std::vector<uint8_t>& payload) {
+// An IPv4/UDP datagram 127.0.0.1:3000 -> 127.0.0.1:3000 (raw IP frame) holding the payload.
+std::vector<uint8_t> IpFrame(const std::vector<uint8_t>& payload) {
   std::vector<uint8_t> ip;
   const auto total = static_cast<uint16_t>(20 + 8 + payload.size());
   ip.insert(ip.end(), {0x45, 0x00});
@@ -84,7 +87,11 @@ std::vector<uint8_t> Pcap(const std::vector<uint8_t>& payload) {
   Put16(ip, static_cast<uint16_t>(8 + payload.size()));
   Put16(ip, 0);  // no UDP checksum (allowed over IPv4)
   ip.insert(ip.end(), payload.begin(), payload.end());
+  return ip;
+}
 
+// A pcap file of raw IP frames, one per payload.
+std::vector<uint8_t> Pcap(const std::vector<std::vector<uint8_t>>& payloads) {
   std::vector<uint8_t> file;
   PutLe32(file, 0xA1B2C3D4);
   PutLe16(file, 2);
@@ -93,11 +100,15 @@ std::vector<uint8_t> Pcap(const std::vector<uint8_t>& payload) {
   PutLe32(file, 0);
   PutLe32(file, 65535);
   PutLe32(file, 101);  // LINKTYPE_RAW: frames are IP packets
-  PutLe32(file, 1700000000);
-  PutLe32(file, 0);
-  PutLe32(file, static_cast<uint32_t>(ip.size()));
-  PutLe32(file, static_cast<uint32_t>(ip.size()));
-  file.insert(file.end(), ip.begin(), ip.end());
+  uint32_t second = 1700000000;
+  for (const auto& payload : payloads) {
+    const std::vector<uint8_t> ip = IpFrame(payload);
+    PutLe32(file, second++);
+    PutLe32(file, 0);
+    PutLe32(file, static_cast<uint32_t>(ip.size()));
+    PutLe32(file, static_cast<uint32_t>(ip.size()));
+    file.insert(file.end(), ip.begin(), ip.end());
+  }
   return file;
 }
 
@@ -112,19 +123,40 @@ bool WriteFile(const std::string& path, const std::vector<uint8_t>& bytes) {
 
 int main(int argc, char** argv) {
   if (argc != 3) {
-    std::fprintf(stderr, "usage: %s encode <out.bin> | pcap <out.pcap> | decode <in.bin>\n",
-                 argv[0]);
+    std::fprintf(stderr, "usage: %s encode|pcap|features-pcap <out> | decode <in.bin>\n", argv[0]);
     return 2;
   }
   const std::string mode = argv[1], path = argv[2];
   if (mode == "encode" || mode == "pcap") {
     const EntityStatePdu pdu = SamplePdu();
     const std::vector<uint8_t> bytes = Encode(pdu);
-    if (!WriteFile(path, mode == "pcap" ? Pcap(bytes) : bytes)) {
+    if (!WriteFile(path, mode == "pcap" ? Pcap({bytes}) : bytes)) {
       std::fprintf(stderr, "cannot write %s\n", path.c_str());
       return 1;
     }
     std::printf("%s\n", Json(pdu).c_str());
+    return 0;
+  }
+  if (mode == "features-pcap") {
+    const dt::FeatureId id{17, 23, 5};
+    std::vector<std::vector<uint8_t>> payloads;
+    for (const dt::FeatureParams& params :
+         {dt::FeatureParams::Crater(300, 400, 6.0),
+          dt::FeatureParams::Bridge(500, 100, 0.3, 8, 20, 60, 20, 5, 5),
+          dt::FeatureParams::Berm(50, 60, 0.7, 40, 6, 2.5)}) {
+      const auto pdu = FeatureToDis(id, params, 12.0, 1, Frame(), {7, 0});
+      if (!pdu.ok()) {
+        std::fprintf(stderr, "%s\n", pdu.error().message.c_str());
+        return 1;
+      }
+      payloads.push_back(std::visit([](const auto& p) { return Encode(p); }, pdu.value()));
+      std::printf("{\"pdu_type\": %d, \"length\": %zu}\n", payloads.back()[2],
+                  payloads.back().size());
+    }
+    if (!WriteFile(path, Pcap(payloads))) {
+      std::fprintf(stderr, "cannot write %s\n", path.c_str());
+      return 1;
+    }
     return 0;
   }
   if (mode == "decode") {

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Wireshark's DIS dissector (tshark) decodes our Entity State from a pcap of one UDP/3000
 datagram, and the checked fields (entity ID, location, dead-reckoning algorithm, ...) equal
-what dis_sample_tool encoded.
+what dis_sample_tool encoded. It also reads the headers of our Point and Linear Object State
+PDUs (tshark 4.0 names them but does not decode their contents) without calling them malformed.
 
     tshark_entity_state.py <dis_sample_tool> <work dir>
 
@@ -90,6 +91,26 @@ def main():
         failures.append("tshark does not name the dead-reckoning algorithm DRM(R, V, W) (4)")
     if f"PDU Length: {144}" not in verbose:
         failures.append("tshark does not read a PDU length of 144")
+
+    # Features: the dissector's header fields for each Point / Linear Object State.
+    features = os.path.join(work, "features.pcap")
+    sent = [json.loads(line) for line in subprocess.run(
+        [tool, "features-pcap", features], check=True, capture_output=True,
+        text=True).stdout.splitlines()]
+    out = subprocess.run([tshark, "-r", features, "-T", "fields", "-E", "separator=;",
+                          "-e", "dis.proto_ver", "-e", "dis.pdu_type", "-e", "dis.pdu_length"],
+                         check=True, capture_output=True, text=True).stdout.split()
+    want = [f"7;{p['pdu_type']};{p['length']}" for p in sent]
+    if out != want:
+        failures.append(f"feature PDU headers: tshark {out}, sent {want}")
+    verbose = subprocess.run([tshark, "-r", features, "-V"], check=True, capture_output=True,
+                             text=True).stdout
+    if "Malformed" in verbose or "Expert Info (Error" in verbose:
+        failures.append("tshark reports a feature PDU malformed")
+    for name in ("Point Object State PDU", "Linear Object State PDU"):
+        if name not in verbose:
+            failures.append(f"tshark does not name a {name}")
+
     for f in failures:
         print("FAIL:", f)
     return 1 if failures else 0

@@ -11,31 +11,43 @@
 
 namespace dt::dis {
 
-// Appends big-endian fields to a byte vector.
+// Writes big-endian fields into a byte vector sized once for the whole PDU (each PDU's size is
+// known before it is written). Writing past that size is a broken invariant.
 class BigEndianWriter {
  public:
-  explicit BigEndianWriter(std::vector<uint8_t>& out) : out_(out) {}
-  void U8(uint8_t v) { out_.push_back(v); }
+  BigEndianWriter(std::vector<uint8_t>& out, size_t total) : out_(out) { out_.resize(total); }
+  void U8(uint8_t v) { *Take(1) = v; }
   void U16(uint16_t v) {
-    out_.push_back(static_cast<uint8_t>(v >> 8));
-    out_.push_back(static_cast<uint8_t>(v));
+    uint8_t* p = Take(2);
+    p[0] = static_cast<uint8_t>(v >> 8);
+    p[1] = static_cast<uint8_t>(v);
   }
   void U32(uint32_t v) {
-    for (int shift = 24; shift >= 0; shift -= 8) out_.push_back(static_cast<uint8_t>(v >> shift));
+    uint8_t* p = Take(4);
+    for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>(v >> (24 - 8 * i));
   }
   void U64(uint64_t v) {
-    for (int shift = 56; shift >= 0; shift -= 8) out_.push_back(static_cast<uint8_t>(v >> shift));
+    uint8_t* p = Take(8);
+    for (int i = 0; i < 8; ++i) p[i] = static_cast<uint8_t>(v >> (56 - 8 * i));
   }
   void F32(float v) { U32(std::bit_cast<uint32_t>(v)); }
   void F64(double v) { U64(std::bit_cast<uint64_t>(v)); }
-  void Zeros(size_t n) { out_.insert(out_.end(), n, uint8_t{0}); }
+  void Zeros(size_t n) { std::memset(Take(n), 0, n); }
   void Bytes(std::span<const uint8_t> bytes) {
-    out_.insert(out_.end(), bytes.begin(), bytes.end());
+    std::memcpy(Take(bytes.size()), bytes.data(), bytes.size());
   }
-  size_t size() const { return out_.size(); }
+  // True once exactly the announced size has been written.
+  bool complete() const { return pos_ == out_.size(); }
 
  private:
+  uint8_t* Take(size_t n) {
+    if (n > out_.size() - pos_) std::abort();  // broken invariant: the size was computed first
+    uint8_t* p = out_.data() + pos_;
+    pos_ += n;
+    return p;
+  }
   std::vector<uint8_t>& out_;
+  size_t pos_ = 0;
 };
 
 // Reads big-endian fields from a span. The caller checks the total size first (each PDU's

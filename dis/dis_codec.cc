@@ -332,8 +332,7 @@ std::vector<uint8_t> Encode(const EntityStatePdu& p) {
                                             p.variable_parameters.size()));
   }
   std::vector<uint8_t> out;
-  out.reserve(kEntityStateSize + p.variable_parameters.size() * kVariableParameterSize);
-  BigEndianWriter w(out);
+  BigEndianWriter w(out, kEntityStateSize + p.variable_parameters.size() * kVariableParameterSize);
   PutHeader(w, p.header, PduType::kEntityState, kFamilyEntityInformation);
   PutEntityId(w, p.entity_id);
   w.U8(p.force_id);
@@ -355,14 +354,14 @@ std::vector<uint8_t> Encode(const EntityStatePdu& p) {
     w.U8(v.record_type);
     w.Bytes(v.data);
   }
+  if (!w.complete()) std::abort();  // the layout's size and the fields written disagree
   PatchLength(out);
   return out;
 }
 
 std::vector<uint8_t> Encode(const PointObjectStatePdu& p) {
   std::vector<uint8_t> out;
-  out.reserve(kPointObjectStateSize);
-  BigEndianWriter w(out);
+  BigEndianWriter w(out, kPointObjectStateSize);
   PutHeader(w, p.header, PduType::kPointObjectState, kFamilySyntheticEnvironment);
   PutEntityId(w, p.object_id);
   PutEntityId(w, p.referenced_object_id);
@@ -378,6 +377,7 @@ std::vector<uint8_t> Encode(const PointObjectStatePdu& p) {
   PutAddress(w, p.requester_id);
   PutAddress(w, p.receiving_id);
   w.Zeros(4);
+  if (!w.complete()) std::abort();  // the layout's size and the fields written disagree
   PatchLength(out);
   return out;
 }
@@ -388,8 +388,7 @@ std::vector<uint8_t> Encode(const LinearObjectStatePdu& p) {
         fmt::format("DIS encode: {} linear segments (at most 255)", p.segments.size()));
   }
   std::vector<uint8_t> out;
-  out.reserve(kLinearObjectStateSize + p.segments.size() * kLinearSegmentSize);
-  BigEndianWriter w(out);
+  BigEndianWriter w(out, kLinearObjectStateSize + p.segments.size() * kLinearSegmentSize);
   PutHeader(w, p.header, PduType::kLinearObjectState, kFamilySyntheticEnvironment);
   PutEntityId(w, p.object_id);
   PutEntityId(w, p.referenced_object_id);
@@ -416,6 +415,7 @@ std::vector<uint8_t> Encode(const LinearObjectStatePdu& p) {
     w.F32(s.depth_m);
     w.Zeros(4);
   }
+  if (!w.complete()) std::abort();  // the layout's size and the fields written disagree
   PatchLength(out);
   return out;
 }

@@ -160,6 +160,12 @@ bool IsDeactivated(const ObjectStatePdu& pdu) {
 }
 
 Result<FeatureFromDis> FeatureFromDisPdu(const ObjectStatePdu& any, const GeodeticFrame& frame) {
+  const EntityId object_id = std::visit([](const auto& p) { return p.object_id; }, any);
+  if (object_id.entity == 0 || object_id.entity > kMaxDisObjectNumber) {
+    return Error{fmt::format("object {}:{}:{} has a reserved object number (objects are 1..{})",
+                             object_id.site, object_id.application, object_id.entity,
+                             kMaxDisObjectNumber)};
+  }
   FeatureFromDis out;
   out.deactivated = IsDeactivated(any);
   if (const auto* point = std::get_if<PointObjectStatePdu>(&any)) {

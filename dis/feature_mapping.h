@@ -51,7 +51,8 @@ struct FeatureFromDis {
   bool complete = false;  // params define the whole feature (crater, berm; not a bridge)
 };
 
-// Fails (naming the values) for object types that are none of dynterrain's, a crater of
+// Fails (naming the values) for a reserved object number (0, 65534, 65535), object types
+// that are none of dynterrain's, a crater of
 // diameter 0, a linear object without exactly one segment, a location beyond
 // kMaxFeatureCoordinateM of the origin, or a result ValidateFeatureParams refuses.
 Result<FeatureFromDis> FeatureFromDisPdu(const ObjectStatePdu& pdu, const GeodeticFrame& frame);

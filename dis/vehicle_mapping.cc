@@ -62,6 +62,11 @@ EntityStatePdu ToEntityState(const VehiclePose& pose, const GeodeticFrame& frame
 }
 
 Result<VehiclePose> FromEntityState(const EntityStatePdu& pdu, const GeodeticFrame& frame) {
+  if (pdu.entity_id.entity == 0 || pdu.entity_id.entity >= kFirstReservedEntityNumber) {
+    return Error{fmt::format("entity {}:{}:{} has a reserved entity number (entities are 1..{})",
+                             pdu.entity_id.site, pdu.entity_id.application, pdu.entity_id.entity,
+                             kFirstReservedEntityNumber - 1)};
+  }
   if (pdu.dead_reckoning.algorithm > kMaxDeadReckoningAlgorithm) {
     return Error{fmt::format("entity {}:{}:{}: dead-reckoning algorithm {} (0..{} defined)",
                              pdu.entity_id.site, pdu.entity_id.application, pdu.entity_id.entity,

@@ -14,10 +14,13 @@ namespace dt::dis {
 EntityStatePdu ToEntityState(const VehiclePose& pose, const GeodeticFrame& frame,
                              const PduContext& context);
 
+// Entity numbers 0 (none), 65534 (assign on request) and 65535 (all) are reserved.
+inline constexpr uint16_t kFirstReservedEntityNumber = 65534;
+
 // An Entity State (already decoded, so finite) as a pose. The marking is kept up to its first
-// NUL when the character set is ASCII, and left empty otherwise. Fails for a dead-reckoning
-// algorithm outside SISO-REF-010's 0..9 or a location that does not convert to finite local
-// metres.
+// NUL when the character set is ASCII, and left empty otherwise. Fails for a reserved entity
+// number, a dead-reckoning algorithm outside SISO-REF-010's 0..9 or a location that does not
+// convert to finite local metres.
 Result<VehiclePose> FromEntityState(const EntityStatePdu& pdu, const GeodeticFrame& frame);
 
 }  // namespace dt::dis

@@ -170,6 +170,19 @@ TEST(FeatureMapping, FeatureNumbersBeyondDisRangeHaveNoObjectId) {
   EXPECT_FALSE(pdu.ok());
 }
 
+TEST(FeatureMapping, ReservedObjectNumbersAreNotFeatures) {
+  auto point = std::get<PointObjectStatePdu>(
+      FeatureToDis(kId, FeatureParams::Crater(0, 0, 3), 0, 1, Frame(), kContext).value());
+  for (uint16_t reserved : {uint16_t{0}, uint16_t{65534}, uint16_t{65535}}) {
+    point.object_id.entity = reserved;
+    const auto back = FeatureFromDisPdu(point, Frame());
+    ASSERT_FALSE(back.ok()) << reserved;
+    EXPECT_NE(back.error().message.find(std::to_string(reserved)), std::string::npos);
+  }
+  point.object_id.entity = 65533;
+  EXPECT_TRUE(FeatureFromDisPdu(point, Frame()).ok());
+}
+
 TEST(FeatureMapping, InvalidParametersAreMisuse) {
   FeatureParams bad = FeatureParams::Crater(0, 0, 3);
   bad.length_m[0] = std::nan("");

@@ -99,6 +99,16 @@ TEST(VehicleMapping, MarkingOfAnotherCharacterSetIsDropped) {
   EXPECT_EQ(back.value().marking, "");
 }
 
+TEST(VehicleMapping, ReservedEntityNumbersAreRefused) {
+  EntityStatePdu pdu = ToEntityState(SamplePose(), Frame(), {});
+  for (uint16_t reserved : {uint16_t{0}, uint16_t{65534}, uint16_t{65535}}) {
+    pdu.entity_id.entity = reserved;
+    EXPECT_FALSE(FromEntityState(pdu, Frame()).ok()) << reserved;
+  }
+  pdu.entity_id.entity = 65533;
+  EXPECT_TRUE(FromEntityState(pdu, Frame()).ok());
+}
+
 TEST(VehicleMapping, UndefinedDeadReckoningIsRefused) {
   EntityStatePdu pdu = ToEntityState(SamplePose(), Frame(), {});
   pdu.dead_reckoning.algorithm = 12;

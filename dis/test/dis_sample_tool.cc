@@ -1,7 +1,8 @@
 // Writes a sample vehicle's Entity State (raw, or as a pcap of one UDP/3000 datagram) and
 // decodes Entity States others wrote, printing the checked fields as JSON for the outside-peer
 // tests (tshark_entity_state.py, opendis_entity_state.py).
-//   dis_sample_tool encode <out.bin> | pcap <out.pcap> | features-pcap <out.pcap> | decode <in.bin>
+//   dis_sample_tool encode <out.bin> | pcap <out.pcap> | features-pcap <out.pcap> |
+//                   crater <out.bin> | decode <in.bin>
 // features-pcap writes a crater, a bridge and a berm (Point, Point, Linear Object State) and
 // prints one JSON line per PDU.
 #include <fmt/format.h>
@@ -123,7 +124,8 @@ bool WriteFile(const std::string& path, const std::vector<uint8_t>& bytes) {
 
 int main(int argc, char** argv) {
   if (argc != 3) {
-    std::fprintf(stderr, "usage: %s encode|pcap|features-pcap <out> | decode <in.bin>\n", argv[0]);
+    std::fprintf(stderr, "usage: %s encode|pcap|features-pcap|crater <out> | decode <in.bin>\n",
+                 argv[0]);
     return 2;
   }
   const std::string mode = argv[1], path = argv[2];
@@ -135,6 +137,24 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::printf("%s\n", Json(pdu).c_str());
+    return 0;
+  }
+  if (mode == "crater") {
+    const auto pdu = FeatureToDis({17, 23, 5}, dt::FeatureParams::Crater(300, 400, 6.0), 12.0, 3,
+                                  Frame(), {7, 0});
+    const auto& point = std::get<PointObjectStatePdu>(pdu.value());
+    if (!WriteFile(path, Encode(point))) {
+      std::fprintf(stderr, "cannot write %s\n", path.c_str());
+      return 1;
+    }
+    std::printf(
+        "{\"site\": %u, \"application\": %u, \"object\": %u, \"update\": %u, "
+        "\"domain\": %u, \"kind\": %u, \"category\": %u, \"x\": %.17g, \"y\": %.17g, "
+        "\"z\": %.17g, \"specific\": %u, \"general\": %u}\n",
+        point.object_id.site, point.object_id.application, point.object_id.entity,
+        point.update_number, point.object_type.domain, point.object_type.kind,
+        point.object_type.category, point.location.x, point.location.y, point.location.z,
+        point.specific_appearance, point.general_appearance);
     return 0;
   }
   if (mode == "features-pcap") {

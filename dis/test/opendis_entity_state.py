@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """An independent DIS implementation (PyPI opendis) reads our Entity State, and writes one that
-our decoder and mapping accept with the same field values.
+our decoder and mapping accept with the same field values; it also reads our crater's Point
+Object State (its appearance as a float64 whose bits are our appearance record).
 
     opendis_entity_state.py <dis_sample_tool> <work dir>
 
@@ -9,6 +10,7 @@ The opendis 1.0 problems worked around here are listed in docs/dis.md "Outside p
 """
 import json
 import os
+import struct
 import subprocess
 import sys
 from io import BytesIO
@@ -104,10 +106,38 @@ def main():
         for key, want in (("psi", 0.5), ("theta", -0.75), ("phi", 1.25), ("vx", 3.5),
                           ("vy", -1.5)):
             check(f"decoded {key}", got[key], want, 1e-7)
+    # 3. opendis reads our crater's Point Object State field for field; it takes the 64 bits of
+    # object appearance (specific 32, general 16, padding 16) for one float64, whose bits must
+    # be ours.
+    crater = os.path.join(work, "crater.bin")
+    sent = json.loads(subprocess.run([tool, "crater", crater], check=True, capture_output=True,
+                                     text=True).stdout)
+    with open(crater, "rb") as f:
+        crater_bytes = f.read()
+    point = createPdu(crater_bytes)
+    if type(point).__name__ != "PointObjectStatePdu":
+        failures.append(f"opendis decoded our Point Object State as a {type(point).__name__}")
+    else:
+        check("object site", point.objectID.siteID, sent["site"])
+        check("object application", point.objectID.applicationID, sent["application"])
+        check("object number", point.objectID.entityID, sent["object"])
+        check("update number", point.updateNumber, sent["update"])
+        check("object domain", point.objectType.domain, sent["domain"])
+        check("object kind", point.objectType.objectKind, sent["kind"])
+        check("object category", point.objectType.category, sent["category"])
+        for axis in "xyz":
+            check(f"object location {axis}", getattr(point.objectLocation, axis), sent[axis], 0.0)
+        check("requester", (point.requesterID.site, point.requesterID.application),
+              (sent["site"], sent["application"]))
+        check("receiving", (point.receivingID.site, point.receivingID.application),
+              (65535, 65535))
+        appearance_bits = struct.pack(">d", point.objectAppearance)
+        check("appearance bits", appearance_bits,
+              struct.pack(">IHH", sent["specific"], sent["general"], 0))
     for f in failures:
         print("FAIL:", f)
     if not failures:
-        print("opendis read our Entity State and we read opendis's")
+        print("opendis read our Entity State and Point Object State, and we read its Entity State")
     return 1 if failures else 0
 
 

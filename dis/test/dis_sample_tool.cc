@@ -26,7 +26,7 @@ const GeodeticFrame& Frame() {
   return frame;
 }
 
-EntityStatePdu SamplePdu() {
+VehiclePose SamplePose() {
   VehiclePose pose;
   pose.entity_id = {17, 23, 4242};
   pose.entity_type = {1, 1, 225, 1, 1, 3, 0};
@@ -36,7 +36,19 @@ EntityStatePdu SamplePdu() {
   pose.attitude = {2.1, 0.05, -0.03};
   pose.velocity_mps = {4.0, 0.2, -3.0};
   pose.dead_reckoning = DeadReckoningAlgorithm::kRvw;
-  return ToEntityState(pose, Frame(), {7, 0x01000001});
+  return pose;
+}
+
+EntityStatePdu SamplePdu() { return ToEntityState(SamplePose(), Frame(), {7, 0x01000001}); }
+
+// The frame's origin and the sample's local attitude, for a peer's own conversion.
+std::string SampleInputsJson() {
+  const GeodeticOrigin& o = Frame().origin();
+  const LocalAttitude& a = SamplePose().attitude;
+  return fmt::format(
+      "\"origin_lat_deg\": {:.17g}, \"origin_lon_deg\": {:.17g}, \"origin_h_m\": {:.17g}, "
+      "\"heading_rad\": {:.17g}, \"pitch_rad\": {:.17g}, \"roll_rad\": {:.17g}",
+      o.latitude_deg, o.longitude_deg, o.height_m, a.heading_rad, a.pitch_rad, a.roll_rad);
 }
 
 std::string Json(const EntityStatePdu& p) {
@@ -136,7 +148,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "cannot write %s\n", path.c_str());
       return 1;
     }
-    std::printf("%s\n", Json(pdu).c_str());
+    std::string json = Json(pdu);
+    json.pop_back();  // the closing brace
+    std::printf("%s, %s}\n", json.c_str(), SampleInputsJson().c_str());
     return 0;
   }
   if (mode == "crater") {

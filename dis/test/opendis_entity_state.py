@@ -9,6 +9,7 @@ Exits 77 (skipped) when the opendis module is not installed (scripts/setup.sh in
 The opendis 1.0 problems worked around here are listed in docs/dis.md "Outside peers".
 """
 import json
+import math
 import os
 import struct
 import subprocess
@@ -60,6 +61,19 @@ def main():
     check("marking", marking, expected["marking"])
     check("entity kind", pdu.entityType.entityKind, expected["kind"])
     check("country", pdu.entityType.country, expected["country"])
+
+    # 1b. opendis's own geodesy (RangeCoordinates.GPS, NED frames) gives our Euler angles for
+    # the sample's attitude in the terrain's frame, the tangent plane at the origin: its yaw is a
+    # compass heading (clockwise from north), ours counter-clockwise from east.
+    from opendis.RangeCoordinates import GPS
+    lat = math.radians(expected["origin_lat_deg"])
+    lon = math.radians(expected["origin_lon_deg"])
+    yaw = math.pi / 2 - expected["heading_rad"]
+    _, _, _, psi, theta, phi = GPS().llarpy2ecef(lat, lon, expected["origin_h_m"],
+                                                 expected["roll_rad"], expected["pitch_rad"], yaw)
+    for name, theirs in (("psi", psi), ("theta", theta), ("phi", phi)):
+        delta = math.remainder(theirs - expected[name], 2 * math.pi)
+        check(f"{name} from opendis's llarpy2ecef", delta, 0.0, 1e-6)
 
     # 2. We read what opendis encodes.
     es = EntityStatePdu()

@@ -45,10 +45,13 @@ EntityStatePdu SamplePdu() { return ToEntityState(SamplePose(), Frame(), {7, 0x0
 std::string SampleInputsJson() {
   const GeodeticOrigin& o = Frame().origin();
   const LocalAttitude& a = SamplePose().attitude;
-  return fmt::format(
-      "\"origin_lat_deg\": {:.17g}, \"origin_lon_deg\": {:.17g}, \"origin_h_m\": {:.17g}, "
-      "\"heading_rad\": {:.17g}, \"pitch_rad\": {:.17g}, \"roll_rad\": {:.17g}",
-      o.latitude_deg, o.longitude_deg, o.height_m, a.heading_rad, a.pitch_rad, a.roll_rad);
+  const WorldCoordinates at_origin = Frame().ToGeocentric({0, 0, 0});
+  return fmt::format("\"origin_x\": {:.17g}, \"origin_y\": {:.17g}, \"origin_z\": {:.17g}, ",
+                     at_origin.x, at_origin.y, at_origin.z) +
+         fmt::format(
+             "\"origin_lat_deg\": {:.17g}, \"origin_lon_deg\": {:.17g}, \"origin_h_m\": {:.17g}, "
+             "\"heading_rad\": {:.17g}, \"pitch_rad\": {:.17g}, \"roll_rad\": {:.17g}",
+             o.latitude_deg, o.longitude_deg, o.height_m, a.heading_rad, a.pitch_rad, a.roll_rad);
 }
 
 std::string Json(const EntityStatePdu& p) {

@@ -71,6 +71,10 @@ def main():
     yaw = math.pi / 2 - expected["heading_rad"]
     _, _, _, psi, theta, phi = GPS().llarpy2ecef(lat, lon, expected["origin_h_m"],
                                                  expected["roll_rad"], expected["pitch_rad"], yaw)
+    gps_origin = GPS().lla2ecef((expected["origin_lat_deg"], expected["origin_lon_deg"],
+                                 expected["origin_h_m"]))
+    for axis, theirs in zip("xyz", gps_origin):
+        check(f"origin {axis} from opendis's lla2ecef", theirs, expected[f"origin_{axis}"], 1e-3)
     for name, theirs in (("psi", psi), ("theta", theta), ("phi", phi)):
         delta = math.remainder(theirs - expected[name], 2 * math.pi)
         check(f"{name} from opendis's llarpy2ecef", delta, 0.0, 1e-6)

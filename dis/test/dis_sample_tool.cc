@@ -44,7 +44,7 @@ EntityStatePdu SamplePdu() { return ToEntityState(SamplePose(), Frame(), {7, 0x0
 // The frame's origin and the sample's local attitude, for a peer's own conversion.
 std::string SampleInputsJson() {
   const GeodeticOrigin& o = Frame().origin();
-  const LocalAttitude& a = SamplePose().attitude;
+  const LocalAttitude a = SamplePose().attitude;
   const WorldCoordinates at_origin = Frame().ToGeocentric({0, 0, 0});
   return fmt::format("\"origin_x\": {:.17g}, \"origin_y\": {:.17g}, \"origin_z\": {:.17g}, ",
                      at_origin.x, at_origin.y, at_origin.z) +

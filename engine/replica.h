@@ -30,7 +30,10 @@
 
 namespace dt {
 
-// NodeRole (kNode, kServer, kStandby) is pdu/pdu_type.h's: it travels in MaxFeature.
+// NodeRole (kNode, kServer, kStandby) is pdu/pdu_type.h's: it travels in MaxFeature. A replica
+// with role kObserver (a live view) holds the terrain, creates nothing and is not counted: it
+// sends no MaxFeature and no summaries, answers no playback, and its peers never ask it nor wait
+// for it (docs/protocol.md, "Observers").
 
 struct ReplicaConfig {
   NodeAddress address;
@@ -177,6 +180,7 @@ class Replica {
   // A peer's anti-entropy summary shows it holds `author`'s changes up to `max_held`.
   void HeldBeyond(NodeAddress peer, NodeAddress author, int64_t max_held);
   void CompleteSignOn();
+  bool observer() const { return config_.role == NodeRole::kObserver; }
   bool IsMember(NodeAddress a) const {
     return config_.members.empty() || config_.members.count(a) != 0;
   }

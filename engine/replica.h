@@ -129,6 +129,12 @@ class Replica {
     uint64_t refused_stranger = 0, refused_role = 0, refused_claim = 0, refused_lamport = 0;
   };
   Counters counters() const;
+  // When this replica last heard a PDU from a member (its Tick time); -1: never (observers are
+  // never heard: they are not peers).
+  int64_t last_heard_ms(NodeAddress peer) const {
+    auto it = peers_.find(peer);
+    return it == peers_.end() ? -1 : it->second.last_heard_ms;
+  }
   // Highest feature number known per origin (own included).
   std::map<NodeAddress, int64_t> max_feature_known() const;
   // What the server last reported durable for this node's change log.

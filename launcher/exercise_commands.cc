@@ -20,9 +20,9 @@ std::vector<std::string> ProcessCommand(const ExerciseConfig& exercise,
   const bool is_view = exercise.view && &process == &exercise.view->process;
   const std::filesystem::path& program =
       is_view ? programs.view : (is_server ? programs.server : programs.node);
-  std::vector<std::string> argv = {program.string(),
-                                   "--config", std::filesystem::absolute(exercise.source).string(),
-                                   "--name", process.name};
+  std::vector<std::string> argv = {program.string(), "--config",
+                                   std::filesystem::absolute(exercise.source).string(), "--name",
+                                   process.name};
   if (exercise.standby && &process == &*exercise.standby) argv.push_back("--standby");
   argv.insert(argv.end(), extra.begin(), extra.end());
   return argv;

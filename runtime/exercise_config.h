@@ -38,7 +38,7 @@ struct ProcessConfig {
 
 // The live view (docs/view.md): an observer replica that serves a web page.
 struct ViewConfig {
-  ProcessConfig process;                 // name, address (a member with role observer)
+  ProcessConfig process;                   // name, address (a member with role observer)
   std::string http_address = "127.0.0.1";  // only this host by default
   int http_port = 8480;
 };

@@ -39,9 +39,9 @@ Result<OperatorCommand> ParseOperatorCommand(const nlohmann::json& m,
   } else if (op == "breach") {
     keys = {"gap_start", "gap_width"};
   } else if (op != "destroy") {
-    return Error{fmt::format(
-        "operator command: \"op\" {} is not crater, berm, bridge, destroy or breach",
-        nlohmann::json(op).dump())};
+    return Error{
+        fmt::format("operator command: \"op\" {} is not crater, berm, bridge, destroy or breach",
+                    nlohmann::json(op).dump())};
   }
   std::string line = op;
   if (op == "destroy" || op == "breach") {

@@ -37,9 +37,9 @@ ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOp
       view_(FindView(exercise, name)),
       options_(std::move(options)),
       transport_(MakeProcessTransport(exercise, view_.process)) {
-  replica_ = std::make_unique<Replica>(
-      MakeReplicaConfig(exercise, view_.process, NodeRole::kObserver),
-      MakeRandomTerrain(exercise.terrain), *transport_.bus);
+  replica_ =
+      std::make_unique<Replica>(MakeReplicaConfig(exercise, view_.process, NodeRole::kObserver),
+                                MakeRandomTerrain(exercise.terrain), *transport_.bus);
   MemberNames names;
   std::vector<PolledProcess> polled;
   for (const ProcessConfig* p : exercise.Processes()) {
@@ -52,7 +52,9 @@ ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOp
   }
   names[view_.process.address] = view_.process.name;
   model_ = std::make_unique<ViewModel>(*replica_, names);
-  poller_ = std::make_unique<ProcessPoller>(polled, options_.poll_period_ms, 200);
+  relief_ =
+      std::make_unique<ReliefRenderer>(exercise.run_dir / (view_.process.name + "-relief.png"));
+  poller_ = std::make_unique<ProcessPoller>(polled, options_.poll_period_ms, 1000);
   WebServer::Handlers handlers;
   handlers.snapshot = [this] {
     nlohmann::json s = model_->Snapshot(WallMs());
@@ -81,26 +83,20 @@ void ViewApp::Start(int64_t now_ms) {
 }
 
 void ViewApp::RenderRelief(int64_t now_ms) {
+  if (auto png = relief_->Take()) {
+    web_->SetRelief(std::move(*png));
+    ++relief_version_;
+  }
+  if (relief_at_ms_ >= 0 && now_ms - relief_at_ms_ < options_.relief_min_period_ms) return;
   const std::string digest = replica_->Digest();
   if (digest == relief_digest_) return;
-  if (relief_at_ms_ >= 0 && now_ms - relief_at_ms_ < options_.relief_min_period_ms) return;
+  if (!relief_->Offer(replica_->terrain())) return;  // one under way: offered again next tick
   relief_at_ms_ = now_ms;
-  const std::filesystem::path png = exercise_.run_dir / (view_.process.name + "-relief.png");
-  if (Status s = RenderMapPng(replica_->terrain(), {}, png.string()); !s) {
-    DT_LOG_WARN("relief: {}", s.error().message);
-    return;
-  }
-  std::ifstream in(png, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  web_->SetRelief(bytes.str());
   relief_digest_ = digest;
-  ++relief_version_;
 }
 
 void ViewApp::Tick(int64_t now_ms) {
   replica_->Tick(now_ms);
-  RenderRelief(now_ms);
   std::vector<ProcessRow> rows = poller_->Rows();
   for (ProcessRow& r : rows) {
     const ProcessConfig* p = exercise_.FindProcess(r.name);
@@ -115,6 +111,9 @@ void ViewApp::Tick(int64_t now_ms) {
     nlohmann::json delta = model_->Update(WallMs(), rows, vehicles, relief_version_);
     return delta.is_null() ? std::string() : delta.dump();
   });
+  // After the delta: the outlines reach the pages without waiting for the render (OSMesa, on
+  // the CPU), whose new version goes out with the next delta.
+  RenderRelief(now_ms);
 }
 
 std::string ViewApp::OnMessage(const std::string& text) {
@@ -159,8 +158,7 @@ ControlReply ViewApp::Handle(std::string_view line) {
     return *r;
   }
   return ControlReply::Fail(fmt::format(
-      "\"{}\": the view is an observer and runs no feature commands (send them to a node)",
-      line));
+      "\"{}\": the view is an observer and runs no feature commands (send them to a node)", line));
 }
 
 }  // namespace dt

@@ -12,6 +12,7 @@
 #include "runtime/exercise_config.h"
 #include "runtime/process_runtime.h"
 #include "view/process_poller.h"
+#include "view/relief_renderer.h"
 #include "view/view_model.h"
 #include "view/web_server.h"
 
@@ -55,8 +56,9 @@ class ViewApp {
   std::unique_ptr<ViewModel> model_;
   std::unique_ptr<ProcessPoller> poller_;
   std::unique_ptr<WebServer> web_;
+  std::unique_ptr<ReliefRenderer> relief_;
   std::set<std::string> nodes_;
-  std::string relief_digest_;
+  std::string relief_digest_;  // of the terrain last offered for rendering
   int relief_version_ = 0;
   int64_t relief_at_ms_ = -1;
   bool quit_ = false;

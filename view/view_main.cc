@@ -21,8 +21,7 @@ int main(int argc, char** argv) {
   options.web_dir = DT_VIEW_WEB_DIR;
   std::string web_dir = options.web_dir.string();
   flags.AddTo(app);
-  app.add_option("--name", name, "the view's name in the exercise ([view])")
-      ->capture_default_str();
+  app.add_option("--name", name, "the view's name in the exercise ([view])")->capture_default_str();
   app.add_flag("--allow-commands", options.allow_commands,
                "let the page place and destroy features through the nodes' control sockets");
   app.add_option("--web-dir", web_dir, "the page's files")->capture_default_str();

@@ -112,11 +112,13 @@ void ViewModel::NoteProcesses(int64_t now_ms, const std::vector<ProcessRow>& row
   for (const ProcessRow& r : rows) {
     auto old = std::find_if(processes_.begin(), processes_.end(),
                             [&](const ProcessRow& o) { return o.name == r.name; });
-    const bool was_live = old != processes_.end() && old->reachable && !old->silent;
-    const bool live = r.reachable && !r.silent;
-    const bool ever = old != processes_.end() && old->signed_on;
-    if (live && r.signed_on && !was_live) {
-      events.push_back({now_ms, ever ? "back" : "joined", "", r.name, 0});
+    // Joining, silence and coming back are the protocol's (PDUs heard), not the control
+    // socket's: a process that is slow to answer `status` is not silent.
+    const bool was_live = old != processes_.end() && !old->silent;
+    const bool live = !r.silent;
+    if (live && !was_live) {
+      const bool back = !seen_live_.insert(r.name).second;
+      events.push_back({now_ms, back ? "back" : "joined", "", r.name, 0});
     } else if (was_live && !live) {
       events.push_back({now_ms, "silent", "", r.name, 0});
     }
@@ -212,9 +214,8 @@ nlohmann::json ViewModel::Snapshot(int64_t now_ms) const {
   for (const ProcessRow& r : processes_) rows.push_back(r.ToJson());
   nlohmann::json vs = nlohmann::json::array();
   for (const VehicleView& v : vehicles_) vs.push_back(v.ToJson());
-  return {{"type", "snapshot"}, {"seq", seq_},           {"t_ms", now_ms},
-          {"features", features}, {"events", events},    {"processes", rows},
-          {"vehicles", vs},       {"relief", relief_version_}};
+  return {{"type", "snapshot"}, {"seq", seq_},       {"t_ms", now_ms}, {"features", features},
+          {"events", events},   {"processes", rows}, {"vehicles", vs}, {"relief", relief_version_}};
 }
 
 }  // namespace dt

@@ -69,6 +69,7 @@ class ViewModel {
   std::map<FeatureId, std::vector<Event>> history_;
   std::vector<Event> events_;  // the last events_kept_
   std::vector<ProcessRow> processes_;
+  std::set<std::string> seen_live_;  // processes seen live once: the next time they are "back"
   std::vector<VehicleView> vehicles_;
   int relief_version_ = -1;
   // A Destruct of a berm by an author, so that author's next Constructs are its breach pieces.

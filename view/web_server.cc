@@ -28,14 +28,13 @@ WebServer::WebServer(const std::string& address, int port, std::filesystem::path
     : web_dir_(std::move(web_dir)), handlers_(std::move(handlers)) {
   mg_init_library(MG_FEATURES_WEBSOCKET);
   const std::string ports = fmt::format("{}:{}", address, port);
-  const char* options[] = {"listening_ports", ports.c_str(), "num_threads", "16",
-                           "websocket_timeout_ms", "3600000", nullptr};
+  const char* options[] = {"listening_ports",      ports.c_str(), "num_threads", "16",
+                           "websocket_timeout_ms", "3600000",     nullptr};
   mg_callbacks callbacks{};
   ctx_ = mg_start(&callbacks, this, options);
   if (ctx_ == nullptr) {
-    throw std::runtime_error(
-        fmt::format("the view cannot listen on {} (in use, or not an address of this host)",
-                    ports));
+    throw std::runtime_error(fmt::format(
+        "the view cannot listen on {} (in use, or not an address of this host)", ports));
   }
   mg_set_request_handler(ctx_, "/relief.png", &WebServer::HandleRelief, this);
   mg_set_websocket_handler(ctx_, "/ws", &WebServer::WsConnect, &WebServer::WsReady,
@@ -99,7 +98,8 @@ int WebServer::WsData(mg_connection* conn, int flags, char* data, size_t len, vo
   if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return 0;
   if (opcode != MG_WEBSOCKET_OPCODE_TEXT) return 1;  // pings and binary frames: nothing to do
   const std::string reply = self->handlers_.message(std::string(data, len));
-  if (!reply.empty()) mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_TEXT, reply.data(), reply.size());
+  if (!reply.empty())
+    mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_TEXT, reply.data(), reply.size());
   return 1;
 }
 

@@ -27,8 +27,7 @@ class WebServer {
 
   // Serves `web_dir`'s files (index.html at /) on address:port. Throws std::runtime_error naming
   // the address and port when it cannot listen.
-  WebServer(const std::string& address, int port, std::filesystem::path web_dir,
-            Handlers handlers);
+  WebServer(const std::string& address, int port, std::filesystem::path web_dir, Handlers handlers);
   ~WebServer();
   WebServer(const WebServer&) = delete;
   WebServer& operator=(const WebServer&) = delete;

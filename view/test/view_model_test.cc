@@ -44,9 +44,8 @@ TEST_F(ViewModelTest, ALateSnapshotHoldsEveryLiveFeatureWithItsHistory) {
   const nlohmann::json s = model.Snapshot(2000);
   EXPECT_EQ(s["type"], "snapshot");
   ASSERT_EQ(s["features"].size(), 2u);
-  const nlohmann::json& c = s["features"][0]["id"] == crater.value().ToString()
-                                ? s["features"][0]
-                                : s["features"][1];
+  const nlohmann::json& c =
+      s["features"][0]["id"] == crater.value().ToString() ? s["features"][0] : s["features"][1];
   EXPECT_EQ(c["type"], "crater");
   EXPECT_DOUBLE_EQ(c["radius"].get<double>(), 5.0);
   ASSERT_EQ(c["history"].size(), 2u);

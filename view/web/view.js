@@ -97,7 +97,9 @@ function drawProcesses() {
     : Object.keys(counts).sort((a, b) => counts[b] - counts[a])[0];
   for (const p of state.processes) {
     const tr = document.createElement("tr");
-    const st = !p.reachable ? "unreachable" : p.silent ? "silent" : "live";
+    // Silent is the protocol's verdict (no PDU for silence_ms); a process heard but whose
+    // control socket does not answer is "unreachable".
+    const st = p.silent ? "silent" : !p.reachable ? "unreachable" : "live";
     const differs = p.reachable && p.digest !== agreed;
     tr.className = `${st}${p.diverged || differs ? " diverged" : ""}`;
     tr.dataset.name = p.name;

@@ -1,0 +1,179 @@
+#!/usr/bin/env python3
+"""The live view in a real browser: Playwright driving Debian's chromium headless.
+
+Starts dt_server, two dt_node and dt_view (each by PID, readiness by its READY line), then checks:
+the page loads; the features drawn equal the exercise's; a crater made with dt_ctl is drawn
+within one second (the page's own Date.now() when it drew it, against the time just before
+dt_ctl ran); a killed node's row turns silent and live again after its restart; a page opened
+late shows the current state at once. Screenshots go to <run_dir>. Exits 77 (skipped) when
+playwright or chromium is not installed. Run inside tests/run_in_netns.sh.
+
+  view_browser_test.py <dt_server> <dt_node> <dt_view> <dt_ctl> <exercise.toml> <run_dir>
+                       [<screenshot for docs>]
+"""
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+CHROMIUM = "/usr/bin/chromium"
+
+
+def skip(why):
+    print(f"SKIP: {why}")
+    sys.exit(77)
+
+
+try:
+    from playwright.sync_api import sync_playwright
+except ImportError:
+    skip("the playwright Python module is not installed (scripts/setup.sh installs it)")
+if not os.access(CHROMIUM, os.X_OK):
+    skip(f"{CHROMIUM} is not installed (Debian package chromium; scripts/setup.sh installs it)")
+
+programs = dict(zip(["dt_server", "dt_node", "dt_view", "dt_ctl"], sys.argv[1:5]))
+exercise, run_dir = sys.argv[5], sys.argv[6]
+docs_shot = sys.argv[7] if len(sys.argv) > 7 else None
+shutil.rmtree(run_dir, ignore_errors=True)
+os.makedirs(run_dir)
+URL = "http://127.0.0.1:8481/"
+procs = {}
+
+
+def fail(what):
+    print(f"FAIL: {what}")
+    for p in procs.values():
+        if p.poll() is None:
+            p.kill()
+    sys.exit(1)
+
+
+def start(name, program, *extra):
+    args = [programs[program], "--config", exercise, "--run-dir", run_dir,
+            "--name", name, *extra]
+    log = open(os.path.join(run_dir, f"{name}.log"), "ab")
+    p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=log)
+    procs[name] = p
+    # Readiness: the process's own READY line (docs/launcher.md), read as it comes.
+    deadline = time.time() + 60
+    for line in p.stdout:
+        log.write(line)
+        log.flush()
+        if line.strip() == f"READY {name}".encode():
+            return p
+        if time.time() > deadline:
+            break
+    fail(f"{name} never printed READY {name}")
+
+
+def ctl(name, *command):
+    r = subprocess.run([programs["dt_ctl"], "--config", exercise, "--run-dir",
+                        run_dir, "--name", name, *command], capture_output=True, text=True,
+                       timeout=10)
+    if r.returncode != 0:
+        fail(f"dt_ctl {name} {' '.join(command)}: {r.stderr.strip()}")
+    return r.stdout.strip()
+
+
+def server_features():
+    return set(ctl("server", "features").split())
+
+
+start("server", "dt_server")
+start("node-1", "dt_node")
+start("node-2", "dt_node")
+start("view", "dt_view")
+
+made = [ctl("node-1", "crater", "150", "200", "12"),
+        ctl("node-2", "berm", "300", "300", "30", "60", "5", "3"),
+        ctl("node-1", "bridge", "400", "150", "90", "8", "15", "40", "15", "5", "5")]
+
+with sync_playwright() as pw:
+    browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
+                                 args=["--no-sandbox"])
+    page = browser.new_page(viewport={"width": 1400, "height": 900})
+    page.goto(URL)
+    page.wait_for_function("window.dtView.snapshotAt > 0", timeout=10000)
+    print("the page loaded and received its snapshot")
+
+    # Features drawn = the exercise's (the server's live features), once the page has them all.
+    page.wait_for_function(f"document.querySelectorAll('#features .feature').length >= {len(made)}",
+                           timeout=10000)
+    drawn = set(page.eval_on_selector_all("#features .feature", "els => els.map(e => e.dataset.id)"))
+    if drawn != server_features():
+        fail(f"the page draws {sorted(drawn)}, the server holds {sorted(server_features())}")
+    print(f"features drawn = the exercise's: {len(drawn)}")
+
+    # A crater made with dt_ctl appears within one second, by the page's own clock.
+    before_ms = time.time() * 1000.0
+    crater = ctl("node-2", "crater", "250", "450", "9")
+    page.wait_for_function(f"'{crater}' in window.dtView.drawnAt", timeout=5000)
+    latency_ms = page.evaluate(f"window.dtView.drawnAt['{crater}']") - before_ms
+    print(f"crater {crater} drawn {latency_ms:.0f} ms after dt_ctl was run")
+    if latency_ms > 1000:
+        fail(f"crater {crater} took {latency_ms:.0f} ms to appear")
+
+    # A vehicle marker is drawn in its owner's colour.
+    page.wait_for_function("document.querySelectorAll('#vehicles .vehicle').length >= 1",
+                           timeout=5000)
+
+    # A killed node goes silent on the panel, and live again once restarted.
+    row = "document.querySelector('#processes tr[data-name=\"node-2\"]')"
+    page.wait_for_function(f"{row} && {row}.dataset.state === 'live'", timeout=10000)
+    procs["node-2"].send_signal(signal.SIGKILL)
+    procs["node-2"].wait()
+    page.wait_for_function(f"{row}.dataset.state !== 'live'", timeout=10000)
+    page.wait_for_function(f"{row}.dataset.state === 'silent'", timeout=10000)
+    print("node-2 killed: its row shows it silent")
+    page.screenshot(path=os.path.join(run_dir, "view-node-2-silent.png"))
+    start("node-2", "dt_node")
+    page.wait_for_function(f"{row}.dataset.state === 'live'", timeout=15000)
+    page.wait_for_function(
+        "[...document.querySelectorAll('#events li')].some(li => li.dataset.kind === 'back')",
+        timeout=5000)
+    print("node-2 restarted: its row is live again and the log says it is back")
+
+    # A page opened late shows the current state at once: its snapshot, before any delta.
+    late = browser.new_page(viewport={"width": 1400, "height": 900})
+    late.goto(URL)
+    late.wait_for_function("window.dtView.snapshotAt > 0", timeout=10000)
+    state = late.evaluate("""() => ({
+        deltas: window.dtView.deltas,
+        features: [...document.querySelectorAll('#features .feature')].map(e => e.dataset.id),
+        events: document.querySelectorAll('#events li').length,
+        rows: document.querySelectorAll('#processes tbody tr').length})""")
+    if set(state["features"]) != server_features():
+        fail(f"the late page draws {sorted(state['features'])} at once, the server holds "
+             f"{sorted(server_features())}")
+    if state["events"] < len(made) + 1 or state["rows"] != 3:
+        fail(f"the late page shows {state['events']} events and {state['rows']} processes")
+    print(f"the late page showed {len(state['features'])} features, {state['events']} events and "
+          f"{state['rows']} processes from its snapshot ({state['deltas']} deltas applied then)")
+
+    # Every digest agrees once everything is caught up: one colour, none flagged.
+    page.wait_for_function(
+        "[...document.querySelectorAll('#processes tbody tr')].every(r => r.dataset.diverged === '0'"
+        " && r.dataset.state === 'live')", timeout=15000)
+    page.click(f"#features [data-id='{made[1]}']")
+    page.wait_for_function("document.querySelector('#feature-fields') !== null", timeout=2000)
+    shot = os.path.join(run_dir, "view.png")
+    page.screenshot(path=shot)
+    if docs_shot:
+        shutil.copy(shot, docs_shot)
+    print(f"screenshot {shot}")
+    browser.close()
+
+for name, p in procs.items():
+    if p.poll() is None:
+        p.send_signal(signal.SIGTERM)
+for name, p in procs.items():
+    try:
+        rc = p.wait(timeout=15)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        fail(f"{name} did not stop on SIGTERM")
+    if name != "node-2" and rc != 0:
+        fail(f"{name} exited {rc} on SIGTERM")
+print("PASS")

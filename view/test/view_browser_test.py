@@ -81,10 +81,19 @@ def server_features():
     return set(ctl("server", "features").split())
 
 
+def until(condition, what, timeout_s=10):
+    """Polls the server's state (asked by dt_ctl) until `condition` holds; a timeout fails."""
+    deadline = time.time() + timeout_s
+    while not condition():
+        if time.time() > deadline:
+            fail(what)
+        time.sleep(0.05)  # polling a condition, bounded by the deadline
+
+
 start("server", "dt_server")
 start("node-1", "dt_node")
 start("node-2", "dt_node")
-start("view", "dt_view")
+start("view", "dt_view", "--allow-commands")
 
 made = [ctl("node-1", "crater", "150", "200", "12"),
         ctl("node-2", "berm", "300", "300", "30", "60", "5", "3"),
@@ -102,8 +111,8 @@ with sync_playwright() as pw:
     page.wait_for_function(f"document.querySelectorAll('#features .feature').length >= {len(made)}",
                            timeout=10000)
     drawn = set(page.eval_on_selector_all("#features .feature", "els => els.map(e => e.dataset.id)"))
-    if drawn != server_features():
-        fail(f"the page draws {sorted(drawn)}, the server holds {sorted(server_features())}")
+    until(lambda: server_features() == drawn,
+          f"the page draws {sorted(drawn)}, the server holds {sorted(server_features())}")
     print(f"features drawn = the exercise's: {len(drawn)}")
 
     # A crater made with dt_ctl appears within one second, by the page's own clock.
@@ -118,6 +127,29 @@ with sync_playwright() as pw:
     # A vehicle marker is drawn in its owner's colour.
     page.wait_for_function("document.querySelectorAll('#vehicles .vehicle').length >= 1",
                            timeout=5000)
+
+    # Operator actions (--allow-commands): a crater placed by clicking, as node-1's command, then
+    # destroyed from the page; both go through the node, so the server holds the result.
+    page.select_option("#op-node", "node-1")
+    page.select_option("#op-tool", "crater")
+    page.fill("#op-size", "7")
+    box = page.locator("#map").bounding_box()
+    page.mouse.click(box["x"] + box["width"] * 0.5, box["y"] + box["height"] * 0.75)
+    page.wait_for_function("window.dtView.lastReply !== undefined", timeout=5000)
+    reply = page.evaluate("window.dtView.lastReply")
+    if not reply["ok"] or not reply["line"].startswith("crater "):
+        fail(f"placing a crater from the page: {reply}")
+    placed = reply["text"].strip()
+    page.wait_for_function(f"'{placed}' in window.dtView.drawnAt", timeout=5000)
+    page.select_option("#op-tool", "")
+    page.click(f"#features [data-id='{placed}']")
+    page.click("#op-destroy")
+    page.wait_for_function(f"!document.querySelector(\"#features [data-id='{placed}']\")",
+                           timeout=5000)
+    page.wait_for_function("window.dtView.lastReply.line.startsWith('destroy ')", timeout=5000)
+    until(lambda: placed not in server_features(),
+          f"{placed}, destroyed from the page, is still live on the server")
+    print(f"operator: placed {placed} on node-1 by a click and destroyed it from the page")
 
     # A killed node goes silent on the panel, and live again once restarted.
     row = "document.querySelector('#processes tr[data-name=\"node-2\"]')"

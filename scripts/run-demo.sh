@@ -22,7 +22,8 @@ tests/run_in_netns.sh bash -c '
   ./build/release/view/dt_view --config configs/exercises/demo.toml --run-dir run/demo \
     > run/demo-view.log 2>&1 &
   view=$!
-  wait $drill; rc=$?
+  rc=0
+  wait $drill || rc=$?
   kill -TERM $view 2>/dev/null || true
   wait $view || true
   exit $rc

@@ -99,6 +99,15 @@ made = [ctl("node-1", "crater", "150", "200", "12"),
         ctl("node-2", "berm", "300", "300", "30", "60", "5", "3"),
         ctl("node-1", "bridge", "400", "150", "90", "8", "15", "40", "15", "5", "5")]
 
+def stop_all_on_error(kind, value, tb):
+    for p in procs.values():
+        if p.poll() is None:
+            p.kill()
+    sys.__excepthook__(kind, value, tb)
+
+
+sys.excepthook = stop_all_on_error  # a Playwright timeout must not leave processes behind
+
 with sync_playwright() as pw:
     browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
                                  args=["--no-sandbox"])

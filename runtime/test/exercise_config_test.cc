@@ -437,8 +437,8 @@ namespace {
 // The live view (docs/view.md): [view] is optional, names an observer member and where its page
 // is served; its name and address must be unique like every process's.
 TEST(ExerciseConfigTest, AViewIsAnObserverMemberWithItsPageAddress) {
-  const std::string with_view = std::string(kGood) +
-                                "\n[view]\nname = \"view\"\nsite = 1\nhost = 50\nhttp_port = 9000\n";
+  const std::string with_view =
+      std::string(kGood) + "\n[view]\nname = \"view\"\nsite = 1\nhost = 50\nhttp_port = 9000\n";
   ExerciseConfig c = ParseExerciseConfig(with_view, "ex.toml", "/base");
   ASSERT_TRUE(c.view.has_value());
   EXPECT_EQ(c.view->process.name, "view");

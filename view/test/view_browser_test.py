@@ -4,8 +4,10 @@
 Starts dt_server, two dt_node and dt_view (each by PID, readiness by its READY line), then checks:
 the page loads; the features drawn equal the exercise's; a crater made with dt_ctl is drawn
 within one second (the page's own Date.now() when it drew it, against the time just before
-dt_ctl ran); a killed node's row turns silent and live again after its restart; a page opened
-late shows the current state at once. Screenshots go to <run_dir>. Exits 77 (skipped) when
+dt_ctl ran); a crater placed by a click (--allow-commands) runs as node-1's command and the page
+destroys it; a killed node's row turns silent and live again after its restart; a page opened
+late shows the current state at once; without --allow-commands the page has no operator panel
+and a command sent anyway is refused. Screenshots go to <run_dir>. Exits 77 (skipped) when
 playwright or chromium is not installed. Run inside tests/run_in_netns.sh.
 
   view_browser_test.py <dt_server> <dt_node> <dt_view> <dt_ctl> <exercise.toml> <run_dir>
@@ -204,6 +206,28 @@ with sync_playwright() as pw:
     if docs_shot:
         shutil.copy(shot, docs_shot)
     print(f"screenshot {shot}")
+
+    # Without --allow-commands (the default) the page has no operator panel, and a command sent
+    # anyway is refused by dt_view, so nothing reaches a node.
+    procs["view"].send_signal(signal.SIGTERM)
+    if procs["view"].wait(timeout=15) != 0:
+        fail("the view did not exit 0 on SIGTERM")
+    start("view", "dt_view")
+    plain = browser.new_page()
+    plain.goto(URL)
+    plain.wait_for_function("window.dtView.snapshotAt > 0", timeout=10000)
+    if not plain.evaluate("document.getElementById('operator').hidden"):
+        fail("the operator panel shows without --allow-commands")
+    before = server_features()
+    plain.evaluate("""() => window.dtView.state.ws.send(JSON.stringify(
+        {op: 'crater', node: 'node-1', x: 200, z: 200, radius: 5, req: 1}))""")
+    plain.wait_for_function("window.dtView.lastReply !== undefined", timeout=5000)
+    refused = plain.evaluate("window.dtView.lastReply")
+    if refused["ok"] or "--allow-commands" not in refused["text"]:
+        fail(f"a command without --allow-commands was answered {refused}")
+    if server_features() != before:
+        fail("a command without --allow-commands changed the exercise")
+    print("without --allow-commands: no operator panel, and a sent command is refused")
     browser.close()
 
 for name, p in procs.items():

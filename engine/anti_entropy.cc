@@ -122,6 +122,7 @@ void AntiEntropy::Send(dtpdu::anti_entropy_t pdu) {
 }
 
 void AntiEntropy::SendSummaries() {
+  if (config_.role == NodeRole::kObserver) return;  // it compares others' summaries only
   dtpdu::anti_entropy_t pdu{};
   pdu.kind = static_cast<uint8_t>(AntiEntropyKind::kSummary);
   for (const auto& [author, log] : logs_) {
@@ -221,10 +222,13 @@ void AntiEntropy::OnPdu(const dtpdu::anti_entropy_t& pdu) {
   // A stranger, or a member claiming a role the exercise file does not give it (it would win
   // the repair rule), is not heard.
   if (admission_.peer && !admission_.peer(peer, role)) return;
+  const auto kind = static_cast<AntiEntropyKind>(pdu.kind);
+  // An observer only asks: it holds no slot for the repair rule, and nobody fetches its copies.
+  const bool observer = role == NodeRole::kObserver;
+  if (observer && kind == AntiEntropyKind::kSummary) return;
   PeerView& view = peers_[peer];
   view.last_heard_ms = now_ms_;
   view.role = role;
-  const auto kind = static_cast<AntiEntropyKind>(pdu.kind);
   if (kind == AntiEntropyKind::kSummary) {
     OnSummary(peer, pdu);
     return;
@@ -239,7 +243,7 @@ void AntiEntropy::OnPdu(const dtpdu::anti_entropy_t& pdu) {
       OnHashAnswer(peer, pdu);
       break;
     case AntiEntropyKind::kCopyRequest:
-      OnCopyRequest(peer, author, pdu.start, pdu.end, pdu.exchange);
+      OnCopyRequest(peer, author, pdu.start, pdu.end, pdu.exchange && !observer);
       break;
     case AntiEntropyKind::kCopies:
       OnCopies(peer, pdu);
@@ -296,7 +300,7 @@ void AntiEntropy::Differs(const Key& key, int64_t upto) {
   }
   if (sessions_.count(key) != 0) return;  // already locating or repairing
   Session& s = sessions_[key];
-  s.exchange = true;
+  s.exchange = config_.role != NodeRole::kObserver;  // an observer's copy never travels
   s.to_ask.emplace_back(1, upto);
   Pump(key);
 }

@@ -32,9 +32,10 @@ void CheckConfig(const ReplicaConfig& c) {
                                             c.address.ToString(), c.playback_window,
                                             kMaxPlaybackSpan));
   }
-  if (c.role == NodeRole::kNode && c.store != nullptr) {
-    throw std::invalid_argument(fmt::format(
-        "replica {}: a node has no store (role server or standby)", c.address.ToString()));
+  if ((c.role == NodeRole::kNode || c.role == NodeRole::kObserver) && c.store != nullptr) {
+    throw std::invalid_argument(
+        fmt::format("replica {}: a {} has no store (role server or standby)", c.address.ToString(),
+                    NodeRoleName(c.role)));
   }
   if (!c.members.empty()) {
     auto me = c.members.find(c.address);
@@ -187,6 +188,9 @@ void Replica::Publish(const Change& change, std::optional<NodeAddress> playback_
 
 void Replica::HeardFrom(NodeAddress sender, std::optional<NodeRole> role) {
   if (sender == config_.address) return;
+  // An observer's playback requests are answered, but it is no peer: never a candidate, never
+  // waited for in a sign-on, never a live holder when giving up (docs/protocol.md, "Observers").
+  if (RoleOf(sender, NodeRole::kNode) == NodeRole::kObserver) return;
   Peer& p = peers_[sender];
   p.last_heard_ms = now_ms_;
   if (role) p.role = *role;
@@ -215,6 +219,11 @@ bool Replica::Admits(NodeAddress sender, NodeAddress author, uint64_t lamport) {
     Refused(
         counters_.refused_stranger,
         fmt::format("a change by {}, which is not a member of the exercise", author.ToString()));
+    return false;
+  }
+  if (RoleOf(author, NodeRole::kNode) == NodeRole::kObserver) {
+    Refused(counters_.refused_role,
+            fmt::format("a change by {}, an observer, which creates nothing", author.ToString()));
     return false;
   }
   return AdmitsClock(sender, lamport);
@@ -293,6 +302,12 @@ void Replica::OnMaxFeature(const dtpdu::max_feature_t& pdu) {
   if (!AdmitsSender(sender)) return;
   const auto role = static_cast<NodeRole>(pdu.role);
   if (!AdmitsRole(sender, role, "a MaxFeature")) return;
+  if (role == NodeRole::kObserver) {
+    // An observer reports nothing and signs on to no one: it is not counted (docs/view.md).
+    Refused(counters_.refused_role,
+            fmt::format("a MaxFeature from {}, an observer", sender.ToString()));
+    return;
+  }
   if (!AdmitsClock(sender, static_cast<uint64_t>(pdu.lamport))) return;
   HeardFrom(sender, role);
   ObserveLamport(static_cast<uint64_t>(pdu.lamport));
@@ -302,6 +317,11 @@ void Replica::OnMaxFeature(const dtpdu::max_feature_t& pdu) {
   }
   if (!IsMember(subject)) {
     Refused(counters_.refused_claim, fmt::format("a claim by {} about {}, which is not a member",
+                                                 sender.ToString(), subject.ToString()));
+    return;
+  }
+  if (RoleOf(subject, NodeRole::kNode) == NodeRole::kObserver) {
+    Refused(counters_.refused_claim, fmt::format("a claim by {} about {}, an observer",
                                                  sender.ToString(), subject.ToString()));
     return;
   }
@@ -381,7 +401,7 @@ void Replica::OnPlayback(const dtpdu::playback_t& pdu) {
     return;  // feature-number ranges (thesis style) are not used: change sequences cover them
   }
   if (!pdu.is_response) {
-    if (FromPdu(pdu.transmitting) == config_.address) AnswerPlayback(pdu);
+    if (FromPdu(pdu.transmitting) == config_.address && !observer()) AnswerPlayback(pdu);
     return;
   }
   if (FromPdu(pdu.requesting) == config_.address) {
@@ -430,6 +450,12 @@ void Replica::AnswerPlayback(const dtpdu::playback_t& request) {
 void Replica::SignOn(int64_t now_ms) {
   now_ms_ = std::max(now_ms_, now_ms);
   scheduler_.Clear();
+  if (observer()) {
+    // Nothing to learn about itself (it issues nothing) and no one waits for it: it listens.
+    signed_on_ = true;
+    signing_on_ = false;
+    return;
+  }
   if (IsServerRole(config_.role)) {
     // A server is its own authority on its numbers (its store); it asks the nodes for theirs.
     signed_on_ = true;
@@ -614,6 +640,7 @@ void Replica::Tick(int64_t now_ms) {
       SendReport(config_.address, /*sign_on=*/true);
     }
   }
+  if (observer()) sign_on_requests_.clear();  // no answers, no reports: it is not counted
   if (!sign_on_requests_.empty()) {
     // Answer after the commit above, so a server's answer is durable.
     for (NodeAddress who : sign_on_requests_) {
@@ -633,7 +660,8 @@ void Replica::Tick(int64_t now_ms) {
     SendReports();
     last_report_ms_ = now_ms_;
   }
-  if (last_report_ms_ < 0 || now_ms_ - last_report_ms_ >= config_.max_feature_period_ms) {
+  if (!observer() &&
+      (last_report_ms_ < 0 || now_ms_ - last_report_ms_ >= config_.max_feature_period_ms)) {
     SendReports();
     last_report_ms_ = now_ms_;
   }

@@ -30,7 +30,10 @@
 
 namespace dt {
 
-// NodeRole (kNode, kServer, kStandby) is pdu/pdu_type.h's: it travels in MaxFeature.
+// NodeRole (kNode, kServer, kStandby) is pdu/pdu_type.h's: it travels in MaxFeature. A replica
+// with role kObserver (a live view) holds the terrain, creates nothing and is not counted: it
+// sends no MaxFeature and no summaries, answers no playback, and its peers never ask it nor wait
+// for it (docs/protocol.md, "Observers").
 
 struct ReplicaConfig {
   NodeAddress address;
@@ -126,6 +129,12 @@ class Replica {
     uint64_t refused_stranger = 0, refused_role = 0, refused_claim = 0, refused_lamport = 0;
   };
   Counters counters() const;
+  // When this replica last heard a PDU from a member (its Tick time); -1: never (observers are
+  // never heard: they are not peers).
+  int64_t last_heard_ms(NodeAddress peer) const {
+    auto it = peers_.find(peer);
+    return it == peers_.end() ? -1 : it->second.last_heard_ms;
+  }
   // Highest feature number known per origin (own included).
   std::map<NodeAddress, int64_t> max_feature_known() const;
   // What the server last reported durable for this node's change log.
@@ -177,6 +186,7 @@ class Replica {
   // A peer's anti-entropy summary shows it holds `author`'s changes up to `max_held`.
   void HeldBeyond(NodeAddress peer, NodeAddress author, int64_t max_held);
   void CompleteSignOn();
+  bool observer() const { return config_.role == NodeRole::kObserver; }
   bool IsMember(NodeAddress a) const {
     return config_.members.empty() || config_.members.count(a) != 0;
   }

@@ -9,6 +9,10 @@
 namespace dt {
 
 Status Replica::CheckSignedOn(int64_t changes) const {
+  if (observer()) {
+    return Error{fmt::format("{} is an observer: it creates, changes and destroys nothing",
+                             config_.address.ToString())};
+  }
   if (!signed_on_) {
     return Error{
         fmt::format("node {} has not signed on yet: it does not know its last feature "
@@ -129,6 +133,7 @@ Result<std::vector<FeatureId>> Replica::Breach(FeatureId berm, double gap_start_
 }
 
 Status Replica::Import(const Terrain& terrain) {
+  if (auto s = CheckSignedOn(0); !s && observer()) return s;
   if (ComputeDigest(terrain.ground()) != ComputeDigest(records_.terrain().ground())) {
     return Error{"the imported terrain's ground differs from this replica's ground"};
   }

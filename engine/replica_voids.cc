@@ -117,6 +117,7 @@ void Replica::GiveUpOnGoneAuthors() {
     // One replica gives up, so the slot gets one void: the slot's authority among the live
     // replicas (a server, else a standby, else the lowest address). Two that see liveness
     // differently may both void it; anti-entropy then keeps the authority's copy.
+    if (observer()) continue;  // never the authority: it issues nothing, voids included
     std::vector<SlotHolder> live{{config_.address, config_.role}};
     for (const auto& [addr, p] : peers_) {
       if (addr != config_.address && !IsSilent(addr)) live.push_back({addr, p.role});

@@ -8,7 +8,8 @@ ProgramPaths ProgramPaths::BesideSelf() {
   std::error_code ec;
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
   const std::filesystem::path dir = ec ? std::filesystem::path(".") : self.parent_path();
-  return {dir / ".." / "node" / "dt_node", dir / ".." / "server" / "dt_server"};
+  return {dir / ".." / "node" / "dt_node", dir / ".." / "server" / "dt_server",
+          dir / ".." / "view" / "dt_view"};
 }
 
 std::vector<std::string> ProcessCommand(const ExerciseConfig& exercise,
@@ -16,9 +17,12 @@ std::vector<std::string> ProcessCommand(const ExerciseConfig& exercise,
                                         const std::vector<std::string>& extra) {
   const bool is_server = (exercise.server && &process == &*exercise.server) ||
                          (exercise.standby && &process == &*exercise.standby);
-  std::vector<std::string> argv = {(is_server ? programs.server : programs.node).string(),
-                                   "--config", std::filesystem::absolute(exercise.source).string(),
-                                   "--name", process.name};
+  const bool is_view = exercise.view && &process == &exercise.view->process;
+  const std::filesystem::path& program =
+      is_view ? programs.view : (is_server ? programs.server : programs.node);
+  std::vector<std::string> argv = {program.string(), "--config",
+                                   std::filesystem::absolute(exercise.source).string(), "--name",
+                                   process.name};
   if (exercise.standby && &process == &*exercise.standby) argv.push_back("--standby");
   argv.insert(argv.end(), extra.begin(), extra.end());
   return argv;

@@ -28,11 +28,14 @@ int main(int argc, char** argv) {
   dt::ProgramPaths programs = dt::ProgramPaths::BesideSelf();
   std::string node_bin = programs.node.string();
   std::string server_bin = programs.server.string();
+  std::string view_bin = programs.view.string();
   int ready_timeout_s = 120;
   int grace_ms = 10000;
   flags.AddTo(app);
   app.add_option("--node-bin", node_bin, "the dt_node program")->capture_default_str();
   app.add_option("--server-bin", server_bin, "the dt_server program")->capture_default_str();
+  app.add_option("--view-bin", view_bin, "the dt_view program (started when the file has a [view])")
+      ->capture_default_str();
   app.add_option("--ready-timeout-s", ready_timeout_s, "give up if not all READY by then")
       ->check(CLI::Range(1, 3600))
       ->capture_default_str();
@@ -40,7 +43,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 600000))
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  programs = {node_bin, server_bin};
+  programs = {node_bin, server_bin, view_bin};
 
   dt::ExerciseConfig exercise;
   try {
@@ -80,6 +83,13 @@ int main(int argc, char** argv) {
         sup.Start(n.name, dt::ProcessCommand(exercise, n, programs, extra));
         all.push_back(n.name);
       }
+      s = sup.WaitReady(all, ready_timeout_s * 1000);
+    }
+    // The view last: it observes, and nothing waits for it (docs/view.md).
+    if (s && exercise.view) {
+      sup.Start(exercise.view->process.name,
+                dt::ProcessCommand(exercise, exercise.view->process, programs, extra));
+      all.push_back(exercise.view->process.name);
       s = sup.WaitReady(all, ready_timeout_s * 1000);
     }
     if (!s) {

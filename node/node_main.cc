@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
     dt::ExerciseConfig exercise = flags.Load();
     const dt::ProcessConfig* process = exercise.FindProcess(name);
     if (process == nullptr || (exercise.server && process == &*exercise.server) ||
-        (exercise.standby && process == &*exercise.standby)) {
+        (exercise.standby && process == &*exercise.standby) ||
+        (exercise.view && process == &exercise.view->process)) {
       throw std::invalid_argument(
           fmt::format("{}: no [[node]] named \"{}\"", exercise.source.string(), name));
     }

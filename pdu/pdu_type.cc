@@ -41,6 +41,8 @@ std::string_view NodeRoleName(NodeRole role) {
       return "server";
     case NodeRole::kStandby:
       return "standby";
+    case NodeRole::kObserver:
+      return "observer";
   }
   return "unknown";
 }

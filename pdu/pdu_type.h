@@ -43,10 +43,14 @@ std::string ChannelName(uint8_t exercise_id, PduType type);
 inline constexpr size_t kMaxPduBytes = 1400;
 
 // Role carried by MaxFeature PDUs.
-enum class NodeRole : uint8_t { kNode = 0, kServer = 1, kStandby = 2 };
+// kObserver: a live view (docs/view.md). It sends no MaxFeature; its anti-entropy requests carry
+// the role so that peers answer them without counting it as a holder (engine/replica.h).
+enum class NodeRole : uint8_t { kNode = 0, kServer = 1, kStandby = 2, kObserver = 3 };
 inline bool IsServerRole(NodeRole r) { return r == NodeRole::kServer || r == NodeRole::kStandby; }
+// MaxFeature: node, server or standby (an observer sends none). AntiEntropy: any of the four.
 inline bool IsValidNodeRole(uint8_t raw) { return raw <= 2; }
-// "node", "server", "standby" ("unknown" for a value outside the enum).
+inline bool IsValidAntiEntropyRole(uint8_t raw) { return raw <= 3; }
+// "node", "server", "standby", "observer" ("unknown" for a value outside the enum).
 std::string_view NodeRoleName(NodeRole role);
 
 // What a Playback PDU's start and end count.

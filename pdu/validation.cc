@@ -171,7 +171,7 @@ std::optional<Rejection> Validate(const dtpdu::anti_entropy_t& pdu, const Valida
   if (!IsValidAntiEntropyKind(pdu.kind)) {
     return Reject(RejectReason::kBadField, fmt::format("anti-entropy kind {}", pdu.kind));
   }
-  if (!IsValidNodeRole(pdu.role)) {
+  if (!IsValidAntiEntropyRole(pdu.role)) {
     return Reject(RejectReason::kBadField, fmt::format("role {}", pdu.role));
   }
   if (pdu.num_entries != static_cast<int64_t>(pdu.entries.size()) ||

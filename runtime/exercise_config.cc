@@ -125,6 +125,7 @@ const ProcessConfig* ExerciseConfig::FindProcess(std::string_view process_name) 
   for (const ProcessConfig* p : Processes()) {
     if (p->name == process_name) return p;
   }
+  if (view && view->process.name == process_name) return &view->process;
   return nullptr;
 }
 
@@ -137,7 +138,7 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   const toml::table root = TomlReader::ParseText(toml_text, source_name);
   const TomlReader top(
       root, std::string(source_name), "",
-      {"exercise", "terrain", "protocol", "faults", "server", "standby", "node", "auth"});
+      {"exercise", "terrain", "protocol", "faults", "server", "standby", "node", "auth", "view"});
   ExerciseConfig c;
   c.source = std::string(source_name);
 
@@ -240,11 +241,20 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     c.nodes.push_back(ReadProcess(n, base, true, c.terrain_size_m()));
   }
   if (c.nodes.empty()) top.Fail("node", "an exercise needs at least one [[node]]");
+  if (auto v = top.OptionalTable("view", {"name", "site", "host", "http_address", "http_port"})) {
+    ViewConfig view;
+    view.http_address = v->String("http_address", "127.0.0.1");
+    view.http_port = static_cast<int>(v->Int("http_port", 8480, 1, 65535));
+    view.process = ReadProcess(*v, base, false, 0.0);
+    c.view = std::move(view);
+  }
   top.Finish();
 
   std::set<std::string> names;
   std::set<NodeAddress> addresses;
-  for (const ProcessConfig* p : c.Processes()) {
+  std::vector<const ProcessConfig*> everyone = c.Processes();
+  if (c.view) everyone.push_back(&c.view->process);
+  for (const ProcessConfig* p : everyone) {
     if (!names.insert(p->name).second) {
       throw std::invalid_argument(
           fmt::format("{}: process name \"{}\" is used twice", source_name, p->name));

@@ -36,6 +36,13 @@ struct ProcessConfig {
   std::vector<VehicleConfig> vehicles;
 };
 
+// The live view (docs/view.md): an observer replica that serves a web page.
+struct ViewConfig {
+  ProcessConfig process;                   // name, address (a member with role observer)
+  std::string http_address = "127.0.0.1";  // only this host by default
+  int http_port = 8480;
+};
+
 // Protocol timing (docs/protocol.md); the values map onto ReplicaConfig.
 struct ProtocolTiming {
   int max_feature_period_ms = 500;
@@ -76,13 +83,14 @@ struct ExerciseConfig {
   std::optional<ProcessConfig> server;
   std::optional<ProcessConfig> standby;
   std::vector<ProcessConfig> nodes;
+  std::optional<ViewConfig> view;  // [view]: the live view, started by the launcher last
 
   double terrain_size_m() const { return (terrain.posts_per_side - 1) * terrain.spacing_m; }
   // ReplicaConfig::require_server: nodes wait for a server's answer to sign on.
   bool require_server() const { return server.has_value(); }
   // The server and the standby (each if any), then every node, in that order.
   std::vector<const ProcessConfig*> Processes() const;
-  // nullptr if no process has this name.
+  // nullptr if no process has this name (the view's included).
   const ProcessConfig* FindProcess(std::string_view name) const;
   // The control socket of a process: <run_dir>/<name>.sock.
   std::filesystem::path SocketPath(std::string_view name) const;

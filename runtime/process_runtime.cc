@@ -82,6 +82,7 @@ ReplicaConfig MakeReplicaConfig(const ExerciseConfig& exercise, const ProcessCon
   rc.require_server = exercise.require_server();
   if (exercise.standby) rc.members[exercise.standby->address] = NodeRole::kStandby;
   for (const ProcessConfig& n : exercise.nodes) rc.members[n.address] = NodeRole::kNode;
+  if (exercise.view) rc.members[exercise.view->process.address] = NodeRole::kObserver;
   return rc;
 }
 

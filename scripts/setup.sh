@@ -15,6 +15,7 @@ packages=(
   libgeographiclib-dev tshark
   clang libclang-rt-14-dev clang-format
   python3 python3-pip
+  libcivetweb-dev nlohmann-json3-dev libjs-leaflet chromium
 )
 
 missing=()
@@ -31,6 +32,13 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 else
   echo "setup: all Debian packages present"
+fi
+
+# Playwright drives Debian's chromium in the live view's browser tests (view/test); its own
+# browser download is not used (the tests point it at /usr/bin/chromium).
+if ! python3 -c 'import playwright' 2>/dev/null; then
+  echo "setup: installing the playwright Python module"
+  python3 -m pip install --quiet playwright || echo "setup: warning: could not install playwright; the view's browser tests will be skipped"
 fi
 
 # LCM's own Python module, used by the cross-language PDU test to decode our traffic.

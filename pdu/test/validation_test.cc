@@ -314,7 +314,7 @@ TEST(Validation, AntiEntropyFieldsEachKindDoesNotUseAreZero) {
   a.kind = 5;
   EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
   a = sample::AntiEntropySummary();
-  a.role = 3;
+  a.role = 4;  // 3 is an observer's
   EXPECT_EQ(ReasonFor(a), RejectReason::kBadField);
   a = sample::AntiEntropySummary();
   a.start = 1;

@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "runtime/process_runtime.h"
 #include "runtime/toml_reader.h"
 #include "terrain/height_grid.h"
 #include "terrain/material.h"
@@ -425,6 +426,34 @@ TEST(ExerciseConfigTest, ShippedDemoParses) {
       EXPECT_TRUE(std::filesystem::exists(n.scenario)) << n.scenario;
     }
   }
+}
+
+}  // namespace
+}  // namespace dt
+
+namespace dt {
+namespace {
+
+// The live view (docs/view.md): [view] is optional, names an observer member and where its page
+// is served; its name and address must be unique like every process's.
+TEST(ExerciseConfigTest, AViewIsAnObserverMemberWithItsPageAddress) {
+  const std::string with_view =
+      std::string(kGood) + "\n[view]\nname = \"view\"\nsite = 1\nhost = 50\nhttp_port = 9000\n";
+  ExerciseConfig c = ParseExerciseConfig(with_view, "ex.toml", "/base");
+  ASSERT_TRUE(c.view.has_value());
+  EXPECT_EQ(c.view->process.name, "view");
+  EXPECT_EQ(c.view->http_address, "127.0.0.1");  // this host only unless the file says so
+  EXPECT_EQ(c.view->http_port, 9000);
+  EXPECT_EQ(c.FindProcess("view"), &c.view->process);
+  for (const ProcessConfig* p : c.Processes()) EXPECT_NE(p->name, "view");  // not a replica peer
+  const ReplicaConfig rc = MakeReplicaConfig(c, *c.FindProcess("node-1"), NodeRole::kNode);
+  EXPECT_EQ(rc.members.at(NodeAddress{1, 50}), NodeRole::kObserver);
+  EXPECT_FALSE(ParseExerciseConfig(kGood, "ex.toml", "/base").view.has_value());
+
+  std::string e = ErrorOf(Replace(with_view, "host = 50", "host = 100"));
+  EXPECT_NE(e.find("address 1:100"), std::string::npos) << e;
+  e = ErrorOf(Replace(with_view, "http_port = 9000", "http_port = 70000"));
+  EXPECT_NE(e.find("view.http_port"), std::string::npos) << e;
 }
 
 }  // namespace

@@ -1,0 +1,244 @@
+#!/usr/bin/env python3
+"""The live view in a real browser: Playwright driving Debian's chromium headless.
+
+Starts dt_server, two dt_node and dt_view (each by PID, readiness by its READY line), then checks:
+the page loads; the features drawn equal the exercise's; a crater made with dt_ctl is drawn
+within one second (the page's own Date.now() when it drew it, against the time just before
+dt_ctl ran); a crater placed by a click (--allow-commands) runs as node-1's command and the page
+destroys it; a killed node's row turns silent and live again after its restart; a page opened
+late shows the current state at once; without --allow-commands the page has no operator panel
+and a command sent anyway is refused. Screenshots go to <run_dir>. Exits 77 (skipped) when
+playwright or chromium is not installed. Run inside tests/run_in_netns.sh.
+
+  view_browser_test.py <dt_server> <dt_node> <dt_view> <dt_ctl> <exercise.toml> <run_dir>
+                       [<screenshot for docs>]
+"""
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+CHROMIUM = "/usr/bin/chromium"
+
+
+def skip(why):
+    print(f"SKIP: {why}")
+    sys.exit(77)
+
+
+try:
+    from playwright.sync_api import sync_playwright
+except ImportError:
+    skip("the playwright Python module is not installed (scripts/setup.sh installs it)")
+if not os.access(CHROMIUM, os.X_OK):
+    skip(f"{CHROMIUM} is not installed (Debian package chromium; scripts/setup.sh installs it)")
+
+programs = dict(zip(["dt_server", "dt_node", "dt_view", "dt_ctl"], sys.argv[1:5]))
+exercise, run_dir = sys.argv[5], sys.argv[6]
+docs_shot = sys.argv[7] if len(sys.argv) > 7 else None
+shutil.rmtree(run_dir, ignore_errors=True)
+os.makedirs(run_dir)
+URL = "http://127.0.0.1:8481/"
+procs = {}
+
+
+def fail(what):
+    print(f"FAIL: {what}")
+    for p in procs.values():
+        if p.poll() is None:
+            p.kill()
+    sys.exit(1)
+
+
+def start(name, program, *extra):
+    args = [programs[program], "--config", exercise, "--run-dir", run_dir,
+            "--name", name, *extra]
+    log = open(os.path.join(run_dir, f"{name}.log"), "ab")
+    p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=log)
+    procs[name] = p
+    # Readiness: the process's own READY line (docs/launcher.md), read as it comes.
+    deadline = time.time() + 60
+    for line in p.stdout:
+        log.write(line)
+        log.flush()
+        if line.strip() == f"READY {name}".encode():
+            return p
+        if time.time() > deadline:
+            break
+    fail(f"{name} never printed READY {name}")
+
+
+def ctl(name, *command):
+    r = subprocess.run([programs["dt_ctl"], "--config", exercise, "--run-dir",
+                        run_dir, "--name", name, *command], capture_output=True, text=True,
+                       timeout=10)
+    if r.returncode != 0:
+        fail(f"dt_ctl {name} {' '.join(command)}: {r.stderr.strip()}")
+    return r.stdout.strip()
+
+
+def server_features():
+    return set(ctl("server", "features").split())
+
+
+def until(condition, what, timeout_s=10):
+    """Polls the server's state (asked by dt_ctl) until `condition` holds; a timeout fails."""
+    deadline = time.time() + timeout_s
+    while not condition():
+        if time.time() > deadline:
+            fail(what)
+        time.sleep(0.05)  # polling a condition, bounded by the deadline
+
+
+start("server", "dt_server")
+start("node-1", "dt_node")
+start("node-2", "dt_node")
+start("view", "dt_view", "--allow-commands")
+
+made = [ctl("node-1", "crater", "150", "200", "12"),
+        ctl("node-2", "berm", "300", "300", "30", "60", "5", "3"),
+        ctl("node-1", "bridge", "400", "150", "90", "8", "15", "40", "15", "5", "5")]
+
+def stop_all_on_error(kind, value, tb):
+    for p in procs.values():
+        if p.poll() is None:
+            p.kill()
+    sys.__excepthook__(kind, value, tb)
+
+
+sys.excepthook = stop_all_on_error  # a Playwright timeout must not leave processes behind
+
+with sync_playwright() as pw:
+    browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
+                                 args=["--no-sandbox"])
+    page = browser.new_page(viewport={"width": 1400, "height": 900})
+    page.goto(URL)
+    page.wait_for_function("window.dtView.snapshotAt > 0", timeout=10000)
+    print("the page loaded and received its snapshot")
+
+    # Features drawn = the exercise's (the server's live features), once the page has them all.
+    page.wait_for_function(f"document.querySelectorAll('#features .feature').length >= {len(made)}",
+                           timeout=10000)
+    drawn = set(page.eval_on_selector_all("#features .feature", "els => els.map(e => e.dataset.id)"))
+    until(lambda: server_features() == drawn,
+          f"the page draws {sorted(drawn)}, the server holds {sorted(server_features())}")
+    print(f"features drawn = the exercise's: {len(drawn)}")
+
+    # A crater made with dt_ctl appears within one second, by the page's own clock.
+    before_ms = time.time() * 1000.0
+    crater = ctl("node-2", "crater", "250", "450", "9")
+    page.wait_for_function(f"'{crater}' in window.dtView.drawnAt", timeout=5000)
+    latency_ms = page.evaluate(f"window.dtView.drawnAt['{crater}']") - before_ms
+    print(f"crater {crater} drawn {latency_ms:.0f} ms after dt_ctl was run")
+    if latency_ms > 1000:
+        fail(f"crater {crater} took {latency_ms:.0f} ms to appear")
+
+    # A vehicle marker is drawn in its owner's colour.
+    page.wait_for_function("document.querySelectorAll('#vehicles .vehicle').length >= 1",
+                           timeout=5000)
+
+    # Operator actions (--allow-commands): a crater placed by clicking, as node-1's command, then
+    # destroyed from the page; both go through the node, so the server holds the result.
+    page.select_option("#op-node", "node-1")
+    page.select_option("#op-tool", "crater")
+    page.fill("#op-size", "7")
+    box = page.locator("#map").bounding_box()
+    page.mouse.click(box["x"] + box["width"] * 0.5, box["y"] + box["height"] * 0.75)
+    page.wait_for_function("window.dtView.lastReply !== undefined", timeout=5000)
+    reply = page.evaluate("window.dtView.lastReply")
+    if not reply["ok"] or not reply["line"].startswith("crater "):
+        fail(f"placing a crater from the page: {reply}")
+    placed = reply["text"].strip()
+    page.wait_for_function(f"'{placed}' in window.dtView.drawnAt", timeout=5000)
+    page.select_option("#op-tool", "")
+    page.click(f"#features [data-id='{placed}']")
+    page.click("#op-destroy")
+    page.wait_for_function(f"!document.querySelector(\"#features [data-id='{placed}']\")",
+                           timeout=5000)
+    page.wait_for_function("window.dtView.lastReply.line.startsWith('destroy ')", timeout=5000)
+    until(lambda: placed not in server_features(),
+          f"{placed}, destroyed from the page, is still live on the server")
+    print(f"operator: placed {placed} on node-1 by a click and destroyed it from the page")
+
+    # A killed node goes silent on the panel, and live again once restarted.
+    row = "document.querySelector('#processes tr[data-name=\"node-2\"]')"
+    page.wait_for_function(f"{row} && {row}.dataset.state === 'live'", timeout=10000)
+    procs["node-2"].send_signal(signal.SIGKILL)
+    procs["node-2"].wait()
+    page.wait_for_function(f"{row}.dataset.state !== 'live'", timeout=10000)
+    page.wait_for_function(f"{row}.dataset.state === 'silent'", timeout=10000)
+    print("node-2 killed: its row shows it silent")
+    page.screenshot(path=os.path.join(run_dir, "view-node-2-silent.png"))
+    start("node-2", "dt_node")
+    page.wait_for_function(f"{row}.dataset.state === 'live'", timeout=15000)
+    page.wait_for_function(
+        "[...document.querySelectorAll('#events li')].some(li => li.dataset.kind === 'back')",
+        timeout=5000)
+    print("node-2 restarted: its row is live again and the log says it is back")
+
+    # A page opened late shows the current state at once: its snapshot, before any delta.
+    late = browser.new_page(viewport={"width": 1400, "height": 900})
+    late.goto(URL)
+    late.wait_for_function("window.dtView.snapshotAt > 0", timeout=10000)
+    state = late.evaluate("""() => ({
+        deltas: window.dtView.deltas,
+        features: [...document.querySelectorAll('#features .feature')].map(e => e.dataset.id),
+        events: document.querySelectorAll('#events li').length,
+        rows: document.querySelectorAll('#processes tbody tr').length})""")
+    if set(state["features"]) != server_features():
+        fail(f"the late page draws {sorted(state['features'])} at once, the server holds "
+             f"{sorted(server_features())}")
+    if state["events"] < len(made) + 1 or state["rows"] != 3:
+        fail(f"the late page shows {state['events']} events and {state['rows']} processes")
+    print(f"the late page showed {len(state['features'])} features, {state['events']} events and "
+          f"{state['rows']} processes from its snapshot ({state['deltas']} deltas applied then)")
+
+    # Every digest agrees once everything is caught up: one colour, none flagged.
+    page.wait_for_function(
+        "[...document.querySelectorAll('#processes tbody tr')].every(r => r.dataset.diverged === '0'"
+        " && r.dataset.state === 'live')", timeout=15000)
+    page.click(f"#features [data-id='{made[1]}']")
+    page.wait_for_function("document.querySelector('#feature-fields') !== null", timeout=2000)
+    shot = os.path.join(run_dir, "view.png")
+    page.screenshot(path=shot)
+    if docs_shot:
+        shutil.copy(shot, docs_shot)
+    print(f"screenshot {shot}")
+
+    # Without --allow-commands (the default) the page has no operator panel, and a command sent
+    # anyway is refused by dt_view, so nothing reaches a node.
+    procs["view"].send_signal(signal.SIGTERM)
+    if procs["view"].wait(timeout=15) != 0:
+        fail("the view did not exit 0 on SIGTERM")
+    start("view", "dt_view")
+    plain = browser.new_page()
+    plain.goto(URL)
+    plain.wait_for_function("window.dtView.snapshotAt > 0", timeout=10000)
+    if not plain.evaluate("document.getElementById('operator').hidden"):
+        fail("the operator panel shows without --allow-commands")
+    before = server_features()
+    plain.evaluate("""() => window.dtView.state.ws.send(JSON.stringify(
+        {op: 'crater', node: 'node-1', x: 200, z: 200, radius: 5, req: 1}))""")
+    plain.wait_for_function("window.dtView.lastReply !== undefined", timeout=5000)
+    refused = plain.evaluate("window.dtView.lastReply")
+    if refused["ok"] or "--allow-commands" not in refused["text"]:
+        fail(f"a command without --allow-commands was answered {refused}")
+    if server_features() != before:
+        fail("a command without --allow-commands changed the exercise")
+    print("without --allow-commands: no operator panel, and a sent command is refused")
+    browser.close()
+
+for name, p in procs.items():
+    if p.poll() is None:
+        p.send_signal(signal.SIGTERM)
+for name, p in procs.items():
+    try:
+        rc = p.wait(timeout=15)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        fail(f"{name} did not stop on SIGTERM")
+    if name != "node-2" and rc != 0:
+        fail(f"{name} exited {rc} on SIGTERM")
+print("PASS")

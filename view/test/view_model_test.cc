@@ -1,0 +1,120 @@
+// Tests the JSON the live view's page receives (view/view_model.h): a snapshot holds every live
+// feature with its history; a delta holds exactly what changed, and nothing when nothing did.
+#include <gtest/gtest.h>
+
+#include "engine/test/replica_test_config.h"
+#include "view/view_model.h"
+
+namespace dt {
+namespace {
+
+using testing::kTestA;
+using testing::kTestB;
+using testing::kTestServer;
+const NodeAddress kView{1, 50};
+
+class ViewModelTest : public ::testing::Test, public testing::ServerAndTwoNodes {
+ protected:
+  ViewModelTest() : ServerAndTwoNodes(7, Config()) {}
+  static ReplicaConfig Config() {
+    ReplicaConfig c = testing::TestReplicaConfig();
+    c.members = {{kTestServer, NodeRole::kServer},
+                 {kTestA, NodeRole::kNode},
+                 {kTestB, NodeRole::kNode},
+                 {kView, NodeRole::kObserver}};
+    return c;
+  }
+  Replica& View() { return cluster_.at(kView); }
+  MemberNames Names() const {
+    return {{kTestA, "node-a"}, {kTestB, "node-b"}, {kTestServer, "server"}};
+  }
+};
+
+TEST_F(ViewModelTest, ALateSnapshotHoldsEveryLiveFeatureWithItsHistory) {
+  auto crater = A().Create(FeatureParams::Crater(30, 30, 3));
+  auto berm = B().Create(FeatureParams::Berm(80, 80, 0.0, 30, 3, 2));
+  ASSERT_TRUE(crater.ok() && berm.ok());
+  cluster_.Run(300);
+  ASSERT_TRUE(A().Modify(crater.value(), FeatureParams::Crater(30, 30, 5)).ok());
+  cluster_.Run(300);
+  cluster_.Start(kView, NodeRole::kObserver);
+  cluster_.Run(1500);
+  ViewModel model(View(), Names());
+  ASSERT_FALSE(model.Update(1000, {}, {}, 1).is_null());
+  const nlohmann::json s = model.Snapshot(2000);
+  EXPECT_EQ(s["type"], "snapshot");
+  ASSERT_EQ(s["features"].size(), 2u);
+  const nlohmann::json& c =
+      s["features"][0]["id"] == crater.value().ToString() ? s["features"][0] : s["features"][1];
+  EXPECT_EQ(c["type"], "crater");
+  EXPECT_DOUBLE_EQ(c["radius"].get<double>(), 5.0);
+  ASSERT_EQ(c["history"].size(), 2u);
+  EXPECT_EQ(c["history"][0]["kind"], "create");
+  EXPECT_EQ(c["history"][0]["by"], "node-a");
+  EXPECT_EQ(c["history"][1]["kind"], "update");
+  EXPECT_EQ(s["events"].size(), 3u);
+  EXPECT_EQ(s["relief"], 1);
+}
+
+TEST_F(ViewModelTest, ADeltaHoldsWhatChangedAndNothingWhenNothingDid) {
+  cluster_.Start(kView, NodeRole::kObserver);
+  cluster_.Run(500);
+  ViewModel model(View(), Names());
+  (void)model.Update(1, {}, {}, 1);
+  EXPECT_TRUE(model.Update(2, {}, {}, 1).is_null());
+  auto berm = A().Create(FeatureParams::Berm(60, 60, 0.0, 40, 3, 2));
+  ASSERT_TRUE(berm.ok());
+  cluster_.Run(300);
+  nlohmann::json d = model.Update(3, {}, {}, 1);
+  ASSERT_FALSE(d.is_null());
+  EXPECT_EQ(d["type"], "delta");
+  EXPECT_EQ(d["t_ms"], 3);
+  ASSERT_EQ(d["features"].size(), 1u);
+  EXPECT_EQ(d["features"][0]["id"], berm.value().ToString());
+  EXPECT_FALSE(d.contains("removed"));
+  auto pieces = B().Breach(berm.value(), 10, 5);
+  ASSERT_TRUE(pieces.ok());
+  cluster_.Run(300);
+  d = model.Update(4, {}, {}, 1);
+  ASSERT_EQ(d["removed"].size(), 1u);
+  EXPECT_EQ(d["removed"][0], berm.value().ToString());
+  EXPECT_EQ(d["features"].size(), pieces.value().size());
+  size_t breaches = 0;
+  for (const auto& e : d["events"]) breaches += e["kind"] == "breach" ? 1 : 0;
+  EXPECT_EQ(breaches, pieces.value().size());
+  EXPECT_EQ(model.feature_count(), pieces.value().size());
+  EXPECT_EQ(d["seq"].get<uint64_t>(), model.seq());
+}
+
+TEST_F(ViewModelTest, ProcessesGoingSilentAndComingBackAreEvents) {
+  cluster_.Start(kView, NodeRole::kObserver);
+  ViewModel model(View(), Names());
+  ProcessRow row;
+  row.name = "node-a";
+  row.reachable = true;
+  row.signed_on = true;
+  row.silent = false;
+  auto kinds = [](const nlohmann::json& d) {
+    std::vector<std::string> k;
+    for (const auto& e : d["events"]) k.push_back(e["kind"]);
+    return k;
+  };
+  EXPECT_EQ(kinds(model.Update(1, {row}, {}, 1)), std::vector<std::string>{"joined"});
+  row.silent = true;
+  row.reachable = false;
+  nlohmann::json d = model.Update(2, {row}, {}, 1);
+  EXPECT_EQ(kinds(d), std::vector<std::string>{"silent"});
+  ASSERT_EQ(d["processes"].size(), 1u);
+  EXPECT_EQ(d["processes"][0]["silent"], true);
+  row.silent = false;
+  row.reachable = true;
+  EXPECT_EQ(kinds(model.Update(3, {row}, {}, 1)), std::vector<std::string>{"back"});
+  VehicleView v{"node-a/0", "node-a", "tank", 10, 20, 0.5, 3, true};
+  d = model.Update(4, {row}, {v}, 1);
+  ASSERT_EQ(d["vehicles"].size(), 1u);
+  EXPECT_EQ(d["vehicles"][0]["owner"], "node-a");
+  EXPECT_TRUE(model.Update(5, {row}, {v}, 1).is_null());
+}
+
+}  // namespace
+}  // namespace dt

@@ -1,0 +1,164 @@
+#include "view/view_app.h"
+
+#include <chrono>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "log/log.h"
+#include "runtime/control_client.h"
+#include "runtime/control_command.h"
+#include "terrain/random_terrain.h"
+#include "view/operator_command.h"
+
+namespace dt {
+namespace {
+
+int64_t WallMs() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+const ViewConfig& FindView(const ExerciseConfig& exercise, const std::string& name) {
+  if (!exercise.view || exercise.view->process.name != name) {
+    throw std::invalid_argument(
+        fmt::format("{}: no [view] named \"{}\"", exercise.source.string(), name));
+  }
+  return *exercise.view;
+}
+
+}  // namespace
+
+ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOptions options)
+    : exercise_(exercise),
+      view_(FindView(exercise, name)),
+      options_(std::move(options)),
+      transport_(MakeProcessTransport(exercise, view_.process)) {
+  replica_ =
+      std::make_unique<Replica>(MakeReplicaConfig(exercise, view_.process, NodeRole::kObserver),
+                                MakeRandomTerrain(exercise.terrain), *transport_.bus);
+  MemberNames names;
+  std::vector<PolledProcess> polled;
+  for (const ProcessConfig* p : exercise.Processes()) {
+    names[p->address] = p->name;
+    const char* role = exercise.server && p == &*exercise.server     ? "server"
+                       : exercise.standby && p == &*exercise.standby ? "standby"
+                                                                     : "node";
+    if (std::string(role) == "node") nodes_.insert(p->name);
+    polled.push_back({p->name, role, p->address.ToString(), exercise.SocketPath(p->name)});
+  }
+  names[view_.process.address] = view_.process.name;
+  model_ = std::make_unique<ViewModel>(*replica_, names);
+  relief_ =
+      std::make_unique<ReliefRenderer>(exercise.run_dir / (view_.process.name + "-relief.png"));
+  poller_ = std::make_unique<ProcessPoller>(polled, options_.poll_period_ms, 1000);
+  WebServer::Handlers handlers;
+  handlers.snapshot = [this] {
+    nlohmann::json s = model_->Snapshot(WallMs());
+    s["exercise"] = {{"name", exercise_.name},
+                     {"size_m", exercise_.terrain_size_m()},
+                     {"silence_ms", exercise_.protocol.silence_ms},
+                     {"view", view_.process.name},
+                     {"commands", options_.allow_commands},
+                     {"nodes", nodes_}};
+    return s.dump();
+  };
+  handlers.message = [this](const std::string& text) { return OnMessage(text); };
+  web_ = std::make_unique<WebServer>(view_.http_address, view_.http_port, options_.web_dir,
+                                     std::move(handlers));
+}
+
+ViewApp::~ViewApp() = default;
+
+std::string ViewApp::url() const {
+  return fmt::format("http://{}:{}/", view_.http_address, view_.http_port);
+}
+
+void ViewApp::Start(int64_t now_ms) {
+  replica_->SignOn(now_ms);
+  RenderRelief(now_ms);
+}
+
+void ViewApp::RenderRelief(int64_t now_ms) {
+  if (auto png = relief_->Take()) {
+    web_->SetRelief(std::move(*png));
+    ++relief_version_;
+  }
+  if (relief_at_ms_ >= 0 && now_ms - relief_at_ms_ < options_.relief_min_period_ms) return;
+  const std::string digest = replica_->Digest();
+  if (digest == relief_digest_) return;
+  if (!relief_->Offer(replica_->terrain())) return;  // one under way: offered again next tick
+  relief_at_ms_ = now_ms;
+  relief_digest_ = digest;
+}
+
+void ViewApp::Tick(int64_t now_ms) {
+  replica_->Tick(now_ms);
+  std::vector<ProcessRow> rows = poller_->Rows();
+  for (ProcessRow& r : rows) {
+    const ProcessConfig* p = exercise_.FindProcess(r.name);
+    const int64_t heard = replica_->last_heard_ms(p->address);
+    r.last_heard_ago_ms = heard < 0 ? -1 : now_ms - heard;
+    r.silent = heard < 0 || now_ms - heard > exercise_.protocol.silence_ms;
+    // The page shows how long ago in whole tenths of a second: finer would be a delta per tick.
+    if (r.last_heard_ago_ms > 0) r.last_heard_ago_ms = r.last_heard_ago_ms / 100 * 100;
+  }
+  const std::vector<VehicleView> vehicles = poller_->Vehicles();
+  web_->Publish([&] {
+    nlohmann::json delta = model_->Update(WallMs(), rows, vehicles, relief_version_);
+    return delta.is_null() ? std::string() : delta.dump();
+  });
+  // After the delta: the outlines reach the pages without waiting for the render (OSMesa, on
+  // the CPU), whose new version goes out with the next delta.
+  RenderRelief(now_ms);
+}
+
+std::string ViewApp::OnMessage(const std::string& text) {
+  nlohmann::json reply = {{"type", "reply"}};
+  nlohmann::json m = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (m.is_object() && m.contains("req")) reply["req"] = m["req"];
+  if (!options_.allow_commands) {
+    reply["ok"] = false;
+    reply["text"] = "operator commands are off: start dt_view with --allow-commands";
+    return reply.dump();
+  }
+  auto c = ParseOperatorCommand(m, nodes_);
+  if (!c) {
+    reply["ok"] = false;
+    reply["text"] = c.error().message;
+    return reply.dump();
+  }
+  DT_LOG_INFO("operator: {} on {}", c.value().line, c.value().node);
+  auto r = CallControl(exercise_.SocketPath(c.value().node), c.value().line, 3000);
+  if (!r) {
+    reply["ok"] = false;
+    reply["text"] = r.error().message;
+  } else {
+    reply["ok"] = r.value().ok;
+    reply["text"] = r.value().ok ? r.value().body : r.value().error;
+  }
+  reply["node"] = c.value().node;
+  reply["line"] = c.value().line;
+  return reply.dump();
+}
+
+ControlReply ViewApp::Handle(std::string_view line) {
+  static const std::vector<SimulatedVehicle> kNoVehicles;  // it drives none
+  Result<ControlCommand> c = ParseControlCommand(line);
+  if (!c) return ControlReply::Fail(c.error().message);
+  if (c.value().verb == ControlVerb::kQuit) {
+    quit_ = true;
+    return ControlReply::Ok("bye");
+  }
+  if (auto r = AnswerCommonCommand(c.value(), view_.process.name, NodeRole::kObserver, *replica_,
+                                   transport_, kNoVehicles)) {
+    return *r;
+  }
+  return ControlReply::Fail(fmt::format(
+      "\"{}\": the view is an observer and runs no feature commands (send them to a node)", line));
+}
+
+}  // namespace dt

@@ -1,0 +1,221 @@
+#include "view/view_model.h"
+
+#include <algorithm>
+
+namespace dt {
+namespace {
+
+const char* KindName(ChangeKind k) {
+  switch (k) {
+    case ChangeKind::kConstruct:
+      return "create";
+    case ChangeKind::kUpdate:
+      return "update";
+    case ChangeKind::kDestruct:
+      return "destroy";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+nlohmann::json FeatureJson(FeatureId id, const Record& record) {
+  const FeatureParams& p = record.params;
+  nlohmann::json j = {{"id", id.ToString()},
+                      {"type", std::string(FeatureTypeName(p.type))},
+                      {"x", p.x_m},
+                      {"z", p.z_m},
+                      {"placed", record.placed}};
+  switch (p.type) {
+    case FeatureType::kCrater:
+      j["radius"] = p.length_m[0];
+      break;
+    case FeatureType::kBerm:
+      j["dir"] = p.direction_rad;
+      j["length"] = p.length_m[0];
+      j["width"] = p.width_m;
+      j["height"] = p.height_m[0];
+      break;
+    case FeatureType::kBridge:
+      j["dir"] = p.direction_rad;
+      j["width"] = p.width_m;
+      j["span"] = p.length_m[0];
+      j["ramp1"] = p.length_m[1];
+      j["ramp2"] = p.length_m[2];
+      j["h1"] = p.height_m[0];
+      j["h2"] = p.height_m[1];
+      j["status"] = p.status == BridgeStatus::kDestroyed ? "destroyed" : "intact";
+      break;
+  }
+  return j;
+}
+
+nlohmann::json ViewModel::Event::ToJson() const {
+  nlohmann::json j = {{"t_ms", t_ms}, {"kind", kind}, {"by", by}};
+  if (!feature.empty()) j["feature"] = feature;
+  if (change_seq > 0) j["change_seq"] = change_seq;
+  return j;
+}
+
+ViewModel::ViewModel(const Replica& replica, MemberNames names, size_t events_kept)
+    : replica_(replica), names_(std::move(names)), events_kept_(events_kept) {}
+
+std::string ViewModel::Name(NodeAddress a) const {
+  auto it = names_.find(a);
+  return it == names_.end() ? a.ToString() : it->second;
+}
+
+void ViewModel::Note(const Change& c, int64_t now_ms, std::vector<Event>& events) {
+  Event e{now_ms, KindName(c.kind), c.id.ToString(), Name(c.author()), c.stamp.change_seq};
+  const NodeAddress author = c.author();
+  if (c.kind == ChangeKind::kDestruct && c.params.type == FeatureType::kBerm) {
+    last_berm_destruct_[author] = {c.stamp.change_seq, c.id};
+  } else if (c.kind == ChangeKind::kConstruct && c.params.type == FeatureType::kBerm) {
+    // A breach is one Destruct of the berm and a Construct per piece, in consecutive sequences.
+    auto it = last_berm_destruct_.find(author);
+    if (it != last_berm_destruct_.end() && c.stamp.change_seq - it->second.first <= 2) {
+      e.kind = "breach";
+      it->second.first = c.stamp.change_seq;
+      Event parent = e;
+      parent.feature = it->second.second.ToString();
+      history_[it->second.second].push_back(parent);
+    }
+  }
+  history_[c.id].push_back(e);
+  events.push_back(e);
+}
+
+void ViewModel::Refresh(const std::set<FeatureId>& ids, nlohmann::json& changed,
+                        nlohmann::json& removed) {
+  const auto& all = replica_.records().all();
+  for (FeatureId id : ids) {
+    auto it = all.find(id);
+    if (it == all.end() || it->second.destroyed) {
+      if (features_.erase(id) != 0) removed.push_back(id.ToString());
+      continue;
+    }
+    nlohmann::json j = FeatureJson(id, it->second);
+    auto& held = features_[id];
+    if (held != j) {
+      held = j;
+      nlohmann::json out = j;
+      nlohmann::json history = nlohmann::json::array();
+      for (const Event& e : history_[id]) history.push_back(e.ToJson());
+      out["history"] = std::move(history);
+      changed.push_back(std::move(out));
+    }
+  }
+}
+
+void ViewModel::NoteProcesses(int64_t now_ms, const std::vector<ProcessRow>& rows,
+                              std::vector<Event>& events) {
+  for (const ProcessRow& r : rows) {
+    auto old = std::find_if(processes_.begin(), processes_.end(),
+                            [&](const ProcessRow& o) { return o.name == r.name; });
+    // Joining, silence and coming back are the protocol's (PDUs heard), not the control
+    // socket's: a process that is slow to answer `status` is not silent.
+    const bool was_live = old != processes_.end() && !old->silent;
+    const bool live = !r.silent;
+    if (live && !was_live) {
+      const bool back = !seen_live_.insert(r.name).second;
+      events.push_back({now_ms, back ? "back" : "joined", "", r.name, 0});
+    } else if (was_live && !live) {
+      events.push_back({now_ms, "silent", "", r.name, 0});
+    }
+    const bool was_diverged = old != processes_.end() && old->diverged;
+    if (r.diverged && !was_diverged) events.push_back({now_ms, "diverged", "", r.name, 0});
+    if (!r.diverged && was_diverged) events.push_back({now_ms, "agrees", "", r.name, 0});
+  }
+}
+
+nlohmann::json ViewModel::Update(int64_t now_ms, const std::vector<ProcessRow>& processes,
+                                 const std::vector<VehicleView>& vehicles, int relief_version) {
+  std::vector<Event> events;
+  std::set<FeatureId> touched;
+  bool bridge = false;
+  for (const auto& [author, contiguous] : replica_.contiguous_change_seq()) {
+    const ChangeLog* log = replica_.log(author);
+    if (log == nullptr) continue;
+    int64_t& upto = noted_upto_[author];
+    std::set<int64_t>& beyond = noted_beyond_[author];
+    if (log->max_held() <= upto) continue;
+    for (const Change* c : log->Range(upto + 1, log->max_held())) {
+      if (!beyond.insert(c->stamp.change_seq).second) continue;
+      Note(*c, now_ms, events);
+      touched.insert(c->id);
+      bridge = bridge || c->params.type == FeatureType::kBridge;
+    }
+    while (beyond.count(upto + 1) != 0) beyond.erase(++upto);
+  }
+  // A repaired slot (anti-entropy) changes records without a new change: look at everything.
+  const uint64_t repairs = replica_.anti_entropy().stats().slots_repaired;
+  const bool everything = repairs != repairs_seen_;
+  repairs_seen_ = repairs;
+  if (everything || bridge) {
+    // A bridge change re-places every bridge (docs/protocol.md "Materialisation").
+    for (const auto& [id, r] : replica_.records().all()) {
+      if (everything || r.params.type == FeatureType::kBridge) touched.insert(id);
+    }
+    for (const auto& [id, j] : features_) touched.insert(id);
+  }
+  NoteProcesses(now_ms, processes, events);
+
+  nlohmann::json delta = {{"type", "delta"}, {"t_ms", now_ms}};
+  nlohmann::json changed = nlohmann::json::array(), removed = nlohmann::json::array();
+  Refresh(touched, changed, removed);
+  if (!changed.empty()) delta["features"] = std::move(changed);
+  if (!removed.empty()) delta["removed"] = std::move(removed);
+  if (!events.empty()) {
+    nlohmann::json ev = nlohmann::json::array();
+    for (const Event& e : events) ev.push_back(e.ToJson());
+    delta["events"] = std::move(ev);
+    events_.insert(events_.end(), events.begin(), events.end());
+    if (events_.size() > events_kept_) {
+      events_.erase(events_.begin(),
+                    events_.begin() + static_cast<std::ptrdiff_t>(events_.size() - events_kept_));
+    }
+  }
+  if (processes != processes_) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const ProcessRow& r : processes) rows.push_back(r.ToJson());
+    delta["processes"] = std::move(rows);
+    processes_ = processes;
+  }
+  if (vehicles != vehicles_) {
+    nlohmann::json vs = nlohmann::json::array();
+    for (const VehicleView& v : vehicles) vs.push_back(v.ToJson());
+    delta["vehicles"] = std::move(vs);
+    vehicles_ = vehicles;
+  }
+  if (relief_version != relief_version_) {
+    delta["relief"] = relief_version;
+    relief_version_ = relief_version;
+  }
+  if (delta.size() == 2) return nullptr;  // only type and time: nothing changed
+  delta["seq"] = ++seq_;
+  return delta;
+}
+
+nlohmann::json ViewModel::Snapshot(int64_t now_ms) const {
+  nlohmann::json features = nlohmann::json::array();
+  for (const auto& [id, j] : features_) {
+    nlohmann::json out = j;
+    nlohmann::json history = nlohmann::json::array();
+    auto h = history_.find(id);
+    if (h != history_.end()) {
+      for (const Event& e : h->second) history.push_back(e.ToJson());
+    }
+    out["history"] = std::move(history);
+    features.push_back(std::move(out));
+  }
+  nlohmann::json events = nlohmann::json::array();
+  for (const Event& e : events_) events.push_back(e.ToJson());
+  nlohmann::json rows = nlohmann::json::array();
+  for (const ProcessRow& r : processes_) rows.push_back(r.ToJson());
+  nlohmann::json vs = nlohmann::json::array();
+  for (const VehicleView& v : vehicles_) vs.push_back(v.ToJson());
+  return {{"type", "snapshot"}, {"seq", seq_},       {"t_ms", now_ms}, {"features", features},
+          {"events", events},   {"processes", rows}, {"vehicles", vs}, {"relief", relief_version_}};
+}
+
+}  // namespace dt

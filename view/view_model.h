@@ -1,0 +1,79 @@
+// ViewModel: what the live view's page shows of an observer replica (features, their history,
+// the event log, processes, vehicles) as JSON snapshots and deltas (docs/view.md "Messages").
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/replica.h"
+#include "view/process_row.h"
+#include "view/vehicle_source.h"
+
+namespace dt {
+
+// Names the exercise's members for the page ("node-1" rather than "1:1").
+using MemberNames = std::map<NodeAddress, std::string>;
+
+// One feature as the page draws it: its type's shape parameters, whether it is placed (a bridge
+// overlapping a lower-ID bridge is kept but not placed), and its history.
+nlohmann::json FeatureJson(FeatureId id, const Record& record);
+
+class ViewModel {
+ public:
+  // `replica` must outlive the model. `events_kept` bounds the event log a late page receives.
+  ViewModel(const Replica& replica, MemberNames names, size_t events_kept = 500);
+
+  // Looks at what changed since the last call (new changes in any log, repaired slots, process
+  // rows, vehicles). Returns the delta message for the pages, or null when nothing changed.
+  // `now_ms` is wall-clock (epoch) milliseconds: the page measures its latency against it.
+  nlohmann::json Update(int64_t now_ms, const std::vector<ProcessRow>& processes,
+                        const std::vector<VehicleView>& vehicles, int relief_version);
+  // Everything a page opened now needs: every live feature with its history, the event log, the
+  // latest process rows and vehicles.
+  nlohmann::json Snapshot(int64_t now_ms) const;
+
+  uint64_t seq() const { return seq_; }
+  size_t feature_count() const { return features_.size(); }
+
+ private:
+  struct Event {
+    int64_t t_ms = 0;
+    std::string kind;     // create update destroy breach | joined silent back diverged agrees
+    std::string feature;  // "site:host:number" or empty
+    std::string by;       // the author's or the process's name
+    int64_t change_seq = 0;
+    nlohmann::json ToJson() const;
+  };
+  std::string Name(NodeAddress a) const;
+  // Notes one change the replica holds for the first time: history, event, feature to resend.
+  void Note(const Change& c, int64_t now_ms, std::vector<Event>& events);
+  // Re-reads the records of these features; removed ones go to `removed`.
+  void Refresh(const std::set<FeatureId>& ids, nlohmann::json& changed, nlohmann::json& removed);
+  void NoteProcesses(int64_t now_ms, const std::vector<ProcessRow>& rows,
+                     std::vector<Event>& events);
+
+  const Replica& replica_;
+  MemberNames names_;
+  size_t events_kept_;
+  uint64_t seq_ = 0;
+  // Per author: every change up to this one has been noted, and those noted beyond it.
+  std::map<NodeAddress, int64_t> noted_upto_;
+  std::map<NodeAddress, std::set<int64_t>> noted_beyond_;
+  uint64_t repairs_seen_ = 0;
+  std::map<FeatureId, nlohmann::json> features_;  // live records as last sent
+  std::map<FeatureId, std::vector<Event>> history_;
+  std::vector<Event> events_;  // the last events_kept_
+  std::vector<ProcessRow> processes_;
+  std::set<std::string> seen_live_;  // processes seen live once: the next time they are "back"
+  std::vector<VehicleView> vehicles_;
+  int relief_version_ = -1;
+  // A Destruct of a berm by an author, so that author's next Constructs are its breach pieces.
+  std::map<NodeAddress, std::pair<int64_t, FeatureId>> last_berm_destruct_;
+};
+
+}  // namespace dt

@@ -1,0 +1,131 @@
+#include "view/web_server.h"
+
+#include <civetweb.h>
+
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "log/log.h"
+
+namespace dt {
+namespace {
+
+const char* MimeOf(const std::filesystem::path& p) {
+  const std::string ext = p.extension().string();
+  if (ext == ".html") return "text/html; charset=utf-8";
+  if (ext == ".js") return "text/javascript; charset=utf-8";
+  if (ext == ".css") return "text/css; charset=utf-8";
+  if (ext == ".png") return "image/png";
+  return "application/octet-stream";
+}
+
+}  // namespace
+
+WebServer::WebServer(const std::string& address, int port, std::filesystem::path web_dir,
+                     Handlers handlers)
+    : web_dir_(std::move(web_dir)), handlers_(std::move(handlers)) {
+  mg_init_library(MG_FEATURES_WEBSOCKET);
+  const std::string ports = fmt::format("{}:{}", address, port);
+  const char* options[] = {"listening_ports",      ports.c_str(), "num_threads", "16",
+                           "websocket_timeout_ms", "3600000",     nullptr};
+  mg_callbacks callbacks{};
+  ctx_ = mg_start(&callbacks, this, options);
+  if (ctx_ == nullptr) {
+    throw std::runtime_error(fmt::format(
+        "the view cannot listen on {} (in use, or not an address of this host)", ports));
+  }
+  mg_set_request_handler(ctx_, "/relief.png", &WebServer::HandleRelief, this);
+  mg_set_websocket_handler(ctx_, "/ws", &WebServer::WsConnect, &WebServer::WsReady,
+                           &WebServer::WsData, &WebServer::WsClose, this);
+  mg_set_request_handler(ctx_, "/", &WebServer::HandleFile, this);
+}
+
+WebServer::~WebServer() {
+  if (ctx_ != nullptr) mg_stop(ctx_);
+}
+
+int WebServer::HandleFile(mg_connection* conn, void* self_ptr) {
+  auto* self = static_cast<WebServer*>(self_ptr);
+  std::string uri = mg_get_request_info(conn)->local_uri;
+  if (uri == "/") uri = "/index.html";
+  // The page's own files only: one path component, no way out of web_dir.
+  const std::string name = uri.substr(1);
+  if (name.empty() || name.find('/') != std::string::npos || name.find("..") != std::string::npos) {
+    mg_send_http_error(conn, 404, "%s", "not found");
+    return 404;
+  }
+  const std::filesystem::path path = self->web_dir_ / name;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    mg_send_http_error(conn, 404, "%s", "not found");
+    return 404;
+  }
+  mg_send_mime_file(conn, path.c_str(), MimeOf(path));
+  return 200;
+}
+
+int WebServer::HandleRelief(mg_connection* conn, void* self_ptr) {
+  auto* self = static_cast<WebServer*>(self_ptr);
+  std::string png;
+  {
+    std::lock_guard lock(self->relief_mu_);
+    png = self->relief_;
+  }
+  if (png.empty()) {
+    mg_send_http_error(conn, 503, "%s", "the relief is not rendered yet");
+    return 503;
+  }
+  mg_send_http_ok(conn, "image/png", static_cast<long long>(png.size()));
+  mg_write(conn, png.data(), png.size());
+  return 200;
+}
+
+int WebServer::WsConnect(const mg_connection*, void*) { return 0; }  // every page is accepted
+
+void WebServer::WsReady(mg_connection* conn, void* self_ptr) {
+  auto* self = static_cast<WebServer*>(self_ptr);
+  std::lock_guard lock(self->mu_);
+  const std::string snapshot = self->handlers_.snapshot();
+  mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_TEXT, snapshot.data(), snapshot.size());
+  self->pages_.insert(conn);
+}
+
+int WebServer::WsData(mg_connection* conn, int flags, char* data, size_t len, void* self_ptr) {
+  auto* self = static_cast<WebServer*>(self_ptr);
+  const int opcode = flags & 0xf;
+  if (opcode == MG_WEBSOCKET_OPCODE_CONNECTION_CLOSE) return 0;
+  if (opcode != MG_WEBSOCKET_OPCODE_TEXT) return 1;  // pings and binary frames: nothing to do
+  const std::string reply = self->handlers_.message(std::string(data, len));
+  if (!reply.empty())
+    mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_TEXT, reply.data(), reply.size());
+  return 1;
+}
+
+void WebServer::WsClose(const mg_connection* conn, void* self_ptr) {
+  auto* self = static_cast<WebServer*>(self_ptr);
+  std::lock_guard lock(self->mu_);
+  self->pages_.erase(const_cast<mg_connection*>(conn));
+}
+
+void WebServer::Publish(const std::function<std::string()>& make) {
+  std::lock_guard lock(mu_);
+  const std::string text = make();
+  if (text.empty()) return;
+  for (mg_connection* c : pages_) {
+    mg_websocket_write(c, MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
+  }
+}
+
+void WebServer::SetRelief(std::string png_bytes) {
+  std::lock_guard lock(relief_mu_);
+  relief_ = std::move(png_bytes);
+}
+
+size_t WebServer::pages() const {
+  std::lock_guard lock(mu_);
+  return pages_.size();
+}
+
+}  // namespace dt

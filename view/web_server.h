@@ -1,0 +1,59 @@
+// WebServer: the live view's HTTP and WebSocket endpoint over civetweb: the page's files, the
+// relief image, and one WebSocket per page that gets a snapshot, then every delta.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <mutex>
+#include <set>
+#include <string>
+
+struct mg_context;
+struct mg_connection;
+
+namespace dt {
+
+class WebServer {
+ public:
+  struct Handlers {
+    // The snapshot a page that just connected receives (called under the publish lock, so no
+    // delta is sent between it and the page's registration).
+    std::function<std::string()> snapshot;
+    // A message from a page (an operator command); the reply sent back to that page alone.
+    // Called on a civetweb thread.
+    std::function<std::string(const std::string& message)> message;
+  };
+
+  // Serves `web_dir`'s files (index.html at /) on address:port. Throws std::runtime_error naming
+  // the address and port when it cannot listen.
+  WebServer(const std::string& address, int port, std::filesystem::path web_dir, Handlers handlers);
+  ~WebServer();
+  WebServer(const WebServer&) = delete;
+  WebServer& operator=(const WebServer&) = delete;
+
+  // Under the publish lock: `make` builds the delta (it may update what snapshot() reads); a
+  // non-empty result goes to every page.
+  void Publish(const std::function<std::string()>& make);
+  // The relief image served at /relief.png.
+  void SetRelief(std::string png_bytes);
+  size_t pages() const;
+
+ private:
+  static int HandleFile(mg_connection* conn, void* self);
+  static int HandleRelief(mg_connection* conn, void* self);
+  static int WsConnect(const mg_connection* conn, void* self);
+  static void WsReady(mg_connection* conn, void* self);
+  static int WsData(mg_connection* conn, int flags, char* data, size_t len, void* self);
+  static void WsClose(const mg_connection* conn, void* self);
+
+  std::filesystem::path web_dir_;
+  Handlers handlers_;
+  mutable std::mutex mu_;  // pages_ and everything Publish's and snapshot's callbacks touch
+  std::set<mg_connection*> pages_;
+  std::mutex relief_mu_;
+  std::string relief_;
+  mg_context* ctx_ = nullptr;
+};
+
+}  // namespace dt

@@ -79,15 +79,22 @@ PolylineEarthwork::PolylineEarthwork(FeatureId id, FeatureParams params, Materia
     joints_.push_back({v.x_m, v.z_m, s1.ux, s1.uz, s2.ux, s2.uz, outer_sign * sx / len,
                        outer_sign * sz / len, 2.0 / len, outer_sign, v.height_m, v.width_m});
   }
+  // The box of each segment's rectangle (end pieces included) and of each joint's reach.
   bool first = true;
-  for (const Segment& s : segments_) {
-    const double reach = std::max(Reach(s.w0), Reach(s.w1)) + s.start_run + s.end_run;
-    const Rect r = Rect{std::min(s.ax, s.ax + s.ux * s.length_m), std::min(s.az, s.az + s.uz * s.length_m),
-                        std::max(s.ax, s.ax + s.ux * s.length_m), std::max(s.az, s.az + s.uz * s.length_m)}
-                       .Expanded(reach);
+  auto add = [&](const Rect& r) {
     bounds_ = first ? r : bounds_.Union(r);
     first = false;
+  };
+  for (const Segment& s : segments_) {
+    const double r = std::max(Reach(s.w0), Reach(s.w1));
+    const double s0 = -s.start_run, s1 = s.length_m + s.end_run;
+    const double cx = s.ax + s.ux * 0.5 * (s0 + s1), cz = s.az + s.uz * 0.5 * (s0 + s1);
+    const double half = 0.5 * (s1 - s0);
+    const double ex = std::abs(s.ux) * half + std::abs(s.uz) * r;
+    const double ez = std::abs(s.uz) * half + std::abs(s.ux) * r;
+    add({cx - ex, cz - ez, cx + ex, cz + ez});
   }
+  for (const Joint& j : joints_) add(Rect{j.vx, j.vz, j.vx, j.vz}.Expanded(Reach(j.w)));
 }
 
 double PolylineEarthwork::Reach(double w) const {

@@ -78,9 +78,9 @@ inline constexpr double kMaxBridgeHeightM = 200.0;
 inline constexpr double kMaxCraterDepthM = 100.0;
 inline constexpr double kMaxDitchDepthM = 50.0;
 inline constexpr double kMaxDitchWidthM = 100.0;
-// Points of a polyline or polygon: enough for any earthwork drawn by hand, and a PDU stays small
-// (32 bytes a point).
-inline constexpr int kMaxFeaturePoints = 64;
+// Points of a polyline or polygon: enough for any earthwork drawn by hand, and a Construct with
+// 32 points (32 bytes each) and its authentication trailer stays under kMaxPduBytes (1400).
+inline constexpr int kMaxFeaturePoints = 32;
 // The sharpest turn a polyline may make at a joint: the bevel of a sharper joint would reach far
 // beyond the cross-section (its width grows as 1 / cos(turn / 2)).
 inline constexpr double kMaxPolylineTurnRad = 150.0 * std::numbers::pi / 180.0;
@@ -98,11 +98,11 @@ inline constexpr int kCraterRings = 4;
 //   bridge: length_m[0] = span, length_m[1] = ramp 1, length_m[2] = ramp 2, height_m[0] = deck
 //           height above ground where ramp 1 meets the span, height_m[1] = where the span meets
 //           ramp 2, width_m, direction_rad, status. (x_m, z_m) is the joint of ramp 1 and span.
-//   ditch:  points (2..64, per point depth and top width), length_m[0] = side run (horizontal
+//   ditch:  points (2..32, per point depth and top width), length_m[0] = side run (horizontal
 //           width of each sloping side), height_m[1] and length_m[1] = spoil berm height and
 //           base width on the right of the line (both 0: no spoil). (x_m, z_m) = points[0].
-//   berm_line: points (2..64, per point crest height and base width). (x_m, z_m) = points[0].
-//   area:   points (3..64, a polygon), material = the soil inside (water: flooded), height_m[0] =
+//   berm_line: points (2..32, per point crest height and base width). (x_m, z_m) = points[0].
+//   area:   points (3..32, a polygon), material = the soil inside (water: flooded), height_m[0] =
 //           the water level (absolute elevation) for water, else 0. (x_m, z_m) = points[0].
 struct FeatureParams {
   FeatureType type = FeatureType::kCrater;

@@ -202,7 +202,7 @@ TEST(Area, BadAreasAreRefusedNamingTheField) {
   ExpectRefused(p, "area points[2] height_m 0 and width_m 1 must be 0");
   p = Square(10, 10, 20, Material::kMud);
   p.points.resize(2);
-  ExpectRefused(p, "area points: 2 given, needs 3 to 64");
+  ExpectRefused(p, "area points: 2 given, needs 3 to 32");
 }
 
 TEST(Area, AFeatureOffTheTerrainIsRefused) {

@@ -116,7 +116,7 @@ int main(int argc, char** argv) {
   for (int i = 0; i < kMaxFeaturePoints; ++i) {
     c.points[static_cast<size_t>(i)] = {100.0 + 20 * i, 100, 2, 6};
   }
-  Write(dir, "construct_ditch_max_points", 0, EncodePdu(c));
+  Write(dir, "construct_ditch_max_points_valid", 0, EncodePdu(c));
   auto flood = ToConstruct(sample::Flood());
   sample::StampHeader(flood);
   Write(dir, "construct_flood_valid", 0, EncodePdu(flood));

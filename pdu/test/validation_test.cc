@@ -76,8 +76,8 @@ TEST(Validation, Truncated) {
 TEST(Validation, TruncatedWhenTheArrayLengthIsNegativeOrTooLong) {
   auto pdu = sample::Construct();
   std::vector<uint8_t> bytes = EncodePdu(pdu);
-  // num_vertex_edits is the int16 just before the 2 edits of 10 bytes each.
-  const size_t at = bytes.size() - 2 * 10 - 2;
+  // num_vertex_edits is the int16 just before the 2 edits of 10 bytes each (and num_points).
+  const size_t at = bytes.size() - 2 - 2 * 10 - 2;
   ASSERT_EQ(bytes[at], 0);
   ASSERT_EQ(bytes[at + 1], 2);
   bytes[at] = 0xFF;  // -254

@@ -185,8 +185,9 @@ Result<FeatureParams> ApplyFeatureEdit(const FeatureParams& params, const Featur
       return Error{fmt::format("soil={} is not a key of a {} (only an area has a soil)",
                                MaterialName(*edit.soil), FeatureTypeName(p.type))};
     }
+    // A level stays as given: an area turned from water to another soil must also set
+    // level_m=0, or validation refuses it (nothing is dropped silently).
     p.material = *edit.soil;
-    if (p.material != Material::kWater) p.height_m[0] = 0.0;
   }
   // The types with points stand at their first point.
   if (HasFeaturePoints(p.type) && !p.points.empty()) {

@@ -95,8 +95,7 @@ Result<std::vector<FeatureId>> Replica::Breach(FeatureId berm, double gap_start_
   if (r == nullptr) return Error{fmt::format("no feature {}", berm.ToString())};
   if (r->destroyed) return Error{fmt::format("feature {} is destroyed", berm.ToString())};
   const FeatureType type = r->params.type;
-  if (type != FeatureType::kBerm && type != FeatureType::kDitch &&
-      type != FeatureType::kBermLine) {
+  if (type != FeatureType::kBerm && type != FeatureType::kDitch && type != FeatureType::kBermLine) {
     return Error{fmt::format("feature {} is a {}, not a berm, berm line or ditch", berm.ToString(),
                              FeatureTypeName(type))};
   }
@@ -108,7 +107,8 @@ Result<std::vector<FeatureId>> Replica::Breach(FeatureId berm, double gap_start_
   if (!pieces) return pieces.error();
   // As BreachBerm(const Berm&) does: a from_ground piece would take the soil under its own
   // start, so the pieces keep the original's resolved material.
-  if (const Feature* f = records_.terrain().Find(berm); f != nullptr && type != FeatureType::kBerm) {
+  if (const Feature* f = records_.terrain().Find(berm);
+      f != nullptr && type != FeatureType::kBerm) {
     for (FeatureParams& p : pieces.value()) {
       if (p.material == Material::kFromGround) p.material = f->material();
     }

@@ -21,8 +21,8 @@ constexpr double kMaxScenarioS = 7 * 24 * 3600.0;
 
 // The keys of a feature step that are not feature parameters.
 bool IsStepKey(std::string_view key) {
-  return key == "at_s" || key == "action" || key == "name" || key == "target" ||
-         key == "points" || key == "soil";
+  return key == "at_s" || key == "action" || key == "name" || key == "target" || key == "points" ||
+         key == "soil";
 }
 
 // Every numeric key of the step that is not a step key, as an edit (the reader marks them read).
@@ -47,7 +47,8 @@ FeatureEdit ReadEdit(const TomlReader& r, const toml::table& t, FeatureType type
   if (r.Has("soil")) {
     const std::string name = r.String("soil");
     const auto soil = ParseMaterial(name);
-    if (!soil || *soil == Material::kFromGround) r.Fail("soil", "is not a soil (terrain/material.h)");
+    if (!soil || *soil == Material::kFromGround)
+      r.Fail("soil", "is not a soil (terrain/material.h)");
     edit.soil = *soil;
   }
   return edit;

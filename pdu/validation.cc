@@ -69,9 +69,9 @@ std::optional<Rejection> ValidateFeature(const Pdu& pdu, const ValidationContext
   }
   for (size_t i = 0; i < pdu.points.size(); ++i) {
     const auto& q = pdu.points[i];
-    for (const auto& [name, v] : {std::pair{"x_m", q.x_m}, std::pair{"z_m", q.z_m},
-                                  std::pair{"height_m", q.height_m},
-                                  std::pair{"width_m", q.width_m}}) {
+    for (const auto& [name, v] :
+         {std::pair{"x_m", q.x_m}, std::pair{"z_m", q.z_m}, std::pair{"height_m", q.height_m},
+          std::pair{"width_m", q.width_m}}) {
       if (!std::isfinite(v)) {
         return Reject(RejectReason::kNotFinite, fmt::format("points[{}].{} = {}", i, name, v));
       }

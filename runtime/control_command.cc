@@ -98,8 +98,8 @@ Result<FeatureParams> ParsePointFeature(const std::vector<std::string_view>& w) 
     if (w.size() < 2) return Error{"area takes <soil> [level_m=<m>] <x,z> <x,z> <x,z> ..."};
     const auto soil = ParseMaterial(w[1]);
     if (!soil || *soil == Material::kFromGround) {
-      return Error{fmt::format("area soil \"{}\" is not a soil (water, burnt, mud, oil, ...)",
-                               w[1])};
+      return Error{
+          fmt::format("area soil \"{}\" is not a soil (water, burnt, mud, oil, ...)", w[1])};
     }
     edit.soil = *soil;
     first = 2;

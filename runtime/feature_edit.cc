@@ -136,8 +136,8 @@ std::vector<std::string_view> FeatureKeys(FeatureType type) {
       return {"x_m",    "z_m",     "direction_deg", "width_m",   "ramp1_m",
               "span_m", "ramp2_m", "height1_m",     "height2_m", "status"};
     case FeatureType::kDitch:
-      return {"side_run_m", "spoil_height_m", "spoil_width_m", "points[i].x_m", "points[i].z_m",
-              "points[i].height_m", "points[i].width_m"};
+      return {"side_run_m",    "spoil_height_m",     "spoil_width_m",    "points[i].x_m",
+              "points[i].z_m", "points[i].height_m", "points[i].width_m"};
     case FeatureType::kBermLine:
       return {"points[i].x_m", "points[i].z_m", "points[i].height_m", "points[i].width_m"};
     case FeatureType::kArea:
@@ -169,9 +169,10 @@ Result<FeatureParams> ApplyFeatureEdit(const FeatureParams& params, const Featur
     }
     if (!SetKey(p, key, value)) {
       if (key.starts_with("points[")) {
-        return Error{fmt::format("{} is not a point key of this {} (points[i].x_m, z_m, height_m or "
-                                 "width_m, with i at most {}, the next point)",
-                                 key, FeatureTypeName(p.type), p.points.size())};
+        return Error{
+            fmt::format("{} is not a point key of this {} (points[i].x_m, z_m, height_m or "
+                        "width_m, with i at most {}, the next point)",
+                        key, FeatureTypeName(p.type), p.points.size())};
       }
       if (key == "status") {
         return Error{fmt::format("status={} must be 0 (intact) or 1 (destroyed)", value)};

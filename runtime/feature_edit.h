@@ -28,7 +28,7 @@ namespace dt {
 // naming its next point. The types with points have no x_m, z_m keys: they stand at points[0].
 struct FeatureEdit {
   std::vector<std::pair<std::string, double>> values;  // in the order given
-  std::optional<Material> soil;                         // an area's soil (water: flooded)
+  std::optional<Material> soil;                        // an area's soil (water: flooded)
 };
 
 // The keys a type accepts, and the ones a new feature of that type must give.

@@ -211,7 +211,8 @@ Result<std::unique_ptr<Feature>> MakeCrater(FeatureId id, const FeatureParams& p
     }
   }
   return std::unique_ptr<Feature>(new Crater(id, params.x_m, params.z_m, params.length_m[0],
-                                             params.height_m[0], params.material, resolved.value(), std::move(edits)));
+                                             params.height_m[0], params.material, resolved.value(),
+                                             std::move(edits)));
 }
 
 FeatureParams WithCraterVertexEdit(const FeatureParams& params, const CraterVertexEdit& edit) {

@@ -112,8 +112,7 @@ FeatureParams WithPoints(FeatureType type, std::vector<FeaturePoint> points, Mat
 }  // namespace
 
 FeatureParams FeatureParams::Ditch(std::vector<FeaturePoint> points, double side_run_m,
-                                   double spoil_height_m, double spoil_width_m,
-                                   Material material) {
+                                   double spoil_height_m, double spoil_width_m, Material material) {
   FeatureParams p = WithPoints(FeatureType::kDitch, std::move(points), material);
   p.length_m[0] = side_run_m;
   p.height_m[1] = spoil_height_m;
@@ -183,11 +182,11 @@ Status CheckPoints(const FeatureParams& p, size_t min_points, bool polyline) {
       const double cos_turn =
           (ux * vx + uz * vz) / (std::sqrt(ux * ux + uz * uz) * std::sqrt(vx * vx + vz * vz));
       if (!(cos_turn >= std::cos(kMaxPolylineTurnRad))) {
-        return Error{fmt::format("{} points[{}]: the line turns by {:.1f} deg there, more than {} "
-                                 "deg",
-                                 type, i - 1, std::acos(std::clamp(cos_turn, -1.0, 1.0)) * 180.0 /
-                                                  std::numbers::pi,
-                                 kMaxPolylineTurnRad * 180.0 / std::numbers::pi)};
+        return Error{fmt::format(
+            "{} points[{}]: the line turns by {:.1f} deg there, more than {} "
+            "deg",
+            type, i - 1, std::acos(std::clamp(cos_turn, -1.0, 1.0)) * 180.0 / std::numbers::pi,
+            kMaxPolylineTurnRad * 180.0 / std::numbers::pi)};
       }
     }
   }
@@ -202,8 +201,8 @@ Status CheckPointSizes(const FeatureParams& p, double max_height_m, double max_w
   const std::string_view type = FeatureTypeName(p.type);
   for (size_t i = 0; i < p.points.size(); ++i) {
     const FeaturePoint& q = p.points[i];
-    if (auto s = CheckSize(fmt::format("{} points[{}].height_m", type, i), q.height_m,
-                           max_height_m);
+    if (auto s =
+            CheckSize(fmt::format("{} points[{}].height_m", type, i), q.height_m, max_height_m);
         !s) {
       return s;
     }
@@ -223,9 +222,10 @@ Status ValidateDitch(const FeatureParams& p) {
   }
   for (size_t i = 0; i < p.points.size(); ++i) {
     if (p.points[i].width_m < 2.0 * p.length_m[0]) {
-      return Error{fmt::format("ditch points[{}].width_m = {} is less than twice the side run "
-                               "length_m[0] = {} (the sides would cross)",
-                               i, p.points[i].width_m, p.length_m[0])};
+      return Error{
+          fmt::format("ditch points[{}].width_m = {} is less than twice the side run "
+                      "length_m[0] = {} (the sides would cross)",
+                      i, p.points[i].width_m, p.length_m[0])};
     }
   }
   if (p.height_m[1] != 0.0 || p.length_m[1] != 0.0) {
@@ -272,7 +272,7 @@ Status ValidateArea(const FeatureParams& p) {
       return s;
     }
   } else if (auto s = CheckZero(p.type, {{"height_m[0] (a water level; the material is not water)",
-                                           p.height_m[0]}});
+                                          p.height_m[0]}});
              !s) {
     return s;
   }
@@ -441,8 +441,8 @@ Result<FeatureParams> DecodeFeatureParams(ByteReader& in) {
     auto count = in.U16();
     if (!count) return truncated();
     if (*count > kMaxFeaturePoints) {
-      return Error{fmt::format("feature record at byte {} claims {} points (max {})", start,
-                               *count, kMaxFeaturePoints)};
+      return Error{fmt::format("feature record at byte {} claims {} points (max {})", start, *count,
+                               kMaxFeaturePoints)};
     }
     p.points.resize(*count);
     for (auto& q : p.points) {

@@ -29,7 +29,8 @@ std::string_view FeatureTypeName(FeatureType type);
 inline bool IsValidFeatureType(uint16_t raw) { return raw >= 1 && raw <= 6; }
 // True for the types whose parameters carry a list of points (FeatureParams::points).
 inline bool HasFeaturePoints(FeatureType type) {
-  return type == FeatureType::kDitch || type == FeatureType::kBermLine || type == FeatureType::kArea;
+  return type == FeatureType::kDitch || type == FeatureType::kBermLine ||
+         type == FeatureType::kArea;
 }
 
 // Bridge status (thesis table 1 "Status").

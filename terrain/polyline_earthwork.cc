@@ -58,8 +58,8 @@ PolylineEarthwork::PolylineEarthwork(FeatureId id, FeatureParams params, Materia
     const FeaturePoint& b = pts[i + 1];
     const double dx = b.x_m - a.x_m, dz = b.z_m - a.z_m;
     const double len = std::sqrt(dx * dx + dz * dz);
-    Segment s{a.x_m, a.z_m, dx / len, dz / len, len, a.height_m, b.height_m, a.width_m,
-              b.width_m, 0.0, 0.0};
+    Segment s{a.x_m,      a.z_m,     dx / len,  dz / len, len, a.height_m,
+              b.height_m, a.width_m, b.width_m, 0.0,      0.0};
     if (i == 0) s.start_run = EndRun(a.width_m);
     if (i + 2 == pts.size()) s.end_run = EndRun(b.width_m);
     segments_.push_back(s);
@@ -113,8 +113,7 @@ double PolylineEarthwork::Section(double u, double h, double w) const {
   if (a <= half) return -h * (half - a) / side_run_m_;
   // The spoil berm lies on the right (u < 0), its inner foot at the ditch's edge.
   if (spoil_height_m_ > 0.0 && u < 0.0) {
-    return BermSection(std::abs(a - half - 0.5 * spoil_width_m_), spoil_height_m_,
-                       spoil_width_m_);
+    return BermSection(std::abs(a - half - 0.5 * spoil_width_m_), spoil_height_m_, spoil_width_m_);
   }
   return kNotCovered;
 }
@@ -239,7 +238,8 @@ Result<std::vector<FeatureParams>> BreachPolyline(const FeatureParams& params, d
   const std::vector<double> stations = PolylineStations(params);
   const double length = stations.back();
   if (!(gap_centre_m >= 0.0 && gap_centre_m <= length)) {
-    return Error{fmt::format("gap centre {} m is outside the line [0, {}] m", gap_centre_m, length)};
+    return Error{
+        fmt::format("gap centre {} m is outside the line [0, {}] m", gap_centre_m, length)};
   }
   if (!std::isfinite(gap_width_m) || !(gap_width_m > 0.0)) {
     return Error{fmt::format("gap width {} m must be finite and > 0", gap_width_m)};

@@ -42,13 +42,13 @@ class PolylineEarthwork final : public Feature {
     double end_run;    // end piece after the end (last segment only), else 0
   };
   struct Joint {
-    double vx, vz;          // the point
-    double t1x, t1z;        // unit direction of the segment arriving
-    double t2x, t2z;        // unit direction of the segment leaving
-    double nbx, nbz;        // unit normal of the bevel chord, pointing out of the corner
-    double inverse_cos;     // 1 / cos(half the turn)
-    double outer_sign;      // +1 when the outside of the corner is on the left, -1 on the right
-    double h, w;            // the point's cross-section
+    double vx, vz;       // the point
+    double t1x, t1z;     // unit direction of the segment arriving
+    double t2x, t2z;     // unit direction of the segment leaving
+    double nbx, nbz;     // unit normal of the bevel chord, pointing out of the corner
+    double inverse_cos;  // 1 / cos(half the turn)
+    double outer_sign;   // +1 when the outside of the corner is on the left, -1 on the right
+    double h, w;         // the point's cross-section
   };
 
   PolylineEarthwork(FeatureId id, FeatureParams params, Material resolved);

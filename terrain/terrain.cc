@@ -282,7 +282,9 @@ Material Terrain::SoilAt(double x_m, double z_m) const {
   double raise = 0.0, cut = 0.0;
   const AreaFeature* area = nullptr;
   bool water_seen = false;
-  auto earlier = [](const Feature* a, const Feature* b) { return b == nullptr || a->id() < b->id(); };
+  auto earlier = [](const Feature* a, const Feature* b) {
+    return b == nullptr || a->id() < b->id();
+  };
   for (const Feature* f : FeaturesNear(x_m, z_m)) {
     if (f->type() == FeatureType::kArea) {
       const auto* a = static_cast<const AreaFeature*>(f);

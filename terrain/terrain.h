@@ -73,8 +73,8 @@ class Terrain {
   // The material at a point on the ground surface: water under a flood's level, else the soil of
   // an area covering it (highest AreaFeature::precedence, then smaller ID), else the material of
   // the earthwork making the surface (highest raise, else deepest cut, else one at the ground;
-  // ties to the smaller ID), otherwise the soil of the ground triangle. Bridge decks are not the ground: under
-  // a bridge this is the soil below. Throws off the terrain.
+  // ties to the smaller ID), otherwise the soil of the ground triangle. Bridge decks are not the
+  // ground: under a bridge this is the soil below. Throws off the terrain.
   Material SoilAt(double x_m, double z_m) const;
 
  private:

@@ -90,10 +90,10 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
   const uint64_t ground_bytes = *header.U64();
   const uint64_t feature_bytes = *header.U64();
   if (version < kOldestTerrainFileVersion || version > kTerrainFileVersion) {
-    return fail(kVersionOffset, fmt::format("format version {} is not supported (this build "
-                                            "reads versions {} to {})",
-                                            version, kOldestTerrainFileVersion,
-                                            kTerrainFileVersion));
+    return fail(kVersionOffset,
+                fmt::format("format version {} is not supported (this build "
+                            "reads versions {} to {})",
+                            version, kOldestTerrainFileVersion, kTerrainFileVersion));
   }
   // Written so that no sum can overflow: each length is first checked against the file size.
   const uint64_t body = bytes.size() - kMinBytes;
@@ -201,10 +201,10 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
     // Version 1 knew craters, berms and bridges only.
     if (version == 1 && record->size() >= 2 &&
         HasFeaturePoints(static_cast<FeatureType>((*record)[0] | (*record)[1] << 8))) {
-      return fail(record_at + 12,
-                  fmt::format("feature {}: a version 1 file cannot hold a {}", id.ToString(),
-                              FeatureTypeName(static_cast<FeatureType>((*record)[0] |
-                                                                       (*record)[1] << 8))));
+      return fail(
+          record_at + 12,
+          fmt::format("feature {}: a version 1 file cannot hold a {}", id.ToString(),
+                      FeatureTypeName(static_cast<FeatureType>((*record)[0] | (*record)[1] << 8))));
     }
     ByteReader params_reader(*record);
     auto params = DecodeFeatureParams(params_reader);

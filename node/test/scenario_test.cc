@@ -217,8 +217,9 @@ points = [[10, 50], [30, 50], [20, 70]]
                     "points = [[1, 1], [5, 1], [3, 4]]\n")
                 .find("step[0].soil: is not a soil"),
             std::string::npos)
-      << ErrorOf("[[step]]\naction = \"area\"\nname = \"a\"\nsoil = \"lava\"\n"
-                 "points = [[1, 1], [5, 1], [3, 4]]\n");
+      << ErrorOf(
+             "[[step]]\naction = \"area\"\nname = \"a\"\nsoil = \"lava\"\n"
+             "points = [[1, 1], [5, 1], [3, 4]]\n");
 }
 
 TEST(ScenarioTest, ShippedScenariosParse) {

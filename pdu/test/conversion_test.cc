@@ -36,8 +36,7 @@ FeaturePdu RandomFeature(std::mt19937_64& rng) {
       f.params = FeatureParams::Ditch({point(x, z, 1 + unit(rng), 3 + unit(rng)),
                                        point(x + 10 + unit(rng), z + unit(rng), 2, 4),
                                        point(x + 20, z + 10 * unit(rng), 1 + unit(rng), 5)},
-                                      run, rng() % 2 ? 1 + unit(rng) : 0.0,
-                                      0.0, Material::kDirt);
+                                      run, rng() % 2 ? 1 + unit(rng) : 0.0, 0.0, Material::kDirt);
       if (f.params.height_m[1] != 0.0) f.params.length_m[1] = 1 + unit(rng);
       break;
     }
@@ -49,10 +48,10 @@ FeaturePdu RandomFeature(std::mt19937_64& rng) {
     }
     case 5: {
       const double x = pos(rng), z = pos(rng);
-      f.params = FeatureParams::Area({point(x, z, 0, 0), point(x + 30 * unit(rng) + 1, z, 0, 0),
-                                      point(x, z + 30 * unit(rng) + 1, 0, 0)},
-                                     rng() % 2 ? Material::kWater : Material::kOil,
-                                     100 * unit(rng));
+      f.params =
+          FeatureParams::Area({point(x, z, 0, 0), point(x + 30 * unit(rng) + 1, z, 0, 0),
+                               point(x, z + 30 * unit(rng) + 1, 0, 0)},
+                              rng() % 2 ? Material::kWater : Material::kOil, 100 * unit(rng));
       break;
     }
     case 0: {

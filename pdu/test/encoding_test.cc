@@ -105,10 +105,10 @@ uint64_t FeatureFingerprint(const std::string& author) {
       {"num_points", "int16_t", {}},
       {"points", "", {{1, "num_points"}}},
   };
-  return Fingerprint(BaseHash(members),
-                     {HeaderFingerprint(), AddressFingerprint(), AddressFingerprint(),
-                      AddressFingerprint(), AddressFingerprint(), EditFingerprint(),
-                      PointFingerprint()});
+  return Fingerprint(
+      BaseHash(members),
+      {HeaderFingerprint(), AddressFingerprint(), AddressFingerprint(), AddressFingerprint(),
+       AddressFingerprint(), EditFingerprint(), PointFingerprint()});
 }
 uint64_t ConstructFingerprint() { return FeatureFingerprint("created_by"); }
 uint64_t UpdateFingerprint() { return FeatureFingerprint("changed_by"); }

@@ -142,9 +142,9 @@ TEST(ControlCommandTest, BadFeatureCommandChangesNothing) {
 }
 
 TEST(ControlCommandTest, DitchesBermLinesAreasAndDeepCratersParse) {
-  Result<ControlCommand> c =
-      ParseControlCommand("ditch side_run_m=1.5 spoil_height_m=1 spoil_width_m=3 20,50,2,6 "
-                          "80,50,2.5,7");
+  Result<ControlCommand> c = ParseControlCommand(
+      "ditch side_run_m=1.5 spoil_height_m=1 spoil_width_m=3 20,50,2,6 "
+      "80,50,2.5,7");
   ASSERT_TRUE(c) << c.error().message;
   EXPECT_EQ(c.value().params, FeatureParams::Ditch({{20, 50, 2, 6}, {80, 50, 2.5, 7}}, 1.5, 1, 3));
   c = ParseControlCommand("berm_line 10,10,2,6 40,20,3,8 60,50,2,6");
@@ -169,8 +169,7 @@ TEST(ControlCommandTest, DitchesBermLinesAreasAndDeepCratersParse) {
       << err("ditch side_run_m=4 20,50,2,6 80,50,2,6");
   EXPECT_NE(err("berm_line 10,10,2 40,20,3,8").find("is not x_m,z_m,height_m,width_m"),
             std::string::npos);
-  EXPECT_NE(err("berm_line 10,10,2,x 40,20,3,8").find("points[0].width_m \"x\""),
-            std::string::npos)
+  EXPECT_NE(err("berm_line 10,10,2,x 40,20,3,8").find("points[0].width_m \"x\""), std::string::npos)
       << err("berm_line 10,10,2,x 40,20,3,8");
   EXPECT_NE(err("area lava 10,10 30,10 20,30").find("area soil \"lava\" is not a soil"),
             std::string::npos);

@@ -79,10 +79,11 @@ CraterField& Field(int64_t count) {
   const FeatureId ditch{kOrigin.site, kOrigin.host, f.next_number++};
   const FeatureId deep{kOrigin.site, kOrigin.host, f.next_number++};
   const FeatureId mud{kOrigin.site, kOrigin.host, f.next_number++};
-  if (!f.terrain->Add(ditch, FeatureParams::Ditch({{mx - 40, mz, 2.5, 8},
-                                                   {mx + 10, mz + 2, 2.5, 8},
-                                                   {mx + 40, mz + 20, 2, 7}},
-                                                  2.0, 1.0, 3.0))
+  if (!f.terrain
+           ->Add(ditch,
+                 FeatureParams::Ditch(
+                     {{mx - 40, mz, 2.5, 8}, {mx + 10, mz + 2, 2.5, 8}, {mx + 40, mz + 20, 2, 7}},
+                     2.0, 1.0, 3.0))
            .ok() ||
       !f.terrain->Add(deep, FeatureParams::DeepCrater(mx, mz + 2, 8.0, 3.0)).ok() ||
       !f.terrain

@@ -29,10 +29,10 @@ TEST(DeepCrater, FloorLiesItsDepthBelowTheGroundAndTheRimAboveIt) {
   Terrain t = Flat();
   ASSERT_TRUE(t.Add(kA, FeatureParams::DeepCrater(50, 50, 10, 3, Material::kSand)).ok());
   EXPECT_DOUBLE_EQ(t.ElevationAt(50, 50), kGround - 3.0);
-  EXPECT_DOUBLE_EQ(t.ElevationAt(54, 50), kGround - 3.0);       // ring 0: edge of the floor
+  EXPECT_DOUBLE_EQ(t.ElevationAt(54, 50), kGround - 3.0);           // ring 0: edge of the floor
   EXPECT_NEAR(t.ElevationAt(55, 50), kGround - 3.0 + 2.25, 1e-12);  // halfway up the wall
-  EXPECT_DOUBLE_EQ(t.ElevationAt(57, 50), kGround + 1.5);       // the rim
-  EXPECT_DOUBLE_EQ(t.ElevationAt(60, 50), kGround);             // ring 3
+  EXPECT_DOUBLE_EQ(t.ElevationAt(57, 50), kGround + 1.5);           // the rim
+  EXPECT_DOUBLE_EQ(t.ElevationAt(60, 50), kGround);                 // ring 3
   EXPECT_EQ(t.SoilAt(50, 50), Material::kSand);
   EXPECT_EQ(t.Find(kA)->params(), FeatureParams::DeepCrater(50, 50, 10, 3, Material::kSand));
 }
@@ -60,7 +60,7 @@ TEST(Ditch, CrossSectionIsAFlatFloorWithSlopingSides) {
   Terrain t = Flat();
   ASSERT_TRUE(t.Add(kA, StraightDitch()).ok());
   EXPECT_DOUBLE_EQ(t.ElevationAt(50, 50), kGround - 2.0);
-  EXPECT_DOUBLE_EQ(t.ElevationAt(50, 51.5), kGround - 2.0);  // floor edge: 3 - 1.5 from centre
+  EXPECT_DOUBLE_EQ(t.ElevationAt(50, 51.5), kGround - 2.0);   // floor edge: 3 - 1.5 from centre
   EXPECT_DOUBLE_EQ(t.ElevationAt(50, 52.25), kGround - 1.0);  // halfway up the side
   EXPECT_DOUBLE_EQ(t.ElevationAt(50, 53), kGround);           // top edge
   EXPECT_FALSE(t.Find(kA)->Covers(50, 53.5));
@@ -101,14 +101,13 @@ TEST(BermLine, CornerIsBevelledNotRounded) {
   // corner is the south-east. Base width 12, crest 4 m wide, 2 m high.
   Terrain t = Flat();
   ASSERT_TRUE(
-      t.Add(kA, FeatureParams::BermLine({{10, 50, 2, 12}, {50, 50, 2, 12}, {50, 90, 2, 12}}))
-          .ok());
+      t.Add(kA, FeatureParams::BermLine({{10, 50, 2, 12}, {50, 50, 2, 12}, {50, 90, 2, 12}})).ok());
   const Feature* f = t.Find(kA);
   // On the bisector, a point d out along each axis is 2 d from the chord's parallel through the
   // corner (distance times 1 / cos 45 deg), so the chord is at d = 3: a point 3.1 m out on each
   // axis is 4.4 m from the corner, inside a rounded joint's 6 m, but beyond the chord.
   EXPECT_FALSE(f->Covers(53.1, 46.9));
-  EXPECT_DOUBLE_EQ(t.ElevationAt(51, 49), kGround + 2.0);  // on the crest across the corner
+  EXPECT_DOUBLE_EQ(t.ElevationAt(51, 49), kGround + 2.0);    // on the crest across the corner
   EXPECT_NEAR(t.ElevationAt(52, 48), kGround + 1.0, 1e-12);  // halfway down the bevel
   // The inside of the corner is whole.
   EXPECT_DOUBLE_EQ(t.ElevationAt(48, 52), kGround + 2.0);
@@ -188,10 +187,10 @@ TEST(Area, WaterFillsLowGroundToItsLevel) {
   EXPECT_EQ(t.WaterLevelAt(50, 50), kGround - 1.0);
   EXPECT_EQ(t.SoilAt(50, 50), Material::kWater);
   EXPECT_DOUBLE_EQ(t.ElevationAt(50, 50), kGround - 3.0);  // vehicles drive on the bed
-  EXPECT_FALSE(t.WaterLevelAt(35, 35).has_value());       // dry ground inside the polygon
+  EXPECT_FALSE(t.WaterLevelAt(35, 35).has_value());        // dry ground inside the polygon
   EXPECT_EQ(t.SoilAt(35, 35), Material::kGrass);
-  EXPECT_FALSE(t.WaterLevelAt(57, 50).has_value());       // the rim stands above the water
-  EXPECT_FALSE(t.WaterLevelAt(80, 80).has_value());       // outside the polygon
+  EXPECT_FALSE(t.WaterLevelAt(57, 50).has_value());  // the rim stands above the water
+  EXPECT_FALSE(t.WaterLevelAt(80, 80).has_value());  // outside the polygon
 }
 
 TEST(Area, BadAreasAreRefusedNamingTheField) {

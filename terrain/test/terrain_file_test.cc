@@ -211,8 +211,9 @@ TEST(TerrainFileTest, HeaderErrorsNameWhatFailed) {
   auto version = bytes;
   PutU32(version, 8, 3);
   Reseal(version);
-  ExpectRefused(version, "byte 8: format version 3 is not supported (this build reads versions 1 "
-                         "to 2)");
+  ExpectRefused(version,
+                "byte 8: format version 3 is not supported (this build reads versions 1 "
+                "to 2)");
   PutU32(version, 8, 0);
   Reseal(version);
   ExpectRefused(version, "byte 8: format version 0 is not supported");
@@ -265,7 +266,8 @@ TEST(TerrainFileTest, VersionOneFilesStillLoad) {
   Terrain expected(ground);
   for (int k = 0; k < 8; ++k) {
     ASSERT_TRUE(expected
-                    .SetSoil({(k / 2) % 2, k / 4}, k % 2 ? TriangleHalf::kUpper : TriangleHalf::kLower,
+                    .SetSoil({(k / 2) % 2, k / 4},
+                             k % 2 ? TriangleHalf::kUpper : TriangleHalf::kLower,
                              k % 2 ? Material::kDirt : Material::kSand)
                     .ok());
   }
@@ -286,8 +288,8 @@ TEST(TerrainFileTest, EveryNewTypeSurvivesARoundTrip) {
   Terrain t(HeightGrid(33, 2.0, 1.0f, Material::kGrass));
   ASSERT_TRUE(t.Add({1, 1, 1}, FeatureParams::DeepCrater(20, 20, 6, 2.5)).ok());
   ASSERT_TRUE(
-      t.Add({1, 1, 2}, FeatureParams::Ditch({{9, 40, 2, 5}, {30, 40, 1.5, 4}, {40, 55, 2, 5}},
-                                            1.0, 1.0, 2.0, Material::kDirt))
+      t.Add({1, 1, 2}, FeatureParams::Ditch({{9, 40, 2, 5}, {30, 40, 1.5, 4}, {40, 55, 2, 5}}, 1.0,
+                                            1.0, 2.0, Material::kDirt))
           .ok());
   ASSERT_TRUE(t.Add({1, 1, 3}, FeatureParams::BermLine({{40, 5, 1, 4}, {55, 10, 2, 6}})).ok());
   ASSERT_TRUE(t.Add({1, 1, 4}, FeatureParams::Area({{10, 10, 0, 0}, {30, 10, 0, 0}, {20, 30, 0, 0}},

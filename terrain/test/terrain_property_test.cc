@@ -2,8 +2,8 @@
 // random arrival orders (docs/terrain.md "Composing the surface").
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <optional>
 #include <random>
@@ -123,8 +123,7 @@ std::vector<FeatureParams> RandomFeatures(std::mt19937_64& rng, double size_m) {
       std::vector<FeaturePoint> pts;
       for (int i = 0; i < n; ++i) {
         const double a = 2 * kPi * (i + 0.8 * unit(rng)) / n;
-        pts.push_back({x + r * unit(rng) * std::cos(a),
-                       z + r * unit(rng) * std::sin(a), 0.0, 0.0});
+        pts.push_back({x + r * unit(rng) * std::cos(a), z + r * unit(rng) * std::sin(a), 0.0, 0.0});
       }
       pts[0] = {x, z, 0.0, 0.0};
       constexpr Material kKinds[] = {Material::kWater, Material::kMud, Material::kOil,

@@ -100,19 +100,18 @@ double StandardCraterRingOffset(double radius_m, int ring, double depth_m) {
   return (ring == 1 || ring == 2) ? kCraterRimHeightFraction * radius_m : 0.0;
 }
 
-Crater::Crater(FeatureId id, double x_m, double z_m, double radius_m, double depth_m,
-               Material given, Material resolved, std::unique_ptr<const Edits> edits)
+Crater::Crater(FeatureId id, double x_m, double z_m, double radius_m, Material given,
+               Material resolved, std::unique_ptr<const Edits> edits)
     : Feature(id),
       x_m_(x_m),
       z_m_(z_m),
       radius_m_(radius_m),
-      depth_m_(depth_m),
       edits_(std::move(edits)),
       given_material_(given),
       resolved_material_(resolved) {}
 
 FeatureParams Crater::params() const {
-  FeatureParams p = FeatureParams::DeepCrater(x_m_, z_m_, radius_m_, depth_m_, given_material_);
+  FeatureParams p = FeatureParams::DeepCrater(x_m_, z_m_, radius_m_, depth_m(), given_material_);
   if (edits_) p.vertex_edits = edits_->list;
   return p;
 }
@@ -142,8 +141,9 @@ double Crater::OffsetOrNotCovered(double x_m, double z_m) const {
   const double dx = x_m - x_m_, dz = z_m - z_m_;
   const double d2 = dx * dx + dz * dz;
   if (!(d2 <= CoveredRadiusSquared())) return kNotCovered;  // also refuses NaN
-  if (!edits_) return StandardProfile(d2, radius_m_, depth_m_);
-  if (d2 == 0.0) return -depth_m_;  // the centre: the floor
+  if (!edits_) return StandardProfile(d2, radius_m_, 0.0);
+  if (edits_->list.empty()) return StandardProfile(d2, radius_m_, edits_->depth_m);
+  if (d2 == 0.0) return -edits_->depth_m;  // the centre: the floor
   const double q = std::min(1.0, std::sqrt(d2) * edits_->inverse_radius_per_m);
   double sx = dx, sz = dz;
   const int k = SectorOf(sx, sz);
@@ -163,7 +163,8 @@ double Crater::EditedOffset(int k, double t, double q) const {
   constexpr auto& f = kCraterRingFractions;
   constexpr double kInverseRing0 = 1.0 / f[0];
   if (q <= f[0]) {  // the floor: linear from the centre (at -depth) to ring 0
-    return -depth_m_ + (at_ring(0) + depth_m_) * (q * kInverseRing0);
+    const double depth = edits_->depth_m;
+    return -depth + (at_ring(0) + depth) * (q * kInverseRing0);
   }
   static_assert(f[2] - f[1] - (f[1] - f[0]) < 1e-12 && f[1] - f[0] - (f[2] - f[1]) < 1e-12 &&
                     f[3] - f[2] - (f[1] - f[0]) < 1e-12 && f[1] - f[0] - (f[3] - f[2]) < 1e-12,
@@ -176,7 +177,7 @@ double Crater::EditedOffset(int k, double t, double q) const {
 
 double Crater::VertexOffset(int spoke, int ring) const {
   if (edits_) return edits_->offsets_m[static_cast<size_t>(spoke * kCraterRings + ring)];
-  return StandardCraterRingOffset(radius_m_, ring, depth_m_);
+  return StandardCraterRingOffset(radius_m_, ring);
 }
 
 CraterVertex Crater::Vertex(int spoke, int ring) const {
@@ -196,8 +197,9 @@ Result<std::unique_ptr<Feature>> MakeCrater(FeatureId id, const FeatureParams& p
     return Error{fmt::format("crater {}: {}", id.ToString(), s.error().message)};
   }
   std::unique_ptr<Crater::Edits> edits;
-  if (!params.vertex_edits.empty()) {
+  if (!params.vertex_edits.empty() || params.height_m[0] != 0.0) {
     edits = std::make_unique<Crater::Edits>();
+    edits->depth_m = params.height_m[0];
     edits->list = params.vertex_edits;
     edits->inverse_radius_per_m = 1.0 / params.length_m[0];
     for (int spoke = 0; spoke < kCraterSpokes; ++spoke) {
@@ -211,8 +213,7 @@ Result<std::unique_ptr<Feature>> MakeCrater(FeatureId id, const FeatureParams& p
     }
   }
   return std::unique_ptr<Feature>(new Crater(id, params.x_m, params.z_m, params.length_m[0],
-                                             params.height_m[0], params.material, resolved.value(),
-                                             std::move(edits)));
+                                             params.material, resolved.value(), std::move(edits)));
 }
 
 FeatureParams WithCraterVertexEdit(const FeatureParams& params, const CraterVertexEdit& edit) {

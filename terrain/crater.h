@@ -39,8 +39,8 @@ class Crater final : public Feature {
   double radius_m() const { return radius_m_; }
   double rim_height_m() const { return kCraterRimHeightFraction * radius_m_; }
   // Depth of the floor below the bare ground (0: the thesis crater, floor at the ground).
-  double depth_m() const { return depth_m_; }
-  bool has_vertex_edits() const { return edits_ != nullptr; }
+  double depth_m() const { return edits_ ? edits_->depth_m : 0.0; }
+  bool has_vertex_edits() const { return edits_ && !edits_->list.empty(); }
 
   // Vertex (spoke, ring): spoke 0..15 along direction spoke * pi / 8, ring 0..3 innermost
   // first. Throws std::out_of_range for indices outside 16 x 4.
@@ -51,10 +51,11 @@ class Crater final : public Feature {
     std::vector<CraterVertexEdit> list;                          // as given, for params()
     std::array<double, kCraterSpokes * kCraterRings> offsets_m;  // every vertex, spoke-major
     double inverse_radius_per_m;  // kept here: standard craters do without it
+    double depth_m;               // below the ground; kept here so thesis craters stay small
   };
 
-  Crater(FeatureId id, double x_m, double z_m, double radius_m, double depth_m, Material given,
-         Material resolved, std::unique_ptr<const Edits> edits);
+  Crater(FeatureId id, double x_m, double z_m, double radius_m, Material given, Material resolved,
+         std::unique_ptr<const Edits> edits);
   double VertexOffset(int spoke, int ring) const;
   double CoveredRadiusSquared() const;
   // Offset for a point at distance fraction q = r / radius in the sector between spokes k and
@@ -64,8 +65,9 @@ class Crater final : public Feature {
   double x_m_;
   double z_m_;
   double radius_m_;
-  double depth_m_;
-  std::unique_ptr<const Edits> edits_;  // null for a standard crater
+  // Null for a thesis crater (no edits, at the ground); a crater below the ground without edits
+  // holds an empty list and keeps the standard, circularly symmetric profile.
+  std::unique_ptr<const Edits> edits_;
   Material given_material_;
   Material resolved_material_;
 

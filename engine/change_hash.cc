@@ -22,8 +22,10 @@ class Bytes {
   void F64(double v) { Put(std::bit_cast<uint64_t>(v)); }
   const uint8_t* data() const { return buf_.data(); }
   size_t size() const { return n_; }
-  // Encode checks the size once: a change is at most 107 bytes plus 10 per vertex edit.
-  static constexpr size_t kCapacity = 107 + 10 * kCraterSpokes * kCraterRings;
+  // Encode checks the sizes once: a change is at most 107 bytes plus 10 per vertex edit, plus a
+  // point count and 32 bytes per point for the types with points (never both).
+  static constexpr size_t kCapacity =
+      107 + 10 * kCraterSpokes * kCraterRings + 2 + 32 * kMaxFeaturePoints;
 
  private:
   template <typename T>
@@ -42,6 +44,7 @@ class Bytes {
 void Encode(const Change& c, Bytes& w) {
   // Validated parameters hold at most one edit per vertex; more is a broken invariant.
   if (c.params.vertex_edits.size() > size_t{kCraterSpokes * kCraterRings}) std::abort();
+  if (c.params.points.size() > size_t{kMaxFeaturePoints}) std::abort();
   w.U8(static_cast<uint8_t>(c.kind));
   w.U16(c.id.site);
   w.U16(c.id.host);
@@ -66,6 +69,14 @@ void Encode(const Change& c, Bytes& w) {
     w.U8(e.spoke);
     w.U8(e.ring);
     w.F64(e.offset_m);
+  }
+  if (!HasFeaturePoints(p.type)) return;
+  w.U16(static_cast<uint16_t>(p.points.size()));
+  for (const auto& q : p.points) {
+    w.F64(q.x_m);
+    w.F64(q.z_m);
+    w.F64(q.height_m);
+    w.F64(q.width_m);
   }
 }
 

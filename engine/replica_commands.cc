@@ -4,6 +4,7 @@
 
 #include "terrain/berm.h"
 #include "terrain/berm_operations.h"
+#include "terrain/polyline_earthwork.h"
 #include "terrain/terrain_digest.h"
 
 namespace dt {
@@ -97,15 +98,25 @@ Result<std::vector<FeatureId>> Replica::Breach(FeatureId berm, double gap_start_
   const Record* r = records_.Find(berm);
   if (r == nullptr) return Error{fmt::format("no feature {}", berm.ToString())};
   if (r->destroyed) return Error{fmt::format("feature {} is destroyed", berm.ToString())};
-  if (r->params.type != FeatureType::kBerm) {
-    return Error{fmt::format("feature {} is a {}, not a berm", berm.ToString(),
-                             FeatureTypeName(r->params.type))};
+  const FeatureType type = r->params.type;
+  if (type != FeatureType::kBerm && type != FeatureType::kDitch && type != FeatureType::kBermLine) {
+    return Error{fmt::format("feature {} is a {}, not a berm, berm line or ditch", berm.ToString(),
+                             FeatureTypeName(type))};
   }
   const double centre_m = gap_start_m + gap_width_m / 2.0;
   const auto* placed = dynamic_cast<const Berm*>(records_.terrain().Find(berm));
-  auto pieces = placed != nullptr ? BreachBerm(*placed, centre_m, gap_width_m)
-                                  : BreachBerm(r->params, centre_m, gap_width_m);
+  auto pieces = type != FeatureType::kBerm ? BreachPolyline(r->params, centre_m, gap_width_m)
+                : placed != nullptr        ? BreachBerm(*placed, centre_m, gap_width_m)
+                                           : BreachBerm(r->params, centre_m, gap_width_m);
   if (!pieces) return pieces.error();
+  // As BreachBerm(const Berm&) does: a from_ground piece would take the soil under its own
+  // start, so the pieces keep the original's resolved material.
+  if (const Feature* f = records_.terrain().Find(berm);
+      f != nullptr && type != FeatureType::kBerm) {
+    for (FeatureParams& p : pieces.value()) {
+      if (p.material == Material::kFromGround) p.material = f->material();
+    }
+  }
   const auto n = static_cast<int64_t>(pieces.value().size());
   if (own_feature_number_ + n > kMaxSerial || own_change_seq_ + n + 1 > kMaxSerial) {
     return Error{"feature numbers or change sequences exhausted"};
@@ -120,7 +131,7 @@ Result<std::vector<FeatureId>> Replica::Breach(FeatureId berm, double gap_start_
   }
   if (auto s = ReserveFeatureNumbers(own_feature_number_ + n); !s) return s.error();
   FeatureParams gone;
-  gone.type = FeatureType::kBerm;
+  gone.type = type;
   Issue(NewChange(ChangeKind::kDestruct, berm, gone));
   std::vector<FeatureId> ids;
   for (const FeatureParams& p : pieces.value()) {

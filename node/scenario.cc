@@ -11,6 +11,7 @@
 
 #include "runtime/toml_reader.h"
 #include "terrain/berm_operations.h"
+#include "terrain/polyline_earthwork.h"
 
 namespace dt {
 namespace {
@@ -20,15 +21,35 @@ constexpr double kMaxScenarioS = 7 * 24 * 3600.0;
 
 // The keys of a feature step that are not feature parameters.
 bool IsStepKey(std::string_view key) {
-  return key == "at_s" || key == "action" || key == "name" || key == "target";
+  return key == "at_s" || key == "action" || key == "name" || key == "target" || key == "points" ||
+         key == "soil";
 }
 
 // Every numeric key of the step that is not a step key, as an edit (the reader marks them read).
-FeatureEdit ReadEdit(const TomlReader& r, const toml::table& t) {
+// `points = [[x_m, z_m, height_m, width_m], ...]` ([x_m, z_m] for an area) becomes the point keys
+// points[i].* (runtime/feature_edit.h), and `soil = "water"` an area's soil.
+FeatureEdit ReadEdit(const TomlReader& r, const toml::table& t, FeatureType type) {
   FeatureEdit edit;
   for (const auto& [k, v] : t) {
     if (IsStepKey(k.str())) continue;
     edit.values.emplace_back(std::string(k.str()), r.Double(k.str(), -1e12, 1e12));
+  }
+  if (r.Has("points")) {
+    const bool area = type == FeatureType::kArea;
+    const auto rows = r.NumberRows("points", area ? 2 : 4, -1e12, 1e12);
+    constexpr std::string_view kFields[] = {"x_m", "z_m", "height_m", "width_m"};
+    for (size_t i = 0; i < rows.size(); ++i) {
+      for (size_t k = 0; k < rows[i].size(); ++k) {
+        edit.values.emplace_back(fmt::format("points[{}].{}", i, kFields[k]), rows[i][k]);
+      }
+    }
+  }
+  if (r.Has("soil")) {
+    const std::string name = r.String("soil");
+    const auto soil = ParseMaterial(name);
+    if (!soil || *soil == Material::kFromGround)
+      r.Fail("soil", "is not a soil (terrain/material.h)");
+    edit.soil = *soil;
   }
   return edit;
 }
@@ -83,20 +104,24 @@ Scenario ParseScenario(std::string_view toml_text, std::string_view source_name,
       }
     };
 
-    if (action == "crater" || action == "berm" || action == "bridge") {
+    if (action == "crater" || action == "berm" || action == "bridge" || action == "ditch" ||
+        action == "berm_line" || action == "area") {
       s.action = ScenarioAction::kCreate;
       s.name = r.String("name");
       if (s.name.empty()) r.Fail("name", "must not be empty");
       new_name(s.name);
-      Result<FeatureParams> p = MakeFeature(ParseFeatureType(action).value(), ReadEdit(r, t));
+      const FeatureType type = ParseFeatureType(action).value();
+      Result<FeatureParams> p = MakeFeature(type, ReadEdit(r, t, type));
       if (!p) r.FailTable(p.error().message);
       s.params = p.value();
       live[s.name] = s.params;
     } else if (action == "update") {
       s.action = ScenarioAction::kUpdate;
       const FeatureParams& old = need_target();
-      s.edit = ReadEdit(r, t);
-      if (s.edit.values.empty()) r.FailTable("an update changes at least one key");
+      s.edit = ReadEdit(r, t, old.type);
+      if (s.edit.values.empty() && !s.edit.soil) {
+        r.FailTable("an update changes at least one key");
+      }
       Result<FeatureParams> p = ApplyFeatureEdit(old, s.edit);
       if (!p) r.FailTable(p.error().message);
       live[s.target] = p.value();
@@ -108,11 +133,16 @@ Scenario ParseScenario(std::string_view toml_text, std::string_view source_name,
     } else if (action == "breach") {
       s.action = ScenarioAction::kBreach;
       const FeatureParams berm = need_target();
-      if (berm.type != FeatureType::kBerm) r.Fail("target", "a breach needs a berm");
+      const bool polyline = berm.type == FeatureType::kDitch || berm.type == FeatureType::kBermLine;
+      if (berm.type != FeatureType::kBerm && !polyline) {
+        r.Fail("target", "a breach needs a berm, berm line or ditch");
+      }
       s.gap_start_m = r.Double("gap_start_m", 0.0, 1e6);
       s.gap_width_m = r.Double("gap_width_m", 1e-3, 1e6);
+      const double centre_m = s.gap_start_m + s.gap_width_m / 2.0;
       Result<std::vector<FeatureParams>> pieces =
-          BreachBerm(berm, s.gap_start_m + s.gap_width_m / 2.0, s.gap_width_m);
+          polyline ? BreachPolyline(berm, centre_m, s.gap_width_m)
+                   : BreachBerm(berm, centre_m, s.gap_width_m);
       if (!pieces) r.Fail("gap_start_m", pieces.error().message);
       live.erase(s.target);
       gone[s.target] = "breached at " + s.where;

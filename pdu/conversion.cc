@@ -50,6 +50,16 @@ Pdu FeatureToPdu(const FeaturePdu& f) {
     out.offset_m = e.offset_m;
     pdu.vertex_edits.push_back(out);
   }
+  pdu.num_points = static_cast<int16_t>(f.params.points.size());
+  pdu.points.reserve(f.params.points.size());
+  for (const auto& q : f.params.points) {
+    dtpdu::feature_point_t out{};
+    out.x_m = q.x_m;
+    out.z_m = q.z_m;
+    out.height_m = q.height_m;
+    out.width_m = q.width_m;
+    pdu.points.push_back(out);
+  }
   return pdu;
 }
 
@@ -119,6 +129,15 @@ Result<FeaturePdu> FeatureFromPdu(const Pdu& pdu) {
   f.params.vertex_edits.reserve(pdu.vertex_edits.size());
   for (const auto& e : pdu.vertex_edits) {
     f.params.vertex_edits.push_back(CraterVertexEdit{e.spoke, e.ring, e.offset_m});
+  }
+  if (pdu.num_points < 0 || pdu.num_points > kMaxFeaturePoints ||
+      static_cast<size_t>(pdu.num_points) != pdu.points.size()) {
+    return Error{fmt::format("num_points = {} is outside [0, {}] or disagrees with {} points",
+                             pdu.num_points, kMaxFeaturePoints, pdu.points.size())};
+  }
+  f.params.points.reserve(pdu.points.size());
+  for (const auto& q : pdu.points) {
+    f.params.points.push_back(FeaturePoint{q.x_m, q.z_m, q.height_m, q.width_m});
   }
   return f;
 }

@@ -67,6 +67,16 @@ std::optional<Rejection> ValidateFeature(const Pdu& pdu, const ValidationContext
       return Reject(RejectReason::kNotFinite, fmt::format("vertex edit offset_m = {}", e.offset_m));
     }
   }
+  for (size_t i = 0; i < pdu.points.size(); ++i) {
+    const auto& q = pdu.points[i];
+    for (const auto& [name, v] :
+         {std::pair{"x_m", q.x_m}, std::pair{"z_m", q.z_m}, std::pair{"height_m", q.height_m},
+          std::pair{"width_m", q.width_m}}) {
+      if (!std::isfinite(v)) {
+        return Reject(RejectReason::kNotFinite, fmt::format("points[{}].{} = {}", i, name, v));
+      }
+    }
+  }
   auto feature = [&] {
     if constexpr (PduTraits<Pdu>::kType == PduType::kConstruct) {
       return FromConstruct(pdu);
@@ -85,6 +95,16 @@ std::optional<Rejection> ValidateFeature(const Pdu& pdu, const ValidationContext
     if (v < 0.0 || v > ctx.terrain_size_m) {
       return Reject(RejectReason::kOffTerrain,
                     fmt::format("{} = {} m is outside [0, {}] m", name, v, ctx.terrain_size_m));
+    }
+  }
+  for (size_t i = 0; i < f.params.points.size(); ++i) {
+    const FeaturePoint& q = f.params.points[i];
+    for (const auto& [name, v] : {std::pair{"x_m", q.x_m}, std::pair{"z_m", q.z_m}}) {
+      if (v < 0.0 || v > ctx.terrain_size_m) {
+        return Reject(RejectReason::kOffTerrain,
+                      fmt::format("points[{}].{} = {} m is outside [0, {}] m", i, name, v,
+                                  ctx.terrain_size_m));
+      }
     }
   }
   if (auto s = ValidateFeatureParams(f.params); !s) {

@@ -29,6 +29,12 @@ Colour MaterialColour(Material material) {
       return {0.25, 0.25, 0.27};
     case Material::kSteel:
       return {0.45, 0.50, 0.58};
+    case Material::kWater:
+      return {0.20, 0.42, 0.72};
+    case Material::kBurnt:
+      return {0.16, 0.14, 0.12};
+    case Material::kOil:
+      return {0.08, 0.07, 0.10};
   }
   return {1.0, 0.0, 1.0};
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -13,8 +14,13 @@ namespace dt {
 namespace {
 
 bool IsEarthwork(const Feature& f) {
-  return f.type() == FeatureType::kCrater || f.type() == FeatureType::kBerm;
+  return f.type() == FeatureType::kCrater || f.type() == FeatureType::kBerm ||
+         f.type() == FeatureType::kDitch || f.type() == FeatureType::kBermLine;
 }
+
+// Squares holding an earthwork or an area are sampled finely: an area changes the colour (and
+// water the height drawn) along its outline.
+bool IsRefined(const Feature& f) { return IsEarthwork(f) || f.type() == FeatureType::kArea; }
 
 // The smallest length an earthwork's shape varies over, which sampling must resolve.
 double DetailLengthM(const Feature& f) {
@@ -24,6 +30,19 @@ double DetailLengthM(const Feature& f) {
       return 0.1 * p.length_m[0];  // rings lie 0.2 radius apart
     case FeatureType::kBerm:
       return p.width_m / 6.0;  // each side slope runs a third of the width
+    case FeatureType::kDitch: {
+      double d = p.length_m[0];  // a side slope
+      for (const FeaturePoint& q : p.points) d = std::min(d, (q.width_m - 2 * p.length_m[0]) / 2);
+      if (p.length_m[1] > 0.0) d = std::min(d, p.length_m[1] / 6.0);
+      return std::max(d, p.length_m[0] / 2);
+    }
+    case FeatureType::kBermLine: {
+      double d = std::numeric_limits<double>::infinity();
+      for (const FeaturePoint& q : p.points) d = std::min(d, q.width_m / 6.0);
+      return d;
+    }
+    case FeatureType::kArea:
+      return 1.0;  // outlines drawn to a metre
     case FeatureType::kBridge:
       break;
   }
@@ -33,7 +52,7 @@ double DetailLengthM(const Feature& f) {
 bool SquareHasEarthwork(const Terrain& terrain, SquareIndex square) {
   if (terrain.SquareBits(square) == 0) return false;
   for (const Feature* f : terrain.FeaturesInSquare(square)) {
-    if (IsEarthwork(*f)) return true;
+    if (IsRefined(*f)) return true;
   }
   return false;
 }
@@ -48,12 +67,14 @@ void EmitTriangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eige
   }
 }
 
+// The soil the composition rule gives (Terrain::SoilAt: water, areas, earthworks, ground),
+// tinted as earth where an earthwork makes the surface.
 Colour SurfaceColour(const Terrain& terrain, SquareIndex sq, double x_m, double z_m) {
-  if (const Feature* top = TopEarthworkAt(terrain, sq, x_m, z_m)) {
-    return EarthworkColour(top->material());
+  const Material soil = terrain.SoilAt(x_m, z_m);
+  if (soil != Material::kWater && TopEarthworkAt(terrain, sq, x_m, z_m) != nullptr) {
+    return EarthworkColour(soil);
   }
-  const HeightGrid& g = terrain.ground();
-  return MaterialColour(g.soil(sq, g.HalfAt(x_m, z_m)));
+  return MaterialColour(soil);
 }
 
 // Sample point of global sub-index (gi, gj) at k sub-squares per grid square. Grid corners
@@ -68,7 +89,9 @@ Eigen::Vector3d SamplePoint(const Terrain& terrain, int k, long gi, long gj) {
     return std::min(c, size);
   };
   const double x = coord(gi), z = coord(gj);
-  return Eigen::Vector3d(x, terrain.ElevationAt(x, z), z);
+  // Water is drawn as its own level surface over the ground it floods.
+  const std::optional<double> water = terrain.WaterLevelAt(x, z);
+  return Eigen::Vector3d(x, water ? *water : terrain.ElevationAt(x, z), z);
 }
 
 void EmitRefinedSquare(const Terrain& terrain, SquareIndex sq, int k, const ElevationRange& range,

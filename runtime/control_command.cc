@@ -1,10 +1,13 @@
 #include "runtime/control_command.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <numbers>
 
 #include <fmt/format.h>
+
+#include "runtime/feature_edit.h"
 
 namespace dt {
 namespace {
@@ -85,10 +88,61 @@ std::string ClampNotes(const ControlCommand& c, const AppliedDrive& applied) {
   return out;
 }
 
+// ditch|berm_line <key>=<value> ... <x,z,height,width> ...; area <soil> [level_m=<m>] <x,z> ...
+Result<FeatureParams> ParsePointFeature(const std::vector<std::string_view>& w) {
+  const FeatureType type = ParseFeatureType(w[0]).value();
+  const bool area = type == FeatureType::kArea;
+  FeatureEdit edit;
+  size_t first = 1;
+  if (area) {
+    if (w.size() < 2) return Error{"area takes <soil> [level_m=<m>] <x,z> <x,z> <x,z> ..."};
+    const auto soil = ParseMaterial(w[1]);
+    if (!soil || *soil == Material::kFromGround) {
+      return Error{
+          fmt::format("area soil \"{}\" is not a soil (water, burnt, mud, oil, ...)", w[1])};
+    }
+    edit.soil = *soil;
+    first = 2;
+  }
+  constexpr std::string_view kFields[] = {"x_m", "z_m", "height_m", "width_m"};
+  const size_t columns = area ? 2 : 4;
+  size_t point = 0;
+  for (size_t i = first; i < w.size(); ++i) {
+    if (const size_t eq = w[i].find('='); eq != std::string_view::npos) {
+      const std::string_view key = w[i].substr(0, eq);
+      Result<double> v = Number(key, w[i].substr(eq + 1));
+      if (!v) return v.error();
+      edit.values.emplace_back(std::string(key), v.value());
+      continue;
+    }
+    std::vector<std::string_view> parts;
+    for (size_t a = 0; a <= w[i].size();) {
+      const size_t b = std::min(w[i].find(',', a), w[i].size());
+      parts.push_back(w[i].substr(a, b - a));
+      a = b + 1;
+    }
+    if (parts.size() != columns) {
+      return Error{fmt::format("{} point \"{}\" is not {}", w[0], w[i],
+                               area ? "x_m,z_m" : "x_m,z_m,height_m,width_m")};
+    }
+    for (size_t k = 0; k < columns; ++k) {
+      const std::string key = fmt::format("points[{}].{}", point, kFields[k]);
+      Result<double> v = Number(key, parts[k]);
+      if (!v) return v.error();
+      edit.values.emplace_back(key, v.value());
+    }
+    ++point;
+  }
+  return MakeFeature(type, edit);
+}
+
 }  // namespace
 
 std::string ControlUsage() {
-  return "crater <x_m> <z_m> <radius_m>\n"
+  return "crater <x_m> <z_m> <radius_m> [<depth_m>]\n"
+         "ditch side_run_m=<m> [spoil_height_m=<m> spoil_width_m=<m>] <x,z,depth,width> ...\n"
+         "berm_line <x,z,height,width> <x,z,height,width> ...\n"
+         "area <soil> [level_m=<m>] <x,z> <x,z> <x,z> ...\n"
          "berm <x_m> <z_m> <direction_deg> <length_m> <width_m> <height_m>\n"
          "bridge <x_m> <z_m> <direction_deg> <width_m> <ramp1_m> <span_m> <ramp2_m> "
          "<height1_m> <height2_m>\n"
@@ -142,10 +196,19 @@ Result<ControlCommand> ParseControlCommand(std::string_view line) {
     c.verb = v;
     return c;
   };
+  if (verb == "ditch" || verb == "berm_line" || verb == "area") {
+    c.verb = ControlVerb::kCreate;
+    Result<FeatureParams> p = ParsePointFeature(w);
+    if (!p) return p.error();
+    c.params = p.value();
+    return c;
+  }
   if (verb == "crater" || verb == "berm" || verb == "bridge") {
     c.verb = ControlVerb::kCreate;
     const FeatureType type = ParseFeatureType(verb).value();
     std::vector<std::string_view> keys = RequiredFeatureKeys(type);
+    // A crater may give its depth below the ground as a fourth number.
+    if (type == FeatureType::kCrater && w.size() == keys.size() + 2) keys.push_back("depth_m");
     Result<std::vector<double>> v = Numbers(w, keys);
     if (!v) return v.error();
     FeatureEdit edit;
@@ -167,6 +230,14 @@ Result<ControlCommand> ParseControlCommand(std::string_view line) {
         return Error{fmt::format("update argument \"{}\" is not key=value", w[i])};
       }
       const std::string_view key = w[i].substr(0, eq);
+      if (key == "soil") {  // an area's soil, by name
+        const auto soil = ParseMaterial(w[i].substr(eq + 1));
+        if (!soil || *soil == Material::kFromGround) {
+          return Error{fmt::format("soil \"{}\" is not a soil", w[i].substr(eq + 1))};
+        }
+        c.edit.soil = *soil;
+        continue;
+      }
       Result<double> v = Number(key, w[i].substr(eq + 1));
       if (!v) return v.error();
       c.edit.values.emplace_back(std::string(key), v.value());

@@ -155,6 +155,37 @@ double TomlReader::Double(std::string_view key, double fallback, double lo, doub
   return Has(key) ? Double(key, lo, hi) : fallback;
 }
 
+std::vector<std::vector<double>> TomlReader::NumberRows(std::string_view key, size_t columns,
+                                                        double lo, double hi) const {
+  const toml::array* rows = Require(key).as_array();
+  if (rows == nullptr) Fail(key, "expected an array of arrays of numbers");
+  std::vector<std::vector<double>> out;
+  for (size_t i = 0; i < rows->size(); ++i) {
+    const toml::array* row = (*rows)[i].as_array();
+    if (row == nullptr || row->size() != columns) {
+      Fail(key, fmt::format("row {} must be an array of {} numbers", i, columns));
+    }
+    std::vector<double> values;
+    for (size_t k = 0; k < row->size(); ++k) {
+      const toml::node& n = (*row)[k];
+      double v = 0.0;
+      if (auto d = n.value_exact<double>()) {
+        v = *d;
+      } else if (auto j = n.value_exact<int64_t>()) {
+        v = static_cast<double>(*j);
+      } else {
+        Fail(key, fmt::format("row {} item {} is not a number", i, k));
+      }
+      if (!std::isfinite(v) || v < lo || v > hi) {
+        Fail(key, fmt::format("row {} item {} = {} must be in [{}, {}]", i, k, v, lo, hi));
+      }
+      values.push_back(v);
+    }
+    out.push_back(std::move(values));
+  }
+  return out;
+}
+
 std::string TomlReader::String(std::string_view key) const {
   const toml::node& n = Require(key);
   const auto v = n.value_exact<std::string>();

@@ -38,6 +38,10 @@ class TomlReader {
   std::string String(std::string_view key) const;
   std::string String(std::string_view key, std::string fallback) const;
   bool Bool(std::string_view key, bool fallback) const;
+  // An array of arrays of numbers ([[1, 2], [3, 4]]), each row of exactly `columns` numbers in
+  // [lo, hi]; throws naming the row otherwise.
+  std::vector<std::vector<double>> NumberRows(std::string_view key, size_t columns, double lo,
+                                              double hi) const;
   // An array of strings, or one string as a one-element list; empty if absent.
   std::vector<std::string> StringList(std::string_view key) const;
 

@@ -59,23 +59,27 @@ int SectorOf(double& dx, double& dz) {
   return 8 * lower + 4 * second + 2 * upper_eighth + upper_sixteenth;
 }
 
-// The standard profile: floor at the ground inside ring 0, rising linearly to the rim (rings 1
-// and 2), falling linearly to the ground at ring 3. Tested on the squared distance first so the
-// floor and the rim top need no square root, and written in metres so no division is needed.
-double StandardProfile(double d2, double radius_m) {
+// The standard profile: a flat floor depth_m below the ground inside ring 0 (at the ground for
+// the thesis crater), rising linearly to the rim (rings 1 and 2), falling linearly to the ground
+// at ring 3. Tested on the squared distance first so the floor and the rim top need no square
+// root, and written in metres so no division is needed for the thesis crater.
+double StandardProfile(double d2, double radius_m, double depth_m) {
   constexpr auto& f = kCraterRingFractions;
   constexpr double kSlope = kCraterRimHeightFraction / (f[1] - f[0]);  // rise per metre
   static_assert(f[1] - f[0] == f[3] - f[2], "inner and outer rim slopes are equally steep");
   const double r0 = f[0] * radius_m, r1 = f[1] * radius_m, r2 = f[2] * radius_m;
-  if (d2 <= r0 * r0) return 0.0;
-  if (d2 < r1 * r1) return kSlope * (std::sqrt(d2) - r0);
+  if (d2 <= r0 * r0) return -depth_m;
+  if (d2 < r1 * r1) {
+    const double t = (std::sqrt(d2) - r0) / (r1 - r0);
+    return depth_m == 0.0 ? kSlope * (std::sqrt(d2) - r0)
+                          : -depth_m + t * (kCraterRimHeightFraction * radius_m + depth_m);
+  }
   if (d2 <= r2 * r2) return kCraterRimHeightFraction * radius_m;
   return std::max(0.0, kSlope * (radius_m - std::sqrt(d2)));
 }
 
 Status CheckUnused(const FeatureParams& p) {
   for (auto [name, v] : {std::pair{"direction_rad", p.direction_rad},
-                         {"height_m[0]", p.height_m[0]},
                          {"height_m[1]", p.height_m[1]},
                          {"length_m[1]", p.length_m[1]},
                          {"length_m[2]", p.length_m[2]},
@@ -88,10 +92,11 @@ Status CheckUnused(const FeatureParams& p) {
 
 }  // namespace
 
-double StandardCraterRingOffset(double radius_m, int ring) {
+double StandardCraterRingOffset(double radius_m, int ring, double depth_m) {
   if (ring < 0 || ring >= kCraterRings) {
     throw std::out_of_range(fmt::format("crater ring {} is outside 0..{}", ring, kCraterRings - 1));
   }
+  if (ring == 0) return -depth_m;
   return (ring == 1 || ring == 2) ? kCraterRimHeightFraction * radius_m : 0.0;
 }
 
@@ -106,7 +111,7 @@ Crater::Crater(FeatureId id, double x_m, double z_m, double radius_m, Material g
       resolved_material_(resolved) {}
 
 FeatureParams Crater::params() const {
-  FeatureParams p = FeatureParams::Crater(x_m_, z_m_, radius_m_, given_material_);
+  FeatureParams p = FeatureParams::DeepCrater(x_m_, z_m_, radius_m_, depth_m(), given_material_);
   if (edits_) p.vertex_edits = edits_->list;
   return p;
 }
@@ -136,8 +141,9 @@ double Crater::OffsetOrNotCovered(double x_m, double z_m) const {
   const double dx = x_m - x_m_, dz = z_m - z_m_;
   const double d2 = dx * dx + dz * dz;
   if (!(d2 <= CoveredRadiusSquared())) return kNotCovered;  // also refuses NaN
-  if (!edits_) return StandardProfile(d2, radius_m_);
-  if (d2 == 0.0) return 0.0;  // the centre: the floor is at the ground
+  if (!edits_) return StandardProfile(d2, radius_m_, 0.0);
+  if (edits_->list.empty()) return StandardProfile(d2, radius_m_, edits_->depth_m);
+  if (d2 == 0.0) return -edits_->depth_m;  // the centre: the floor
   const double q = std::min(1.0, std::sqrt(d2) * edits_->inverse_radius_per_m);
   double sx = dx, sz = dz;
   const int k = SectorOf(sx, sz);
@@ -156,7 +162,10 @@ double Crater::EditedOffset(int k, double t, double q) const {
   auto at_ring = [&](int ring) { return (1.0 - t) * here[ring] + t * next[ring]; };
   constexpr auto& f = kCraterRingFractions;
   constexpr double kInverseRing0 = 1.0 / f[0];
-  if (q <= f[0]) return at_ring(0) * (q * kInverseRing0);  // the floor: the centre is at ground
+  if (q <= f[0]) {  // the floor: linear from the centre (at -depth) to ring 0
+    const double depth = edits_->depth_m;
+    return -depth + (at_ring(0) + depth) * (q * kInverseRing0);
+  }
   static_assert(f[2] - f[1] - (f[1] - f[0]) < 1e-12 && f[1] - f[0] - (f[2] - f[1]) < 1e-12 &&
                     f[3] - f[2] - (f[1] - f[0]) < 1e-12 && f[1] - f[0] - (f[3] - f[2]) < 1e-12,
                 "the rings are equally spaced");
@@ -188,14 +197,15 @@ Result<std::unique_ptr<Feature>> MakeCrater(FeatureId id, const FeatureParams& p
     return Error{fmt::format("crater {}: {}", id.ToString(), s.error().message)};
   }
   std::unique_ptr<Crater::Edits> edits;
-  if (!params.vertex_edits.empty()) {
+  if (!params.vertex_edits.empty() || params.height_m[0] != 0.0) {
     edits = std::make_unique<Crater::Edits>();
+    edits->depth_m = params.height_m[0];
     edits->list = params.vertex_edits;
     edits->inverse_radius_per_m = 1.0 / params.length_m[0];
     for (int spoke = 0; spoke < kCraterSpokes; ++spoke) {
       for (int ring = 0; ring < kCraterRings; ++ring) {
         edits->offsets_m[static_cast<size_t>(spoke * kCraterRings + ring)] =
-            StandardCraterRingOffset(params.length_m[0], ring);
+            StandardCraterRingOffset(params.length_m[0], ring, params.height_m[0]);
       }
     }
     for (const auto& e : params.vertex_edits) {

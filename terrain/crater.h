@@ -38,7 +38,9 @@ class Crater final : public Feature {
   double z_m() const { return z_m_; }
   double radius_m() const { return radius_m_; }
   double rim_height_m() const { return kCraterRimHeightFraction * radius_m_; }
-  bool has_vertex_edits() const { return edits_ != nullptr; }
+  // Depth of the floor below the bare ground (0: the thesis crater, floor at the ground).
+  double depth_m() const { return edits_ ? edits_->depth_m : 0.0; }
+  bool has_vertex_edits() const { return edits_ && !edits_->list.empty(); }
 
   // Vertex (spoke, ring): spoke 0..15 along direction spoke * pi / 8, ring 0..3 innermost
   // first. Throws std::out_of_range for indices outside 16 x 4.
@@ -49,6 +51,7 @@ class Crater final : public Feature {
     std::vector<CraterVertexEdit> list;                          // as given, for params()
     std::array<double, kCraterSpokes * kCraterRings> offsets_m;  // every vertex, spoke-major
     double inverse_radius_per_m;  // kept here: standard craters do without it
+    double depth_m;               // below the ground; kept here so thesis craters stay small
   };
 
   Crater(FeatureId id, double x_m, double z_m, double radius_m, Material given, Material resolved,
@@ -62,7 +65,9 @@ class Crater final : public Feature {
   double x_m_;
   double z_m_;
   double radius_m_;
-  std::unique_ptr<const Edits> edits_;  // null for a standard crater
+  // Null for a thesis crater (no edits, at the ground); a crater below the ground without edits
+  // holds an empty list and keeps the standard, circularly symmetric profile.
+  std::unique_ptr<const Edits> edits_;
   Material given_material_;
   Material resolved_material_;
 
@@ -70,9 +75,10 @@ class Crater final : public Feature {
                                                      const HeightGrid&);
 };
 
-// The standard offset of ring `ring` (0..3) for a crater of the given radius: 0 for rings 0 and
-// 3, the rim height for rings 1 and 2. Throws std::out_of_range for a ring outside 0..3.
-double StandardCraterRingOffset(double radius_m, int ring);
+// The standard offset of ring `ring` (0..3) for a crater of the given radius and depth: -depth
+// for ring 0 (the edge of the floor), the rim height for rings 1 and 2, 0 for ring 3. Throws
+// std::out_of_range for a ring outside 0..3.
+double StandardCraterRingOffset(double radius_m, int ring, double depth_m = 0.0);
 
 // Builds a crater. Refuses parameters ValidateFeatureParams refuses, a type other than crater,
 // fields a crater does not use set to non-zero (they could not be given back by params()), and a

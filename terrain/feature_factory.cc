@@ -1,10 +1,12 @@
 // MakeFeature: validates parameters and dispatches to the feature classes.
 #include <fmt/format.h>
 
+#include "terrain/area_feature.h"
 #include "terrain/berm.h"
 #include "terrain/bridge.h"
 #include "terrain/crater.h"
 #include "terrain/feature.h"
+#include "terrain/polyline_earthwork.h"
 
 namespace dt {
 
@@ -28,6 +30,11 @@ Result<std::unique_ptr<Feature>> MakeFeature(FeatureId id, const FeatureParams& 
       return MakeBerm(id, params, ground);
     case FeatureType::kBridge:
       return MakeBridge(id, params, ground);
+    case FeatureType::kDitch:
+    case FeatureType::kBermLine:
+      return MakePolylineEarthwork(id, params, ground);
+    case FeatureType::kArea:
+      return MakeAreaFeature(id, params, ground);
   }
   std::abort();  // ValidateFeatureParams accepted an unknown type
 }

@@ -1,7 +1,9 @@
 #include "terrain/feature_params.h"
 
 #include <fmt/format.h>
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
 
 namespace dt {
 namespace {
@@ -38,6 +40,12 @@ std::string_view FeatureTypeName(FeatureType type) {
       return "berm";
     case FeatureType::kBridge:
       return "bridge";
+    case FeatureType::kDitch:
+      return "ditch";
+    case FeatureType::kBermLine:
+      return "berm_line";
+    case FeatureType::kArea:
+      return "area";
   }
   return "unknown";
 }
@@ -82,6 +90,202 @@ FeatureParams FeatureParams::Bridge(double x_m, double z_m, double direction_rad
   return p;
 }
 
+FeatureParams FeatureParams::DeepCrater(double x_m, double z_m, double radius_m, double depth_m,
+                                        Material material) {
+  FeatureParams p = Crater(x_m, z_m, radius_m, material);
+  p.height_m[0] = depth_m;
+  return p;
+}
+
+namespace {
+FeatureParams WithPoints(FeatureType type, std::vector<FeaturePoint> points, Material material) {
+  FeatureParams p;
+  p.type = type;
+  if (!points.empty()) {
+    p.x_m = points.front().x_m;
+    p.z_m = points.front().z_m;
+  }
+  p.points = std::move(points);
+  p.material = material;
+  return p;
+}
+}  // namespace
+
+FeatureParams FeatureParams::Ditch(std::vector<FeaturePoint> points, double side_run_m,
+                                   double spoil_height_m, double spoil_width_m, Material material) {
+  FeatureParams p = WithPoints(FeatureType::kDitch, std::move(points), material);
+  p.length_m[0] = side_run_m;
+  p.height_m[1] = spoil_height_m;
+  p.length_m[1] = spoil_width_m;
+  return p;
+}
+
+FeatureParams FeatureParams::BermLine(std::vector<FeaturePoint> points, Material material) {
+  return WithPoints(FeatureType::kBermLine, std::move(points), material);
+}
+
+FeatureParams FeatureParams::Area(std::vector<FeaturePoint> points, Material material,
+                                  double water_level_m) {
+  FeatureParams p = WithPoints(FeatureType::kArea, std::move(points), material);
+  if (material == Material::kWater) p.height_m[0] = water_level_m;
+  return p;
+}
+
+namespace {
+
+// The fields a type leaves unused must be 0, so params() gives back exactly what was sent.
+Status CheckZero(FeatureType type, std::initializer_list<std::pair<const char*, double>> fields) {
+  for (auto [name, v] : fields) {
+    if (v != 0.0) {
+      return Error{fmt::format("a {} does not use {}; it must be 0, not {}", FeatureTypeName(type),
+                               name, v)};
+    }
+  }
+  return Status::Ok();
+}
+
+// The point list of a polyline (open) or polygon (closed): count, finite coordinates in range,
+// (x_m, z_m) at the first point, consecutive points apart, and for a polyline no joint sharper
+// than kMaxPolylineTurnRad.
+Status CheckPoints(const FeatureParams& p, size_t min_points, bool polyline) {
+  const std::string_view type = FeatureTypeName(p.type);
+  if (p.points.size() < min_points || p.points.size() > kMaxFeaturePoints) {
+    return Error{fmt::format("{} points: {} given, needs {} to {}", type, p.points.size(),
+                             min_points, kMaxFeaturePoints)};
+  }
+  for (size_t i = 0; i < p.points.size(); ++i) {
+    const FeaturePoint& q = p.points[i];
+    for (auto [name, v] : {std::pair{"x_m", q.x_m}, std::pair{"z_m", q.z_m}}) {
+      if (auto s = CheckRange(fmt::format("{} points[{}].{}", type, i, name), v,
+                              -kMaxFeatureCoordinateM, kMaxFeatureCoordinateM);
+          !s) {
+        return s;
+      }
+    }
+    if (!std::isfinite(q.height_m) || !std::isfinite(q.width_m)) {
+      return Error{fmt::format("{} points[{}] height_m {} or width_m {} is not finite", type, i,
+                               q.height_m, q.width_m)};
+    }
+    if (i > 0) {
+      const FeaturePoint& prev = p.points[i - 1];
+      const double dx = q.x_m - prev.x_m, dz = q.z_m - prev.z_m;
+      if (!(std::sqrt(dx * dx + dz * dz) >= kMinFeatureSizeM)) {
+        return Error{fmt::format("{} points[{}] ({}, {}) is within {} m of points[{}]", type, i,
+                                 q.x_m, q.z_m, kMinFeatureSizeM, i - 1)};
+      }
+    }
+    if (polyline && i >= 2) {
+      const FeaturePoint& a = p.points[i - 2];
+      const FeaturePoint& b = p.points[i - 1];
+      const double ux = b.x_m - a.x_m, uz = b.z_m - a.z_m;
+      const double vx = q.x_m - b.x_m, vz = q.z_m - b.z_m;
+      const double cos_turn =
+          (ux * vx + uz * vz) / (std::sqrt(ux * ux + uz * uz) * std::sqrt(vx * vx + vz * vz));
+      if (!(cos_turn >= std::cos(kMaxPolylineTurnRad))) {
+        return Error{fmt::format(
+            "{} points[{}]: the line turns by {:.1f} deg there, more than {} "
+            "deg",
+            type, i - 1, std::acos(std::clamp(cos_turn, -1.0, 1.0)) * 180.0 / std::numbers::pi,
+            kMaxPolylineTurnRad * 180.0 / std::numbers::pi)};
+      }
+    }
+  }
+  if (p.x_m != p.points.front().x_m || p.z_m != p.points.front().z_m) {
+    return Error{fmt::format("{} x_m, z_m ({}, {}) must be points[0] ({}, {})", type, p.x_m, p.z_m,
+                             p.points.front().x_m, p.points.front().z_m)};
+  }
+  return Status::Ok();
+}
+
+Status CheckPointSizes(const FeatureParams& p, double max_height_m, double max_width_m) {
+  const std::string_view type = FeatureTypeName(p.type);
+  for (size_t i = 0; i < p.points.size(); ++i) {
+    const FeaturePoint& q = p.points[i];
+    if (auto s =
+            CheckSize(fmt::format("{} points[{}].height_m", type, i), q.height_m, max_height_m);
+        !s) {
+      return s;
+    }
+    if (auto s = CheckSize(fmt::format("{} points[{}].width_m", type, i), q.width_m, max_width_m);
+        !s) {
+      return s;
+    }
+  }
+  return Status::Ok();
+}
+
+Status ValidateDitch(const FeatureParams& p) {
+  if (auto s = CheckPoints(p, 2, true); !s) return s;
+  if (auto s = CheckPointSizes(p, kMaxDitchDepthM, kMaxDitchWidthM); !s) return s;
+  if (auto s = CheckSize("ditch side run length_m[0]", p.length_m[0], kMaxDitchWidthM / 2); !s) {
+    return s;
+  }
+  for (size_t i = 0; i < p.points.size(); ++i) {
+    if (p.points[i].width_m < 2.0 * p.length_m[0]) {
+      return Error{
+          fmt::format("ditch points[{}].width_m = {} is less than twice the side run "
+                      "length_m[0] = {} (the sides would cross)",
+                      i, p.points[i].width_m, p.length_m[0])};
+    }
+  }
+  if (p.height_m[1] != 0.0 || p.length_m[1] != 0.0) {
+    if (auto s = CheckSize("ditch spoil height_m[1]", p.height_m[1], kMaxBermHeightM); !s) {
+      return s;
+    }
+    if (auto s = CheckSize("ditch spoil width_m length_m[1]", p.length_m[1], kMaxBermWidthM); !s) {
+      return s;
+    }
+  }
+  return CheckZero(p.type, {{"direction_rad", p.direction_rad},
+                            {"height_m[0]", p.height_m[0]},
+                            {"length_m[2]", p.length_m[2]},
+                            {"width_m", p.width_m}});
+}
+
+Status ValidateBermLine(const FeatureParams& p) {
+  if (auto s = CheckPoints(p, 2, true); !s) return s;
+  if (auto s = CheckPointSizes(p, kMaxBermHeightM, kMaxBermWidthM); !s) return s;
+  return CheckZero(p.type, {{"direction_rad", p.direction_rad},
+                            {"height_m[0]", p.height_m[0]},
+                            {"height_m[1]", p.height_m[1]},
+                            {"length_m[0]", p.length_m[0]},
+                            {"length_m[1]", p.length_m[1]},
+                            {"length_m[2]", p.length_m[2]},
+                            {"width_m", p.width_m}});
+}
+
+Status ValidateArea(const FeatureParams& p) {
+  if (auto s = CheckPoints(p, 3, false); !s) return s;
+  for (size_t i = 0; i < p.points.size(); ++i) {
+    if (p.points[i].height_m != 0.0 || p.points[i].width_m != 0.0) {
+      return Error{fmt::format("area points[{}] height_m {} and width_m {} must be 0", i,
+                               p.points[i].height_m, p.points[i].width_m)};
+    }
+  }
+  if (p.material == Material::kFromGround) {
+    return Error{"area material must be a soil (water, burnt, mud, oil, ...), not from_ground"};
+  }
+  if (p.material == Material::kWater) {
+    if (auto s = CheckRange("area water level height_m[0]", p.height_m[0], -kMaxWaterLevelM,
+                            kMaxWaterLevelM);
+        !s) {
+      return s;
+    }
+  } else if (auto s = CheckZero(p.type, {{"height_m[0] (a water level; the material is not water)",
+                                          p.height_m[0]}});
+             !s) {
+    return s;
+  }
+  return CheckZero(p.type, {{"direction_rad", p.direction_rad},
+                            {"height_m[1]", p.height_m[1]},
+                            {"length_m[0]", p.length_m[0]},
+                            {"length_m[1]", p.length_m[1]},
+                            {"length_m[2]", p.length_m[2]},
+                            {"width_m", p.width_m}});
+}
+
+}  // namespace
+
 Status ValidateFeatureParams(const FeatureParams& p) {
   if (!IsValidFeatureType(static_cast<uint16_t>(p.type))) {
     return Error{fmt::format("unknown feature type {}", static_cast<uint16_t>(p.type))};
@@ -112,6 +316,9 @@ Status ValidateFeatureParams(const FeatureParams& p) {
   if (p.type != FeatureType::kCrater && !p.vertex_edits.empty()) {
     return Error{fmt::format("{} cannot carry crater vertex edits", FeatureTypeName(p.type))};
   }
+  if (!HasFeaturePoints(p.type) && !p.points.empty()) {
+    return Error{fmt::format("{} cannot carry points", FeatureTypeName(p.type))};
+  }
   if (p.type != FeatureType::kBridge && p.status != BridgeStatus::kIntact) {
     return Error{fmt::format("{} cannot have status {}", FeatureTypeName(p.type),
                              static_cast<int32_t>(p.status))};
@@ -119,6 +326,10 @@ Status ValidateFeatureParams(const FeatureParams& p) {
   switch (p.type) {
     case FeatureType::kCrater: {
       if (auto s = CheckSize("crater radius_m", p.length_m[0], kMaxCraterRadiusM); !s) return s;
+      if (auto s = CheckRange("crater depth_m height_m[0]", p.height_m[0], 0.0, kMaxCraterDepthM);
+          !s) {
+        return s;
+      }
       const CraterVertexEdit* previous = nullptr;
       for (const auto& e : p.vertex_edits) {
         if (e.spoke >= kCraterSpokes || e.ring >= kCraterRings) {
@@ -156,6 +367,12 @@ Status ValidateFeatureParams(const FeatureParams& p) {
         return Error{fmt::format("unknown bridge status {}", static_cast<int32_t>(p.status))};
       }
       break;
+    case FeatureType::kDitch:
+      return ValidateDitch(p);
+    case FeatureType::kBermLine:
+      return ValidateBermLine(p);
+    case FeatureType::kArea:
+      return ValidateArea(p);
   }
   return Status::Ok();
 }
@@ -175,6 +392,14 @@ void EncodeFeatureParams(const FeatureParams& p, ByteWriter& out) {
     out.U8(e.spoke);
     out.U8(e.ring);
     out.F64(e.offset_m);
+  }
+  if (!HasFeaturePoints(p.type)) return;
+  out.U16(static_cast<uint16_t>(p.points.size()));
+  for (const auto& q : p.points) {
+    out.F64(q.x_m);
+    out.F64(q.z_m);
+    out.F64(q.height_m);
+    out.F64(q.width_m);
   }
 }
 
@@ -211,6 +436,22 @@ Result<FeatureParams> DecodeFeatureParams(ByteReader& in) {
     auto offset = in.F64();
     if (!spoke || !ring || !offset) return truncated();
     e = {*spoke, *ring, *offset};
+  }
+  if (HasFeaturePoints(p.type)) {
+    auto count = in.U16();
+    if (!count) return truncated();
+    if (*count > kMaxFeaturePoints) {
+      return Error{fmt::format("feature record at byte {} claims {} points (max {})", start, *count,
+                               kMaxFeaturePoints)};
+    }
+    p.points.resize(*count);
+    for (auto& q : p.points) {
+      for (double* field : {&q.x_m, &q.z_m, &q.height_m, &q.width_m}) {
+        auto v = in.F64();
+        if (!v) return truncated();
+        *field = *v;
+      }
+    }
   }
   if (auto s = ValidateFeatureParams(p); !s) {
     return Error{fmt::format("feature record at byte {}: {}", start, s.error().message)};

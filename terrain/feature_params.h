@@ -19,10 +19,19 @@ enum class FeatureType : uint16_t {
   kCrater = 1,
   kBerm = 2,
   kBridge = 3,
+  kDitch = 4,     // a polyline cut below the ground, optional spoil berm (polyline_earthwork.h)
+  kBermLine = 5,  // a multi-segment berm (polyline_earthwork.h)
+  kArea = 6,      // an areal feature: a polygon of other soil or water (area_feature.h)
 };
 
-std::string_view FeatureTypeName(FeatureType type);  // "crater", "berm", "bridge"
-inline bool IsValidFeatureType(uint16_t raw) { return raw >= 1 && raw <= 3; }
+// "crater", "berm", "bridge", "ditch", "berm_line", "area"
+std::string_view FeatureTypeName(FeatureType type);
+inline bool IsValidFeatureType(uint16_t raw) { return raw >= 1 && raw <= 6; }
+// True for the types whose parameters carry a list of points (FeatureParams::points).
+inline bool HasFeaturePoints(FeatureType type) {
+  return type == FeatureType::kDitch || type == FeatureType::kBermLine ||
+         type == FeatureType::kArea;
+}
 
 // Bridge status (thesis table 1 "Status").
 enum class BridgeStatus : int32_t { kIntact = 0, kDestroyed = 1 };
@@ -33,6 +42,18 @@ struct CraterVertexEdit {
   uint8_t ring = 0;       // 0..3, innermost first
   double offset_m = 0.0;  // height of this vertex above the bare ground
   auto operator<=>(const CraterVertexEdit&) const = default;
+};
+
+// One point of a polyline earthwork or of an area's polygon, in terrain coordinates. For a
+// berm line, height_m is the crest height and width_m the base width there; for a ditch, height_m
+// is the depth below the ground and width_m the top width there; an area's points use neither
+// (both 0).
+struct FeaturePoint {
+  double x_m = 0.0;
+  double z_m = 0.0;
+  double height_m = 0.0;
+  double width_m = 0.0;
+  bool operator==(const FeaturePoint&) const = default;
 };
 
 // Documented ranges (docs/terrain.md "Parameter ranges"); values outside are refused as bad
@@ -54,17 +75,36 @@ inline constexpr double kMaxBermHeightM = 50.0;
 inline constexpr double kMaxBridgeLengthM = 2000.0;
 inline constexpr double kMaxBridgeWidthM = 100.0;
 inline constexpr double kMaxBridgeHeightM = 200.0;
+// A crater's depth below the original surface (height_m[0]; 0 is the thesis crater).
+inline constexpr double kMaxCraterDepthM = 100.0;
+inline constexpr double kMaxDitchDepthM = 50.0;
+inline constexpr double kMaxDitchWidthM = 100.0;
+// Points of a polyline or polygon: enough for any earthwork drawn by hand, and a Construct with
+// 32 points (32 bytes each) and its authentication trailer stays under kMaxPduBytes (1400).
+inline constexpr int kMaxFeaturePoints = 32;
+// The sharpest turn a polyline may make at a joint: the bevel of a sharper joint would reach far
+// beyond the cross-section (its width grows as 1 / cos(turn / 2)).
+inline constexpr double kMaxPolylineTurnRad = 150.0 * std::numbers::pi / 180.0;
+// A water level (absolute elevation, metres): far beyond any ground on Earth.
+inline constexpr double kMaxWaterLevelM = 1e4;
 inline constexpr int kCraterSpokes = 16;
 inline constexpr int kCraterRings = 4;
 
 // The fields of thesis table 1 that define a feature, plus width (berms and bridges need one; the
 // thesis table has none) and crater vertex edits. Units: metres and radians, with the coordinate
 // convention of docs/conventions.md (x east, z north, y up; direction 0 = +x, counter-clockwise).
-//   crater: length_m[0] = radius.
+//   crater: length_m[0] = radius, height_m[0] = depth of the floor below the bare ground (0 for
+//           the thesis crater, whose floor is the ground).
 //   berm:   length_m[0] = length, height_m[0] = height, width_m, direction_rad.
 //   bridge: length_m[0] = span, length_m[1] = ramp 1, length_m[2] = ramp 2, height_m[0] = deck
 //           height above ground where ramp 1 meets the span, height_m[1] = where the span meets
 //           ramp 2, width_m, direction_rad, status. (x_m, z_m) is the joint of ramp 1 and span.
+//   ditch:  points (2..32, per point depth and top width), length_m[0] = side run (horizontal
+//           width of each sloping side), height_m[1] and length_m[1] = spoil berm height and
+//           base width on the right of the line (both 0: no spoil). (x_m, z_m) = points[0].
+//   berm_line: points (2..32, per point crest height and base width). (x_m, z_m) = points[0].
+//   area:   points (3..32, a polygon), material = the soil inside (water: flooded), height_m[0] =
+//           the water level (absolute elevation) for water, else 0. (x_m, z_m) = points[0].
 struct FeatureParams {
   FeatureType type = FeatureType::kCrater;
   double x_m = 0.0;
@@ -76,6 +116,7 @@ struct FeatureParams {
   Material material = Material::kFromGround;
   BridgeStatus status = BridgeStatus::kIntact;
   std::vector<CraterVertexEdit> vertex_edits;  // crater only; sorted by (spoke, ring), unique
+  std::vector<FeaturePoint> points;            // ditch, berm_line, area only
 
   bool operator==(const FeatureParams&) const = default;
 
@@ -88,13 +129,26 @@ struct FeatureParams {
                               double ramp1_length_m, double span_length_m, double ramp2_length_m,
                               double height1_m, double height2_m,
                               Material material = Material::kConcrete);
+  // A crater whose floor lies depth_m below the bare ground.
+  static FeatureParams DeepCrater(double x_m, double z_m, double radius_m, double depth_m,
+                                  Material material = Material::kFromGround);
+  static FeatureParams Ditch(std::vector<FeaturePoint> points, double side_run_m,
+                             double spoil_height_m = 0.0, double spoil_width_m = 0.0,
+                             Material material = Material::kFromGround);
+  static FeatureParams BermLine(std::vector<FeaturePoint> points,
+                                Material material = Material::kFromGround);
+  // water_level_m is used only for Material::kWater.
+  static FeatureParams Area(std::vector<FeaturePoint> points, Material material,
+                            double water_level_m = 0.0);
 };
 
 // Checks types, finiteness and the documented ranges above; the error names the field and its
 // value. Does not check bounds against a terrain: Terrain::Add does.
 Status ValidateFeatureParams(const FeatureParams& params);
 
-// Canonical little-endian encoding: equal params give equal bytes on every machine.
+// Canonical little-endian encoding: equal params give equal bytes on every machine. The point
+// list is written only for the types that have one (HasFeaturePoints), so the bytes of craters,
+// berms and bridges are those of the first encoding.
 void EncodeFeatureParams(const FeatureParams& params, ByteWriter& out);
 // Decodes what EncodeFeatureParams wrote and validates it.
 Result<FeatureParams> DecodeFeatureParams(ByteReader& in);

@@ -5,8 +5,8 @@
 namespace dt {
 namespace {
 constexpr std::array<std::string_view, kMaterialCount> kNames = {
-    "from_ground", "grass",  "dirt",     "sand",    "rock",
-    "mud",         "gravel", "concrete", "asphalt", "steel"};
+    "from_ground", "grass",   "dirt",  "sand",  "rock",  "mud", "gravel",
+    "concrete",    "asphalt", "steel", "water", "burnt", "oil"};
 }  // namespace
 
 std::string_view MaterialName(Material material) {

@@ -19,9 +19,12 @@ enum class Material : uint16_t {
   kConcrete = 7,
   kAsphalt = 8,
   kSteel = 9,
+  kWater = 10,  // standing water (a flooded area below its level)
+  kBurnt = 11,  // burnt ground
+  kOil = 12,    // ground slick with spilt oil
 };
 
-inline constexpr uint16_t kMaterialCount = 10;
+inline constexpr uint16_t kMaterialCount = 13;
 
 // Lower-case name ("grass", "from_ground"), as used in configs and commands.
 std::string_view MaterialName(Material material);

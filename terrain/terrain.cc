@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "terrain/area_feature.h"
+
 namespace dt {
 
 Terrain::Terrain(HeightGrid ground) : ground_(std::move(ground)) {
@@ -233,11 +235,29 @@ double Terrain::ElevationAt(double x_m, double z_m) const {
   const double ground = ground_.ElevationAt(at);
   const size_t slot = SquareSlot(at.square);
   if (bits_[slot] == 0) return ground;
-  double highest_offset_m = 0.0;  // kNotCovered never wins against the ground's 0
+  // The composition rule (docs/terrain.md "Composing the surface"): the highest raise plus the
+  // deepest cut. Both are order-independent (max and min), and with no cuts this is the
+  // thesis's highest-wins.
+  double raise_m = 0.0;  // kNotCovered never wins against the ground's 0
+  double cut_m = 0.0;
   for (const Feature* f : squares_[slot]) {
-    highest_offset_m = std::max(highest_offset_m, f->OffsetOrNotCovered(x_m, z_m));
+    const double offset_m = f->OffsetOrNotCovered(x_m, z_m);
+    raise_m = std::max(raise_m, offset_m);
+    cut_m = std::min(cut_m, offset_m == Feature::kNotCovered ? 0.0 : offset_m);
   }
-  return ground + highest_offset_m;
+  return ground + raise_m + cut_m;
+}
+
+std::optional<double> Terrain::WaterLevelAt(double x_m, double z_m) const {
+  std::optional<double> level;
+  for (const Feature* f : FeaturesNear(x_m, z_m)) {
+    if (f->type() != FeatureType::kArea) continue;
+    const auto* area = static_cast<const AreaFeature*>(f);
+    if (!area->is_water() || !area->Inside(x_m, z_m)) continue;
+    if (!level || area->water_level_m() > *level) level = area->water_level_m();
+  }
+  if (level && *level > ElevationAt(x_m, z_m)) return level;
+  return std::nullopt;
 }
 
 bool Terrain::FeatureBitAt(double x_m, double z_m) const {
@@ -252,21 +272,49 @@ bool Terrain::FeatureBitAt(double x_m, double z_m) const {
 }
 
 Material Terrain::SoilAt(double x_m, double z_m) const {
-  double highest = -1.0;
-  const Feature* top = nullptr;
+  // The earthwork that makes the surface: the highest raise, else the deepest cut, else one
+  // lying at the ground (a crater's floor); ties go to the smaller ID, so the answer is
+  // independent of insertion order. Only earthworks lie on the ground; a bridge deck is above it
+  // (a vehicle on a deck takes the bridge's material from the bridge itself).
+  const Feature* raiser = nullptr;
+  const Feature* cutter = nullptr;
+  const Feature* level = nullptr;
+  double raise = 0.0, cut = 0.0;
+  const AreaFeature* area = nullptr;
+  bool water_seen = false;
+  auto earlier = [](const Feature* a, const Feature* b) {
+    return b == nullptr || a->id() < b->id();
+  };
   for (const Feature* f : FeaturesNear(x_m, z_m)) {
-    // Only earthworks lie on the ground; a bridge deck is above it (a vehicle on a deck takes
-    // the bridge's material from the bridge itself).
-    const auto earthwork_offset = f->OffsetAboveGround(x_m, z_m);
-    if (!earthwork_offset || !f->Covers(x_m, z_m)) continue;
-    const double offset = *earthwork_offset;
-    // Ties go to the smaller ID, so the answer is independent of insertion order.
-    if (offset > highest || (offset == highest && top && f->id() < top->id())) {
-      highest = offset;
-      top = f;
+    if (f->type() == FeatureType::kArea) {
+      const auto* a = static_cast<const AreaFeature*>(f);
+      if (!a->Inside(x_m, z_m)) continue;
+      water_seen = water_seen || a->is_water();
+      if (a->is_water()) continue;  // decided below, once the surface is known
+      if (!area || a->precedence() > area->precedence() ||
+          (a->precedence() == area->precedence() && earlier(a, area))) {
+        area = a;
+      }
+      continue;
+    }
+    const double offset = f->OffsetOrNotCovered(x_m, z_m);
+    if (offset == Feature::kNotCovered) continue;
+    if (offset > raise || (offset == raise && offset > 0.0 && earlier(f, raiser))) {
+      raise = offset;
+      raiser = f;
+    } else if (offset < cut || (offset == cut && offset < 0.0 && earlier(f, cutter))) {
+      cut = offset;
+      cutter = f;
+    } else if (offset == 0.0 && earlier(f, level)) {
+      level = f;
     }
   }
-  if (top) return top->material();
+  // Areas lie on the surface, whatever made it; water only where the surface is below its level.
+  if (water_seen && WaterLevelAt(x_m, z_m)) return Material::kWater;
+  if (area) return area->material();
+  if (raiser) return raiser->material();
+  if (cutter) return cutter->material();
+  if (level) return level->material();
   return ground_.soil(ground_.SquareAt(x_m, z_m), ground_.HalfAt(x_m, z_m));
 }
 

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -55,17 +56,25 @@ class Terrain {
   bool Contains(double x_m, double z_m) const { return ground_.Contains(x_m, z_m); }
   // Bare ground (thesis `nodef_elev`). Throws std::out_of_range off the terrain or for NaN.
   double GroundElevationAt(double x_m, double z_m) const { return ground_.ElevationAt(x_m, z_m); }
-  // The greatest of the ground and every earthwork covering (x, z) (thesis III.B). Bridges are
-  // not included: a vehicle reaches a deck through VehicleTerrain. Throws like GroundElevationAt.
+  // The surface at (x, z): the ground plus the highest raise plus the deepest cut of the
+  // earthworks covering it (docs/terrain.md "Composing the surface"; with nothing below the
+  // ground, the thesis's highest-wins, III.B). Bridges are not included: a vehicle reaches a
+  // deck through VehicleTerrain. Water lies on this surface (WaterLevelAt). Throws like
+  // GroundElevationAt.
   double ElevationAt(double x_m, double z_m) const;
+  // The water level where a flooded area covers (x, z) and the surface there is below it (the
+  // highest level where flooded areas overlap); nullopt elsewhere. Throws off the terrain.
+  std::optional<double> WaterLevelAt(double x_m, double z_m) const;
 
   // The feature-presence bit of the cell holding (x, z). Throws off the terrain.
   bool FeatureBitAt(double x_m, double z_m) const;
   uint16_t SquareBits(SquareIndex square) const { return bits_[SquareSlot(square)]; }
 
-  // The material at a point on the ground surface: the highest earthwork's material where one
-  // covers it, otherwise the soil of the ground triangle. Bridge decks are not the ground: under
-  // a bridge this is the soil below. Throws off the terrain.
+  // The material at a point on the ground surface: water under a flood's level, else the soil of
+  // an area covering it (highest AreaFeature::precedence, then smaller ID), else the material of
+  // the earthwork making the surface (highest raise, else deepest cut, else one at the ground;
+  // ties to the smaller ID), otherwise the soil of the ground triangle. Bridge decks are not the
+  // ground: under a bridge this is the soil below. Throws off the terrain.
   Material SoilAt(double x_m, double z_m) const;
 
  private:

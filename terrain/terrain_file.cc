@@ -89,10 +89,11 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
   const uint32_t version = *header.U32();
   const uint64_t ground_bytes = *header.U64();
   const uint64_t feature_bytes = *header.U64();
-  if (version != kTerrainFileVersion) {
-    return fail(kVersionOffset, fmt::format("format version {} is not supported (this build "
-                                            "reads version {})",
-                                            version, kTerrainFileVersion));
+  if (version < kOldestTerrainFileVersion || version > kTerrainFileVersion) {
+    return fail(kVersionOffset,
+                fmt::format("format version {} is not supported (this build "
+                            "reads versions {} to {})",
+                            version, kOldestTerrainFileVersion, kTerrainFileVersion));
   }
   // Written so that no sum can overflow: each length is first checked against the file size.
   const uint64_t body = bytes.size() - kMinBytes;
@@ -197,12 +198,27 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
     if (!record) {
       return truncated(fmt::format("feature {} ({} bytes declared)", id.ToString(), *length));
     }
+    // Version 1 knew craters, berms and bridges only.
+    if (version == 1 && record->size() >= 2 &&
+        HasFeaturePoints(static_cast<FeatureType>((*record)[0] | (*record)[1] << 8))) {
+      return fail(
+          record_at + 12,
+          fmt::format("feature {}: a version 1 file cannot hold a {}", id.ToString(),
+                      FeatureTypeName(static_cast<FeatureType>((*record)[0] | (*record)[1] << 8))));
+    }
     ByteReader params_reader(*record);
     auto params = DecodeFeatureParams(params_reader);
     const size_t params_at = record_at + 12;
     if (!params) {
       return fail(params_at, fmt::format("feature {}: {} (offsets within the record)",
                                          id.ToString(), params.error().message));
+    }
+    // ... and craters at the ground.
+    if (version == 1 && params.value().type == FeatureType::kCrater &&
+        params.value().height_m[0] != 0.0) {
+      return fail(params_at, fmt::format("feature {}: a version 1 file cannot hold a crater "
+                                         "below the ground",
+                                         id.ToString()));
     }
     if (params_reader.remaining() != 0) {
       return fail(params_at + params_reader.offset(),

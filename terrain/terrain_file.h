@@ -14,7 +14,9 @@
 namespace dt {
 
 // docs/terrain-file-format.md describes every byte.
-inline constexpr uint32_t kTerrainFileVersion = 1;
+inline constexpr uint32_t kTerrainFileVersion = 2;
+// The oldest version LoadTerrain still reads (docs/terrain-file-format.md "Versions").
+inline constexpr uint32_t kOldestTerrainFileVersion = 1;
 inline constexpr size_t kTerrainFileHeaderBytes = 28;
 inline constexpr size_t kTerrainFileChecksumBytes = 8;
 // Readers refuse a larger file before reading a byte, and SaveTerrain refuses to write one: 1 GiB

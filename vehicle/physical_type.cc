@@ -52,16 +52,19 @@ double RollingResistanceFactor(Material material) {
     case Material::kAsphalt:
     case Material::kConcrete:
     case Material::kSteel:
+    case Material::kOil:  // a slick on firm ground: it takes grip, not rolling effort
       return 1.0;
     case Material::kRock:
     case Material::kGravel:
       return 1.5;
     case Material::kDirt:
     case Material::kGrass:
+    case Material::kBurnt:  // ash over the ground
       return 2.0;
     case Material::kSand:
       return 5.0;
     case Material::kMud:
+    case Material::kWater:  // wading over a soaked bed
       return 8.0;
     case Material::kFromGround:
       break;

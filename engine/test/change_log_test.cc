@@ -135,6 +135,25 @@ TEST(PrefixHashesTest, SumsFollowTheGapFreePointAndAReplacedSlot) {
   EXPECT_NE(ChangeHash(moved), ChangeHash(Numbered(3)));
 }
 
+// Copies of a ditch or area that differ only in a point must hash apart, or anti-entropy would
+// take them for the same change.
+TEST(ChangeHashTest, EveryPointOfALineOrAreaIsHashed) {
+  Change a = Numbered(6);
+  a.params = FeatureParams::Ditch({{10, 10, 2, 6}, {40, 12, 2, 6}, {60, 30, 2, 6}}, 1.5);
+  Change b = a;
+  b.params.points[2].width_m = 6.5;
+  EXPECT_NE(ChangeHash(a), ChangeHash(b));
+  EXPECT_EQ(CanonicalChangeBytes(a).size(), 107u + 2u + 3u * 32u);
+  Change area = Numbered(7);
+  area.params =
+      FeatureParams::Area({{10, 10, 0, 0}, {30, 10, 0, 0}, {20, 30, 0, 0}}, Material::kWater, 1);
+  Change moved = area;
+  moved.params.points[1].z_m = 11;
+  EXPECT_NE(ChangeHash(area), ChangeHash(moved));
+  // A crater's bytes carry no point list: the earlier layout, unchanged.
+  EXPECT_EQ(CanonicalChangeBytes(Numbered(1)).size(), 107u);
+}
+
 TEST(RepairRuleTest, TheServerThenAStandbyThenTheAuthorIsTheSlotsAuthority) {
   const NodeAddress author{1, 5}, node{1, 2}, server{1, 100}, server2{1, 102}, standby{1, 101};
   using H = std::vector<SlotHolder>;

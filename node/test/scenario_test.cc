@@ -166,6 +166,62 @@ TEST(ScenarioTest, RefusesBadScenariosBeforeRunning) {
             std::string::npos);
 }
 
+TEST(ScenarioTest, DitchesLinesAndAreasTakePointsAndSoil) {
+  const Scenario s = ParseScenario(R"(
+[[step]]
+action = "ditch"
+name = "d"
+side_run_m = 1
+points = [[10, 10, 2, 5], [40, 10, 2, 5]]
+
+[[step]]
+action = "update"
+target = "d"
+"points[2].x_m" = 60
+"points[2].z_m" = 30
+"points[2].height_m" = 1.5
+"points[2].width_m" = 4
+
+[[step]]
+action = "breach"
+target = "d"
+gap_start_m = 20
+gap_width_m = 4
+
+[[step]]
+action = "area"
+name = "a"
+soil = "water"
+level_m = 2
+points = [[10, 50], [30, 50], [20, 70]]
+)",
+                                   "s.toml", 1);
+  ASSERT_EQ(s.steps.size(), 4u);
+  EXPECT_EQ(s.steps[0].params.type, FeatureType::kDitch);
+  EXPECT_EQ(s.steps[0].params.points.size(), 2u);
+  EXPECT_EQ(s.steps[0].params.x_m, 10.0);
+  EXPECT_EQ(s.steps[1].edit.values.size(), 4u);
+  EXPECT_EQ(s.steps[3].params.material, Material::kWater);
+  EXPECT_EQ(s.steps[3].params.height_m[0], 2.0);
+  EXPECT_EQ(s.steps[3].params.points[2], (FeaturePoint{20, 70, 0, 0}));
+  // Bad points and soils are refused naming the field.
+  const std::string ditch = "[[step]]\naction = \"ditch\"\nname = \"d\"\nside_run_m = 1\n";
+  EXPECT_NE(ErrorOf(ditch + "points = [[10, 10, 2, 1], [40, 10, 2, 5]]\n")
+                .find("ditch points[0].width_m = 1 is less than twice the side run"),
+            std::string::npos)
+      << ErrorOf(ditch + "points = [[10, 10, 2, 1], [40, 10, 2, 5]]\n");
+  EXPECT_NE(ErrorOf(ditch + "points = [[10, 10, 2], [40, 10, 2, 5]]\n")
+                .find("row 0 must be an array of 4 numbers"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("[[step]]\naction = \"area\"\nname = \"a\"\nsoil = \"lava\"\n"
+                    "points = [[1, 1], [5, 1], [3, 4]]\n")
+                .find("step[0].soil: is not a soil"),
+            std::string::npos)
+      << ErrorOf(
+             "[[step]]\naction = \"area\"\nname = \"a\"\nsoil = \"lava\"\n"
+             "points = [[1, 1], [5, 1], [3, 4]]\n");
+}
+
 TEST(ScenarioTest, ShippedScenariosParse) {
   const std::filesystem::path dir = std::filesystem::path(DT_SOURCE_DIR) / "configs/scenarios";
   int count = 0;

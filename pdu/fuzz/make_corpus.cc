@@ -98,8 +98,30 @@ int main(int argc, char** argv) {
   }
   Write(dir, "construct_all_edits", 0, EncodePdu(c));
   auto neg = EncodePdu(sample::Construct());
-  neg[neg.size() - 22] = 0xFF;  // negative num_vertex_edits
+  neg[neg.size() - 24] = 0xFF;  // negative num_vertex_edits (then 2 edits and num_points)
   Write(dir, "construct_negative_count", 0, neg);
+  Family(dir, "construct_ditch", 0, sample::DitchConstruct());
+  c = sample::DitchConstruct();
+  c.points[1].x_m = 99;  // turns back on itself at points[1]
+  Write(dir, "construct_ditch_sharp_turn", 0, EncodePdu(c));
+  c = sample::DitchConstruct();
+  c.points[2].z_m = -1;
+  Write(dir, "construct_ditch_point_off_terrain", 0, EncodePdu(c));
+  c = sample::DitchConstruct();
+  c.points[1].width_m = std::numeric_limits<double>::infinity();
+  Write(dir, "construct_ditch_point_infinite", 0, EncodePdu(c));
+  c = sample::DitchConstruct();
+  c.num_points = static_cast<int16_t>(kMaxFeaturePoints);
+  c.points.resize(kMaxFeaturePoints);
+  for (int i = 0; i < kMaxFeaturePoints; ++i) {
+    c.points[static_cast<size_t>(i)] = {100.0 + 20 * i, 100, 2, 6};
+  }
+  Write(dir, "construct_ditch_max_points_valid", 0, EncodePdu(c));
+  auto flood = ToConstruct(sample::Flood());
+  sample::StampHeader(flood);
+  Write(dir, "construct_flood_valid", 0, EncodePdu(flood));
+  flood.height_m[0] = std::numeric_limits<double>::quiet_NaN();
+  Write(dir, "construct_flood_nan_level", 0, EncodePdu(flood));
   auto u = sample::Update();
   u.material = 77;
   Write(dir, "update_bad_material", 1, EncodePdu(u));

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -28,7 +29,31 @@ FeaturePdu RandomFeature(std::mt19937_64& rng) {
                    static_cast<uint32_t>(rng() % kMaxSerial) + 1};
   f.change = ChangeStamp{NodeAddress{static_cast<uint16_t>(rng()), static_cast<uint16_t>(rng())},
                          static_cast<uint32_t>(rng() % kMaxSerial) + 1, (rng() >> 2) + 1};
-  switch (rng() % 3) {
+  auto point = [&](double x, double z, double h, double w) { return FeaturePoint{x, z, h, w}; };
+  switch (rng() % 6) {
+    case 3: {
+      const double x = pos(rng), z = pos(rng), run = 0.5 + unit(rng);
+      f.params = FeatureParams::Ditch({point(x, z, 1 + unit(rng), 3 + unit(rng)),
+                                       point(x + 10 + unit(rng), z + unit(rng), 2, 4),
+                                       point(x + 20, z + 10 * unit(rng), 1 + unit(rng), 5)},
+                                      run, rng() % 2 ? 1 + unit(rng) : 0.0, 0.0, Material::kDirt);
+      if (f.params.height_m[1] != 0.0) f.params.length_m[1] = 1 + unit(rng);
+      break;
+    }
+    case 4: {
+      const double x = pos(rng), z = pos(rng);
+      f.params = FeatureParams::BermLine(
+          {point(x, z, 1 + unit(rng), 3 + unit(rng)), point(x + 5 * unit(rng) + 1, z, 2, 4)});
+      break;
+    }
+    case 5: {
+      const double x = pos(rng), z = pos(rng);
+      f.params =
+          FeatureParams::Area({point(x, z, 0, 0), point(x + 30 * unit(rng) + 1, z, 0, 0),
+                               point(x, z + 30 * unit(rng) + 1, 0, 0)},
+                              rng() % 2 ? Material::kWater : Material::kOil, 100 * unit(rng));
+      break;
+    }
     case 0: {
       f.params = FeatureParams::Crater(pos(rng), pos(rng), 0.5 + 100 * unit(rng));
       for (uint8_t spoke = 0; spoke < 16; ++spoke) {
@@ -131,10 +156,19 @@ TEST(Conversion, RefusesUnrepresentableFields) {
   expect_refused([](auto& p) { p.feature_number = kMaxSerial + 1; }, "feature_number");
   expect_refused([](auto& p) { p.change_seq = -1; }, "change_seq");
   expect_refused([](auto& p) { p.lamport = 0; }, "lamport");
-  expect_refused([](auto& p) { p.feature_type = 4; }, "feature type");
+  expect_refused([](auto& p) { p.feature_type = 7; }, "feature type");
   expect_refused([](auto& p) { p.material = kMaterialCount; }, "material");
   expect_refused([](auto& p) { p.status = 2; }, "status");
   expect_refused([](auto& p) { p.num_vertex_edits = 1; }, "num_vertex_edits");
+  expect_refused([](auto& p) { p.num_points = 1; }, "num_points");
+  expect_refused([](auto& p) { p.num_points = -1; }, "num_points");
+}
+
+TEST(Conversion, EveryTypeOccursInTheRandomFeatures) {
+  std::mt19937_64 rng(12345);
+  std::set<FeatureType> seen;
+  for (int i = 0; i < 200; ++i) seen.insert(RandomFeature(rng).params.type);
+  EXPECT_EQ(seen.size(), 6u);
 }
 
 }  // namespace

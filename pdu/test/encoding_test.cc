@@ -72,6 +72,13 @@ uint64_t EditFingerprint() {
   return Fingerprint(
       BaseHash({{"spoke", "byte", {}}, {"ring", "byte", {}}, {"offset_m", "double", {}}}), {});
 }
+uint64_t PointFingerprint() {
+  return Fingerprint(BaseHash({{"x_m", "double", {}},
+                               {"z_m", "double", {}},
+                               {"height_m", "double", {}},
+                               {"width_m", "double", {}}}),
+                     {});
+}
 // Construct and Update differ only in the name of the change's author.
 uint64_t FeatureFingerprint(const std::string& author) {
   const std::vector<Member> members = {
@@ -95,10 +102,13 @@ uint64_t FeatureFingerprint(const std::string& author) {
       {"status", "int32_t", {}},
       {"num_vertex_edits", "int16_t", {}},
       {"vertex_edits", "", {{1, "num_vertex_edits"}}},
+      {"num_points", "int16_t", {}},
+      {"points", "", {{1, "num_points"}}},
   };
-  return Fingerprint(BaseHash(members),
-                     {HeaderFingerprint(), AddressFingerprint(), AddressFingerprint(),
-                      AddressFingerprint(), AddressFingerprint(), EditFingerprint()});
+  return Fingerprint(
+      BaseHash(members),
+      {HeaderFingerprint(), AddressFingerprint(), AddressFingerprint(), AddressFingerprint(),
+       AddressFingerprint(), EditFingerprint(), PointFingerprint()});
 }
 uint64_t ConstructFingerprint() { return FeatureFingerprint("created_by"); }
 uint64_t UpdateFingerprint() { return FeatureFingerprint("changed_by"); }
@@ -115,6 +125,7 @@ struct Bytes {
 TEST(Encoding, FingerprintMatchesTheIndependentComputation) {
   EXPECT_EQ(static_cast<uint64_t>(dtpdu::header_t::getHash()), HeaderFingerprint());
   EXPECT_EQ(static_cast<uint64_t>(dtpdu::node_address_t::getHash()), AddressFingerprint());
+  EXPECT_EQ(static_cast<uint64_t>(dtpdu::feature_point_t::getHash()), PointFingerprint());
   EXPECT_EQ(static_cast<uint64_t>(dtpdu::construct_t::getHash()), ConstructFingerprint());
   EXPECT_EQ(static_cast<uint64_t>(dtpdu::update_t::getHash()), UpdateFingerprint());
 }
@@ -126,6 +137,7 @@ TEST(Encoding, EveryLcmTypeHasItsOwnFingerprint) {
       {"header_t", dtpdu::header_t::getHash()},
       {"node_address_t", dtpdu::node_address_t::getHash()},
       {"crater_vertex_edit_t", dtpdu::crater_vertex_edit_t::getHash()},
+      {"feature_point_t", dtpdu::feature_point_t::getHash()},
       {"construct_t", dtpdu::construct_t::getHash()},
       {"update_t", dtpdu::update_t::getHash()},
       {"destruct_t", dtpdu::destruct_t::getHash()},
@@ -209,17 +221,18 @@ TEST(Encoding, ConstructBytesMatchTheHandBuiltVector) {
   e.v.insert(e.v.end(), {0x00, 0x01});                    // num_vertex_edits
   e.v.insert(e.v.end(), {0x03, 0x02});                    // spoke, ring
   e.v.insert(e.v.end(), {0x3F, 0xD0, 0, 0, 0, 0, 0, 0});  // 0.25 = 2^-2
+  e.v.insert(e.v.end(), {0x00, 0x00});                    // num_points
   // Cross-check two doubles of the vector against the machine's own representation.
   Bytes check;
   check.D(100.25);
   check.D(0.25);
   EXPECT_EQ(std::vector<uint8_t>(e.v.begin() + 66, e.v.begin() + 74),
             std::vector<uint8_t>(check.v.begin(), check.v.begin() + 8));
-  EXPECT_EQ(std::vector<uint8_t>(e.v.end() - 8, e.v.end()),
+  EXPECT_EQ(std::vector<uint8_t>(e.v.end() - 10, e.v.end() - 2),
             std::vector<uint8_t>(check.v.begin() + 8, check.v.end()));
 
   EXPECT_EQ(EncodePdu(pdu), e.v);
-  EXPECT_EQ(e.v.size(), 154u + 10u);
+  EXPECT_EQ(e.v.size(), 156u + 10u);
 }
 
 TEST(Encoding, SenderSitsAtTheSameOffsetInEveryType) {
@@ -249,7 +262,13 @@ TEST(Encoding, TheBiggestConstructFitsInOneDatagram) {
   auto pdu = sample::Construct();
   pdu.num_vertex_edits = kMaxVertexEdits;
   pdu.vertex_edits.resize(kMaxVertexEdits);
+  EXPECT_EQ(EncodePdu(pdu).size(), 156u + 64u * 10u);
   EXPECT_LE(EncodePdu(pdu).size(), kMaxPduBytes);
+  auto ditch = sample::DitchConstruct();
+  ditch.num_points = static_cast<int16_t>(kMaxFeaturePoints);
+  ditch.points.resize(kMaxFeaturePoints);
+  EXPECT_EQ(EncodePdu(ditch).size(), 156u + 32u * 32u);
+  EXPECT_LE(EncodePdu(ditch).size(), kMaxPduBytes);
 }
 
 }  // namespace

@@ -39,6 +39,31 @@ inline FeaturePdu Bridge() {
   return f;
 }
 
+// A ditch with a spoil berm along three points, and a flooded area.
+inline FeaturePdu Ditch() {
+  FeaturePdu f;
+  f.id = {1, 2, 5};
+  f.change = {{1, 2}, 6, 7};
+  f.params = FeatureParams::Ditch({{100, 100, 2, 6}, {160, 100, 2.5, 7}, {200, 140, 2, 6}}, 1.5,
+                                  1.0, 3.0, Material::kDirt);
+  return f;
+}
+
+inline FeaturePdu Flood() {
+  FeaturePdu f;
+  f.id = {1, 2, 6};
+  f.change = {{1, 2}, 7, 8};
+  f.params = FeatureParams::Area({{500, 500, 0, 0}, {600, 500, 0, 0}, {560, 600, 0, 0}},
+                                 Material::kWater, 12.5);
+  return f;
+}
+
+inline dtpdu::construct_t DitchConstruct() {
+  auto pdu = ToConstruct(Ditch());
+  StampHeader(pdu);
+  return pdu;
+}
+
 inline dtpdu::construct_t Construct() {
   auto pdu = ToConstruct(Crater());
   StampHeader(pdu);

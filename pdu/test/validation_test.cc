@@ -76,8 +76,8 @@ TEST(Validation, Truncated) {
 TEST(Validation, TruncatedWhenTheArrayLengthIsNegativeOrTooLong) {
   auto pdu = sample::Construct();
   std::vector<uint8_t> bytes = EncodePdu(pdu);
-  // num_vertex_edits is the int16 just before the 2 edits of 10 bytes each.
-  const size_t at = bytes.size() - 2 * 10 - 2;
+  // num_vertex_edits is the int16 just before the 2 edits of 10 bytes each (and num_points).
+  const size_t at = bytes.size() - 2 - 2 * 10 - 2;
   ASSERT_EQ(bytes[at], 0);
   ASSERT_EQ(bytes[at + 1], 2);
   bytes[at] = 0xFF;  // -254
@@ -236,6 +236,47 @@ TEST(Validation, OffTerrain) {
   auto u = sample::Update();
   u.position_m[0] = 1e6;
   EXPECT_EQ(ReasonFor(u), RejectReason::kOffTerrain);
+}
+
+TEST(Validation, PointFeaturesPassAndTheirBadPointsAreRefusedByName) {
+  EXPECT_EQ(ReasonFor(sample::DitchConstruct()), std::nullopt);
+  auto flood = ToConstruct(sample::Flood());
+  sample::StampHeader(flood);
+  EXPECT_EQ(ReasonFor(flood), std::nullopt);
+  auto detail = [](const dtpdu::construct_t& c) {
+    dtpdu::construct_t out;
+    auto r = DecodeAndValidate(std::span<const uint8_t>(EncodePdu(c)), Context(), out);
+    return r ? std::pair{r->reason, r->detail} : std::pair{RejectReason::kBadField, std::string()};
+  };
+  auto c = sample::DitchConstruct();
+  c.points[2].z_m = -1;
+  EXPECT_EQ(detail(c).first, RejectReason::kOffTerrain);
+  EXPECT_NE(detail(c).second.find("points[2].z_m"), std::string::npos) << detail(c).second;
+  c = sample::DitchConstruct();
+  c.points[1].width_m = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(detail(c).first, RejectReason::kNotFinite);
+  EXPECT_NE(detail(c).second.find("points[1].width_m"), std::string::npos);
+  c = sample::DitchConstruct();
+  c.points[1].x_m = 99;  // back on itself
+  EXPECT_EQ(detail(c).first, RejectReason::kOutOfRange);
+  EXPECT_NE(detail(c).second.find("points[1]: the line turns by"), std::string::npos)
+      << detail(c).second;
+  c = sample::Construct();  // a crater
+  c.num_points = 1;
+  c.points.push_back({100, 200, 0, 0});
+  EXPECT_EQ(detail(c).first, RejectReason::kOutOfRange);
+  EXPECT_NE(detail(c).second.find("cannot carry points"), std::string::npos);
+}
+
+TEST(Validation, ADitchOfTheMostPointsFitsAPduWithItsTrailer) {
+  auto c = sample::DitchConstruct();
+  c.num_points = static_cast<int16_t>(kMaxFeaturePoints);
+  c.points.resize(kMaxFeaturePoints);
+  for (int i = 0; i < kMaxFeaturePoints; ++i) {
+    c.points[static_cast<size_t>(i)] = {100.0 + 20 * i, 100, 2, 6};
+  }
+  EXPECT_EQ(ReasonFor(c), std::nullopt);
+  EXPECT_LE(EncodePdu(c).size() + kAuthTrailerBytes, kMaxPduBytes);
 }
 
 TEST(Validation, BadFields) {

@@ -141,6 +141,68 @@ TEST(ControlCommandTest, BadFeatureCommandChangesNothing) {
   EXPECT_DOUBLE_EQ(node.features.at(id).length_m[0], 9.0);
 }
 
+TEST(ControlCommandTest, DitchesBermLinesAreasAndDeepCratersParse) {
+  Result<ControlCommand> c = ParseControlCommand(
+      "ditch side_run_m=1.5 spoil_height_m=1 spoil_width_m=3 20,50,2,6 "
+      "80,50,2.5,7");
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_EQ(c.value().params, FeatureParams::Ditch({{20, 50, 2, 6}, {80, 50, 2.5, 7}}, 1.5, 1, 3));
+  c = ParseControlCommand("berm_line 10,10,2,6 40,20,3,8 60,50,2,6");
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_EQ(c.value().params.points.size(), 3u);
+  c = ParseControlCommand("area water level_m=4.5 10,10 30,10 20,30");
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_EQ(c.value().params, FeatureParams::Area({{10, 10, 0, 0}, {30, 10, 0, 0}, {20, 30, 0, 0}},
+                                                  Material::kWater, 4.5));
+  c = ParseControlCommand("crater 50 50 10 3");
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_EQ(c.value().params, FeatureParams::DeepCrater(50, 50, 10, 3));
+  auto err = [](const std::string& line) {
+    Result<ControlCommand> r = ParseControlCommand(line);
+    return r ? std::string() : r.error().message;
+  };
+  EXPECT_NE(err("ditch 20,50,2,6 80,50,2,6").find("a new ditch needs side_run_m"),
+            std::string::npos)
+      << err("ditch 20,50,2,6 80,50,2,6");
+  EXPECT_NE(err("ditch side_run_m=4 20,50,2,6 80,50,2,6").find("ditch points[0].width_m = 6"),
+            std::string::npos)
+      << err("ditch side_run_m=4 20,50,2,6 80,50,2,6");
+  EXPECT_NE(err("berm_line 10,10,2 40,20,3,8").find("is not x_m,z_m,height_m,width_m"),
+            std::string::npos);
+  EXPECT_NE(err("berm_line 10,10,2,x 40,20,3,8").find("points[0].width_m \"x\""), std::string::npos)
+      << err("berm_line 10,10,2,x 40,20,3,8");
+  EXPECT_NE(err("area lava 10,10 30,10 20,30").find("area soil \"lava\" is not a soil"),
+            std::string::npos);
+  EXPECT_NE(err("area mud level_m=2 10,10 30,10 20,30").find("a water level"), std::string::npos)
+      << err("area mud level_m=2 10,10 30,10 20,30");
+  EXPECT_NE(err("crater 50 50 10 -1").find("crater depth_m height_m[0] = -1"), std::string::npos)
+      << err("crater 50 50 10 -1");
+}
+
+TEST(ControlCommandTest, AnUpdateGrowsALineByItsNextPoint) {
+  MapActions node;
+  ASSERT_TRUE(
+      RunFeatureCommand(ParseControlCommand("berm_line 10,10,2,6 40,10,2,6").value(), node).ok);
+  const FeatureId id = node.features.begin()->first;
+  ControlReply r = RunFeatureCommand(
+      ParseControlCommand("update " + id.ToString() +
+                          " points[2].x_m=60 points[2].z_m=30 points[2].height_m=3 "
+                          "points[2].width_m=7")
+          .value(),
+      node);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(node.features.at(id).points.size(), 3u);
+  EXPECT_EQ(node.features.at(id).points[2], (FeaturePoint{60, 30, 3, 7}));
+  // Skipping an index, or a key the line does not have, changes nothing.
+  r = RunFeatureCommand(ParseControlCommand("update " + id.ToString() + " points[4].x_m=1").value(),
+                        node);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("points[4].x_m is not a point key"), std::string::npos) << r.error;
+  r = RunFeatureCommand(ParseControlCommand("update " + id.ToString() + " x_m=1").value(), node);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(node.features.at(id).points.size(), 3u);
+}
+
 TEST(ControlCommandTest, ADriveSaysWhichValuesTheVehicleClamped) {
   const VehicleType tank = TankType();
   MapActions node;

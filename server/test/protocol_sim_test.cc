@@ -230,8 +230,32 @@ Status SimRun::RestartDue() {
 FeatureParams SimRun::RandomParams(FeatureType type) {
   const double x = Uniform(15, 113), z = Uniform(15, 113);
   switch (type) {
-    case FeatureType::kCrater:
-      return FeatureParams::Crater(x, z, Uniform(1, 6));
+    case FeatureType::kCrater: {
+      // Half of them below the ground. Draws are sequenced (argument order is unspecified).
+      const double r = Uniform(1, 6);
+      const double depth = Next(2) == 0 ? 0.0 : Uniform(0.5, 2);
+      return FeatureParams::DeepCrater(x, z, r, depth);
+    }
+    case FeatureType::kDitch: {
+      std::vector<FeaturePoint> pts{{x, z, Uniform(1, 2), 4}};
+      pts.push_back({x + Uniform(5, 10), z + Uniform(-3, 3), Uniform(1, 2), 5});
+      pts.push_back({pts[1].x_m + Uniform(5, 10), pts[1].z_m + Uniform(3, 8), Uniform(1, 2), 4});
+      const bool spoil = Next(2) == 0;
+      return FeatureParams::Ditch(std::move(pts), 1.0, spoil ? 1.0 : 0.0, spoil ? 2.0 : 0.0);
+    }
+    case FeatureType::kBermLine: {
+      std::vector<FeaturePoint> pts{{x, z, Uniform(1, 2), 4}};
+      pts.push_back({x + Uniform(-8, 8), z + Uniform(5, 10), Uniform(1, 3), 5});
+      return FeatureParams::BermLine(std::move(pts));
+    }
+    case FeatureType::kArea: {
+      std::vector<FeaturePoint> pts{{x, z, 0, 0}};
+      pts.push_back({x + Uniform(5, 10), z, 0, 0});
+      pts.push_back({x + Uniform(0, 5), z + Uniform(5, 10), 0, 0});
+      const bool water = Next(2) == 0;
+      return FeatureParams::Area(std::move(pts), water ? Material::kWater : Material::kMud,
+                                 water ? Uniform(0, 5) : 0.0);
+    }
     case FeatureType::kBerm:
       return FeatureParams::Berm(x, z, Uniform(0, 6.28), Uniform(8, 30), Uniform(2, 5),
                                  Uniform(1, 3));
@@ -290,9 +314,12 @@ std::string SimRun::Command(NodeAddress who) {
   };
   if (pick < 45 || ids_.empty()) {
     const uint64_t t = Next(100);
-    const FeatureType type = t < 60   ? FeatureType::kCrater
-                             : t < 85 ? FeatureType::kBerm
-                                      : FeatureType::kBridge;
+    const FeatureType type = t < 45   ? FeatureType::kCrater
+                             : t < 65 ? FeatureType::kBerm
+                             : t < 77 ? FeatureType::kBridge
+                             : t < 87 ? FeatureType::kDitch
+                             : t < 94 ? FeatureType::kBermLine
+                                      : FeatureType::kArea;
     (void)r.Create(RandomParams(type));
   } else if (pick < 70) {
     const FeatureId id = *random_id();

@@ -149,7 +149,16 @@ std::vector<Change> Sample() {
       MakeChange(ChangeKind::kUpdate, 2, FeatureParams::Berm(30, 30, 0.7, 20, 4, 2)),
       MakeChange(ChangeKind::kDestruct, 3, gone),
       MakeChange(ChangeKind::kConstruct, 4, FeatureParams::Bridge(40, 60, 0.0, 6, 8, 30, 8, 3, 3)),
-      MakeChange(ChangeKind::kConstruct, 5, FeatureParams::Crater(100.0, 50.0, 2))};
+      MakeChange(ChangeKind::kConstruct, 5, FeatureParams::Crater(100.0, 50.0, 2)),
+      // The earthworks beyond the thesis: their parameters end with a point list. Numbered past
+      // the sequences the tests below add on top of these.
+      MakeChange(ChangeKind::kConstruct, 600,
+                 FeatureParams::Ditch({{20, 80, 2, 6}, {60, 85, 2.5, 7}, {90, 110, 2, 6}}, 1.5, 1.0,
+                                      3.0, Material::kDirt)),
+      MakeChange(ChangeKind::kConstruct, 601, FeatureParams::DeepCrater(70, 30, 8, 3)),
+      MakeChange(ChangeKind::kConstruct, 602,
+                 FeatureParams::Area({{10, 10, 0, 0}, {40, 10, 0, 0}, {25, 40, 0, 0}},
+                                     Material::kWater, 2.5))};
 }
 
 TEST_F(SqliteChangeStoreTest, ChangesSurviveReopeningExactly) {

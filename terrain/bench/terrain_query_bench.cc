@@ -1,5 +1,6 @@
-// Benchmarks of elevation queries, six-point orientation and crater add/remove on terrains holding
-// 10^5 and 10^6 craters at 128 per km^2, and the memory each crater costs.
+// Benchmarks of elevation queries (bare, craters, and a ditch over a crater below the ground in a
+// mud area), six-point orientation and crater add/remove on terrains holding 10^5 and 10^6
+// craters at 128 per km^2, and the memory each crater costs.
 #include <malloc.h>
 
 #include <cmath>
@@ -32,6 +33,8 @@ struct CraterField {
   std::vector<std::pair<double, double>> bare_points;  // in squares with no feature
   std::vector<std::pair<double, double>> one_points;   // covered by exactly one crater
   std::vector<std::pair<double, double>> four_points;  // covered by the four-crater cluster
+  // Covered by a ditch, a crater below the ground and a mud area at once.
+  std::vector<std::pair<double, double>> mixed_points;
 };
 
 size_t HeapInUse() { return mallinfo2().uordblks; }
@@ -71,6 +74,34 @@ CraterField& Field(int64_t count) {
     for (const Feature* feature : f.terrain->FeaturesNear(x, z)) covering += feature->Covers(x, z);
     if (covering == 4) f.four_points.emplace_back(x, z);
   }
+  // A ditch (3 points, a spoil berm), a crater 3 m deep and a mud area over one spot.
+  const double mx = f.size_m / 4, mz = f.size_m / 4;
+  const FeatureId ditch{kOrigin.site, kOrigin.host, f.next_number++};
+  const FeatureId deep{kOrigin.site, kOrigin.host, f.next_number++};
+  const FeatureId mud{kOrigin.site, kOrigin.host, f.next_number++};
+  if (!f.terrain
+           ->Add(ditch,
+                 FeatureParams::Ditch(
+                     {{mx - 40, mz, 2.5, 8}, {mx + 10, mz + 2, 2.5, 8}, {mx + 40, mz + 20, 2, 7}},
+                     2.0, 1.0, 3.0))
+           .ok() ||
+      !f.terrain->Add(deep, FeatureParams::DeepCrater(mx, mz + 2, 8.0, 3.0)).ok() ||
+      !f.terrain
+           ->Add(mud, FeatureParams::Area({{mx - 30, mz - 30, 0, 0},
+                                           {mx + 30, mz - 30, 0, 0},
+                                           {mx + 30, mz + 30, 0, 0},
+                                           {mx - 30, mz + 30, 0, 0}},
+                                          Material::kMud))
+           .ok()) {
+    std::abort();
+  }
+  while (f.mixed_points.size() < 4096) {
+    const double x = mx + 6.0 * unit(rng), z = mz + 1.0 + 3.0 * unit(rng);
+    const Terrain& t = *f.terrain;
+    if (t.Find(ditch)->Covers(x, z) && t.Find(deep)->Covers(x, z) && t.Find(mud)->Covers(x, z)) {
+      f.mixed_points.emplace_back(x, z);
+    }
+  }
   while (f.bare_points.size() < 4096 || f.one_points.size() < 4096) {
     const double x = pos(rng), z = pos(rng);
     const auto near = f.terrain->FeaturesNear(x, z);
@@ -100,6 +131,9 @@ void Query(benchmark::State& state, std::vector<std::pair<double, double>> Crate
 void BM_QueryBareSquare(benchmark::State& state) { Query(state, &CraterField::bare_points); }
 void BM_QueryOneCrater(benchmark::State& state) { Query(state, &CraterField::one_points); }
 void BM_QueryFourCraters(benchmark::State& state) { Query(state, &CraterField::four_points); }
+void BM_QueryDitchDeepCraterArea(benchmark::State& state) {
+  Query(state, &CraterField::mixed_points);
+}
 
 void BM_SixPointOrientation(benchmark::State& state) {
   CraterField& f = Field(state.range(0));
@@ -128,6 +162,7 @@ void BM_AddRemoveCrater(benchmark::State& state) {
 BENCHMARK(BM_QueryBareSquare)->Arg(100'000)->Arg(1'000'000);
 BENCHMARK(BM_QueryOneCrater)->Arg(100'000)->Arg(1'000'000);
 BENCHMARK(BM_QueryFourCraters)->Arg(100'000)->Arg(1'000'000);
+BENCHMARK(BM_QueryDitchDeepCraterArea)->Arg(100'000)->Arg(1'000'000);
 BENCHMARK(BM_SixPointOrientation)->Arg(100'000)->Arg(1'000'000);
 BENCHMARK(BM_AddRemoveCrater)->Arg(100'000)->Arg(1'000'000);
 

@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdlib>
@@ -208,12 +209,98 @@ TEST(TerrainFileTest, HeaderErrorsNameWhatFailed) {
   magic[1] = 'X';
   ExpectRefused(magic, "byte 0: not a dynterrain terrain file");
   auto version = bytes;
-  PutU32(version, 8, 2);
+  PutU32(version, 8, 3);
   Reseal(version);
-  ExpectRefused(version, "byte 8: format version 2 is not supported");
+  ExpectRefused(version,
+                "byte 8: format version 3 is not supported (this build reads versions 1 "
+                "to 2)");
+  PutU32(version, 8, 0);
+  Reseal(version);
+  ExpectRefused(version, "byte 8: format version 0 is not supported");
   auto lengths = bytes;
   PutU32(lengths, 12, 4);  // ground section length, now too short for any grid
   ExpectRefused(lengths, "byte 12: header declares a 4-byte ground section");
+}
+
+// A version 1 file, written byte by byte from the layout docs/terrain-file-format.md gave for
+// version 1 (not by this build's writer): a 3 x 3 ground with a crater and a berm.
+std::vector<uint8_t> VersionOneFile(uint16_t feature_type = 1) {
+  ByteWriter ground;
+  ground.U32(3);
+  ground.F64(10.0);
+  for (int k = 0; k < 9; ++k) ground.F32(static_cast<float>(k));
+  for (int k = 0; k < 8; ++k) ground.U16(k % 2 ? 2 : 3);  // dirt, sand
+  ByteWriter features;
+  features.U32(2);
+  auto record = [&](uint32_t number, uint16_t type, std::array<double, 9> fields) {
+    features.U16(1);
+    features.U16(2);
+    features.U32(number);
+    features.U32(82);  // the version 1 parameter record: no points
+    features.U16(type);
+    for (double v : fields) features.F64(v);  // x, z, direction, height[2], length[3], width
+    features.U16(0);                          // material: from the ground
+    features.I32(0);                          // status
+    features.U16(0);                          // no vertex edits
+  };
+  record(1, feature_type, {10, 10, 0, 0, 0, 4, 0, 0, 0});
+  record(2, 2, {2, 5, 0, 1.5, 0, 15, 0, 0, 3});
+  ByteWriter file;
+  for (uint8_t b : std::array<uint8_t, 8>{0x89, 'D', 'T', 'E', 'R', '\r', '\n', 0x1A}) file.U8(b);
+  file.U32(1);
+  file.U64(ground.bytes().size());
+  file.U64(features.bytes().size());
+  file.Bytes(ground.bytes());
+  file.Bytes(features.bytes());
+  file.U64(XXH3_64bits(file.bytes().data(), file.bytes().size()));
+  return file.bytes();
+}
+
+TEST(TerrainFileTest, VersionOneFilesStillLoad) {
+  const auto bytes = VersionOneFile();
+  auto loaded = DecodeTerrainFile(bytes, "old.dtt");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  std::vector<float> posts;
+  for (int k = 0; k < 9; ++k) posts.push_back(static_cast<float>(k));
+  HeightGrid ground(3, 10.0, std::move(posts));
+  Terrain expected(ground);
+  for (int k = 0; k < 8; ++k) {
+    ASSERT_TRUE(expected
+                    .SetSoil({(k / 2) % 2, k / 4},
+                             k % 2 ? TriangleHalf::kUpper : TriangleHalf::kLower,
+                             k % 2 ? Material::kDirt : Material::kSand)
+                    .ok());
+  }
+  ASSERT_TRUE(expected.Add({1, 2, 1}, FeatureParams::Crater(10, 10, 4)).ok());
+  ASSERT_TRUE(expected.Add({1, 2, 2}, FeatureParams::Berm(2, 5, 0, 15, 3, 1.5)).ok());
+  EXPECT_EQ(ComputeDigest(*loaded.value()), ComputeDigest(expected));
+  // Saved again, it is a version 2 file of the same state.
+  const auto again = EncodeTerrainFile(*loaded.value());
+  EXPECT_EQ(again[8], 2);
+  EXPECT_EQ(ComputeDigest(*DecodeTerrainFile(again, "new.dtt").value()), ComputeDigest(expected));
+}
+
+TEST(TerrainFileTest, VersionOneCannotHoldTheNewTypes) {
+  ExpectRefused(VersionOneFile(4), "a version 1 file cannot hold a ditch");
+}
+
+TEST(TerrainFileTest, EveryNewTypeSurvivesARoundTrip) {
+  Terrain t(HeightGrid(33, 2.0, 1.0f, Material::kGrass));
+  ASSERT_TRUE(t.Add({1, 1, 1}, FeatureParams::DeepCrater(20, 20, 6, 2.5)).ok());
+  ASSERT_TRUE(
+      t.Add({1, 1, 2}, FeatureParams::Ditch({{9, 40, 2, 5}, {30, 40, 1.5, 4}, {40, 55, 2, 5}}, 1.0,
+                                            1.0, 2.0, Material::kDirt))
+          .ok());
+  ASSERT_TRUE(t.Add({1, 1, 3}, FeatureParams::BermLine({{40, 5, 1, 4}, {55, 10, 2, 6}})).ok());
+  ASSERT_TRUE(t.Add({1, 1, 4}, FeatureParams::Area({{10, 10, 0, 0}, {30, 10, 0, 0}, {20, 30, 0, 0}},
+                                                   Material::kWater, 0.5))
+                  .ok());
+  auto back = DecodeTerrainFile(EncodeTerrainFile(t), "t.dtt");
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_EQ(ComputeDigest(*back.value()), ComputeDigest(t));
+  for (const Feature* f : t.FeaturesById()) {
+    EXPECT_EQ(back.value()->Find(f->id())->params(), f->params()) << f->id().ToString();
+  }
 }
 
 TEST(TerrainFileTest, ResealedStructuralErrorsAreStillRefused) {

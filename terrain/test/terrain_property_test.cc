@@ -1,13 +1,19 @@
-// Properties of Terrain over seeded random grounds and random craters and berms.
+// Properties of Terrain over seeded random grounds and random features of every type, in
+// random arrival orders (docs/terrain.md "Composing the surface").
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
+#include <numeric>
+#include <optional>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "terrain/crater.h"
+#include "terrain/polyline_earthwork.h"
 #include "terrain/terrain.h"
+#include "terrain/terrain_digest.h"
 
 namespace dt {
 namespace {
@@ -48,18 +54,43 @@ HeightGrid RandomGround(std::mt19937_64& rng) {
   return ground;
 }
 
-// Random craters (some with rim/floor edits; the outer ring stays at the ground so the surface
-// stays continuous) and berms. Some leave the terrain and will be refused.
+// A random polyline of 2..6 points from (x, z), turning at most 120 degrees at each joint, with
+// per-point sizes drawn by `size`.
+template <typename Size>
+std::vector<FeaturePoint> RandomPolyline(std::mt19937_64& rng, double x, double z, double size_m,
+                                         int max_points, Size size) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const int n = 2 + static_cast<int>(rng() % static_cast<uint64_t>(max_points - 1));
+  std::vector<FeaturePoint> pts;
+  double heading = 2 * kPi * unit(rng);
+  for (int k = 0; k < n; ++k) {
+    auto [h, w] = size();
+    pts.push_back({x, z, h, w});
+    const double step = 1 + unit(rng) * size_m / 6;
+    heading += (2 * unit(rng) - 1) * kPi * 2 / 3;
+    x += step * std::cos(heading);
+    z += step * std::sin(heading);
+  }
+  return pts;
+}
+
+// Random craters (some below the ground, some with rim/floor edits that may lower as well as
+// raise; the outer ring stays at the ground so the surface stays continuous), berms, ditches
+// (a spoil berm only on straight ones: at the inside of a joint the spoil is not continuous,
+// docs/terrain.md), berm lines and areas (water, mud, oil, burnt). Some leave the terrain and
+// will be refused.
 std::vector<FeatureParams> RandomFeatures(std::mt19937_64& rng, double size_m) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<FeatureParams> out;
   const int count = 20 + static_cast<int>(rng() % 40);
   for (int k = 0; k < count; ++k) {
     const double x = size_m * unit(rng), z = size_m * unit(rng);
-    if (rng() % 2 == 0) {
+    const uint64_t kind = rng() % 10;
+    if (kind < 4) {
       const double r = 0.5 + unit(rng) * std::min(30.0, size_m / 4);
       FeatureParams p =
           FeatureParams::Crater(x, z, r, rng() % 3 == 0 ? Material::kRock : Material::kFromGround);
+      if (rng() % 2 == 0) p.height_m[0] = unit(rng) * r / 2;  // below the ground
       const int edits = static_cast<int>(rng() % 6);
       for (int e = 0; e < edits; ++e) {
         p = WithCraterVertexEdit(
@@ -67,10 +98,39 @@ std::vector<FeatureParams> RandomFeatures(std::mt19937_64& rng, double size_m) {
                 static_cast<uint8_t>(rng() % (kCraterRings - 1)), r * (unit(rng) - 0.3)});
       }
       out.push_back(p);
-    } else {
+    } else if (kind < 6) {
       out.push_back(FeatureParams::Berm(x, z, 2 * kPi * (unit(rng) - 0.5),
                                         1 + unit(rng) * size_m / 2, 1 + 19 * unit(rng),
                                         0.2 + 7.8 * unit(rng)));
+    } else if (kind < 8) {
+      const double run = 0.2 + 2 * unit(rng);
+      const bool spoil = rng() % 2 == 0;
+      auto pts = RandomPolyline(rng, x, z, size_m, spoil ? 2 : 6, [&] {
+        return std::pair{0.2 + 4 * unit(rng), 2 * run + 0.1 + 8 * unit(rng)};
+      });
+      out.push_back(FeatureParams::Ditch(std::move(pts), run, spoil ? 0.3 + 2 * unit(rng) : 0.0,
+                                         spoil ? 1 + 4 * unit(rng) : 0.0,
+                                         rng() % 2 ? Material::kDirt : Material::kFromGround));
+    } else if (kind < 9) {
+      auto pts = RandomPolyline(rng, x, z, size_m, 6, [&] {
+        return std::pair{0.2 + 5 * unit(rng), 1 + 12 * unit(rng)};
+      });
+      out.push_back(FeatureParams::BermLine(std::move(pts)));
+    } else {
+      // A convex-ish polygon of 3..8 points around (x, z), possibly self-crossing.
+      const int n = 3 + static_cast<int>(rng() % 6);
+      const double r = 1 + unit(rng) * size_m / 4;
+      std::vector<FeaturePoint> pts;
+      for (int i = 0; i < n; ++i) {
+        const double a = 2 * kPi * (i + 0.8 * unit(rng)) / n;
+        pts.push_back({x + r * unit(rng) * std::cos(a), z + r * unit(rng) * std::sin(a), 0.0, 0.0});
+      }
+      pts[0] = {x, z, 0.0, 0.0};
+      constexpr Material kKinds[] = {Material::kWater, Material::kMud, Material::kOil,
+                                     Material::kBurnt};
+      const Material m = kKinds[rng() % 4];
+      const double level = m == Material::kWater ? 5 + 20 * unit(rng) : 0.0;
+      out.push_back(FeatureParams::Area(std::move(pts), m, level));
     }
   }
   return out;
@@ -127,28 +187,45 @@ TEST(TerrainProperty, ElevationIsFiniteEverywhereInBounds) {
   }
 }
 
-TEST(TerrainProperty, ElevationIsNeverBelowTheBareGroundAndCoversEveryEarthwork) {
+TEST(TerrainProperty, EveryTypeIsAccepted) {
+  std::map<FeatureType, int> seen;
+  for (uint64_t seed : kSeeds) {
+    for (const auto& [id, p] : Build(seed).accepted) ++seen[p.type];
+  }
+  for (FeatureType t : {FeatureType::kCrater, FeatureType::kBerm, FeatureType::kDitch,
+                        FeatureType::kBermLine, FeatureType::kArea}) {
+    EXPECT_GT(seen[t], 0) << FeatureTypeName(t);
+  }
+}
+
+// The composition rule, recomputed from each feature's own offset: the ground plus the highest
+// raise (at least 0) plus the deepest cut (at most 0).
+TEST(TerrainProperty, ElevationIsGroundPlusHighestRaisePlusDeepestCut) {
   for (uint64_t seed : kSeeds) {
     const World w = Build(seed);
-    int raised = 0;
+    int raised = 0, lowered = 0;
     for (auto [x, z] : SamplePoints(seed, w.terrain.ground().size_m(), 20000)) {
       const double ground = w.terrain.GroundElevationAt(x, z);
       const double e = w.terrain.ElevationAt(x, z);
-      ASSERT_GE(e, ground) << seed << ": " << x << "," << z;
       raised += e > ground;
+      lowered += e < ground;
       bool covered = false;
+      double raise = 0.0, cut = 0.0;
       for (const Feature* f : w.terrain.FeaturesNear(x, z)) {
         if (auto off = f->OffsetAboveGround(x, z)) {
           covered = true;
-          EXPECT_GE(e, ground + *off - 1e-9) << seed << ": " << f->id().ToString();
+          raise = std::max(raise, *off);
+          cut = std::min(cut, *off);
         }
       }
+      ASSERT_EQ(e, ground + raise + cut) << seed << ": " << x << "," << z;
       // Wherever a feature covers a point, the presence bit is set (vehicles rely on it).
       if (covered) {
         EXPECT_TRUE(w.terrain.FeatureBitAt(x, z)) << seed << ": " << x << "," << z;
       }
     }
     EXPECT_GT(raised, 0) << seed;
+    EXPECT_GT(lowered, 0) << seed;
   }
 }
 
@@ -201,6 +278,52 @@ TEST(TerrainProperty, InsertionOrderDoesNotMatter) {
           << seed << ": " << x << "," << z;
       ASSERT_EQ(w.terrain.SoilAt(x, z), other.SoilAt(x, z)) << seed << ": " << x << "," << z;
       ASSERT_EQ(w.terrain.FeatureBitAt(x, z), other.FeatureBitAt(x, z));
+      ASSERT_EQ(w.terrain.WaterLevelAt(x, z), other.WaterLevelAt(x, z));
+    }
+    EXPECT_EQ(ComputeDigest(w.terrain), ComputeDigest(other)) << seed;
+  }
+}
+
+// Every node applies the same changes in its own order, some of them updates (a ditch grown by a
+// point, a crater deepened) arriving before or after other features: the surface and the digest
+// agree.
+TEST(TerrainProperty, ArrivalOrderOfAddsAndUpdatesDoesNotMatter) {
+  for (uint64_t seed : kSeeds) {
+    const World w = Build(seed);
+    std::mt19937_64 rng(seed * 31 + 5);
+    std::vector<std::pair<FeatureId, FeatureParams>> finals;
+    for (const auto& [id, p] : w.accepted) {
+      FeatureParams q = p;
+      if (q.type == FeatureType::kCrater && rng() % 2 == 0) q.height_m[0] = q.length_m[0] / 4;
+      if (q.type == FeatureType::kBermLine) {
+        for (auto& pt : q.points) pt.height_m *= 1.5;
+      }
+      finals.emplace_back(id, q);
+    }
+    std::vector<double> reference;
+    const auto points = SamplePoints(seed, w.terrain.ground().size_m(), 3000);
+    std::optional<TerrainDigest> reference_digest;
+    for (int order = 0; order < 4; ++order) {
+      std::mt19937_64 ground_rng(seed);
+      Terrain t(RandomGround(ground_rng));
+      std::vector<size_t> idx(w.accepted.size());
+      std::iota(idx.begin(), idx.end(), size_t{0});
+      std::shuffle(idx.begin(), idx.end(), rng);
+      for (size_t i : idx) ASSERT_TRUE(t.Add(w.accepted[i].first, w.accepted[i].second).ok());
+      std::shuffle(idx.begin(), idx.end(), rng);
+      for (size_t i : idx) {
+        // An update may be refused (grown off the terrain); then every order refuses it.
+        (void)t.Update(finals[i].first, finals[i].second);
+      }
+      std::vector<double> here;
+      for (auto [x, z] : points) here.push_back(t.ElevationAt(x, z));
+      if (order == 0) {
+        reference = here;
+        reference_digest = ComputeDigest(t);
+      } else {
+        ASSERT_EQ(here, reference) << seed << " order " << order;
+        ASSERT_EQ(ComputeDigest(t), *reference_digest) << seed << " order " << order;
+      }
     }
   }
 }

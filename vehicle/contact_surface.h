@@ -3,11 +3,13 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include <Eigen/Core>
 
 #include "terrain/feature_id.h"
 #include "terrain/material.h"
+#include "terrain/rect.h"
 #include "terrain/terrain.h"
 #include "vehicle/bridge_solids.h"
 
@@ -52,5 +54,25 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
 // True if the bounds of a crater or berm indexed in the squares the rectangle touches overlap
 // it: only there can the surface rise between a vehicle's always-sampled contacts.
 bool EarthworkNear(const Terrain& terrain, const Rect& area);
+
+// An earthwork near a vehicle and its bounds, kept by the vehicle while the terrain cannot change
+// (one Advance): asking it is local, where the terrain's own index reaches into the features'
+// scattered memory for every point.
+struct NearEarthwork {
+  const Feature* feature = nullptr;
+  Rect bounds;
+};
+
+// Every crater and berm whose bounds overlap `area`, each once, into `out` (cleared first).
+void EarthworksNear(const Terrain& terrain, const Rect& area, std::vector<NearEarthwork>& out);
+
+// True if the bounds of one of `near` overlap `area`: EarthworkNear's answer for any area inside
+// the one `near` was gathered over.
+bool AnyOverlaps(std::span<const NearEarthwork> near, const Rect& area);
+
+// Terrain::ElevationAt(x, z), the same bits, for a point inside the area `near` was gathered
+// over: the ground plus the highest earthwork offset over it.
+double ElevationNear(const Terrain& terrain, std::span<const NearEarthwork> near, double x_m,
+                     double z_m);
 
 }  // namespace dt

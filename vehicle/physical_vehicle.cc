@@ -97,13 +97,28 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
   const int gl = std::max(3, static_cast<int>(std::ceil(W / kBellyGridSpacingM)) + 1);
   grid_step_ahead_m_ = L / (ga - 1);
   grid_step_left_m_ = W / (gl - 1);
+  std::vector<int> grid_index(static_cast<size_t>(ga * gl), -1);
   for (int i = 0; i < ga; ++i) {
     for (int j = 0; j < gl; ++j) {
       const double left = -W / 2.0 + W * j / (gl - 1);
       if (std::abs(left) < 1e-9) continue;  // the centre line is above
       const double ahead = -L / 2.0 + L * i / (ga - 1);
+      grid_index[static_cast<size_t>(i * gl + j)] = static_cast<int>(contacts_.size());
       contacts_.push_back(
           {Vector3d(ahead, type.clearance_m - cg, left), false, kBellyTravelM, 0, true, {}});
+    }
+  }
+  grid_neighbours_.assign(contacts_.size(), {-1, -1, -1, -1});
+  grid_near_.assign(contacts_.size(), 0);
+  auto grid_at = [&](int i, int j) {
+    return i < 0 || i >= ga || j < 0 || j >= gl ? -1 : grid_index[static_cast<size_t>(i * gl + j)];
+  };
+  for (int i = 0; i < ga; ++i) {
+    for (int j = 0; j < gl; ++j) {
+      const int k = grid_at(i, j);
+      if (k < 0) continue;
+      grid_neighbours_[static_cast<size_t>(k)] = {grid_at(i + 1, j), grid_at(i - 1, j),
+                                                  grid_at(i, j + 1), grid_at(i, j - 1)};
     }
   }
   // Hull perimeter from the belly to the roof, in rows close enough that no deck slab fits
@@ -296,7 +311,9 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
   for (int64_t done = 0; done < steps && !frozen_;) {
     const int64_t n = std::min(kChunkSteps, steps - done);
     const double margin = reach + (v_.norm() + 20.0) * kPhysicsStepS * static_cast<double>(n);
-    SolidsNear(terrain, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(margin), solids_);
+    const Rect area = Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(margin);
+    SolidsNear(terrain, area, solids_);
+    EarthworksNear(terrain, area, earthworks_);
     for (int64_t k = 0; k < n && !frozen_; ++k) {
       // Substeps keep every move under kMaxMovePerStepM, so no solid is tunnelled through.
       const double fastest = v_.norm() + w_.norm() * reach;
@@ -338,17 +355,22 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   const double half_diagonal = 0.5 * std::hypot(type_.base.length_m, type_.base.width_m);
   const size_t sampled =
       !solids.empty() ||
-              EarthworkNear(terrain, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(half_diagonal))
+              AnyOverlaps(earthworks_, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(half_diagonal))
           ? contacts_.size()
           : always_count_;
   for (size_t k = 0; k < sampled && count < touches.size(); ++k) {
     Contact& c = contacts_[k];
     const Vector3d r = R * c.body;
     const Vector3d p = x_ + r;
-    // Belly grid points rarely touch: a height alone tells, before the normal and soil.
-    if (c.dense && solids.empty() && terrain.ElevationAt(p.x(), p.z()) <= p.y()) {
-      c.air_steps = std::min(c.air_steps + 1, 1 << 20);
-      continue;
+    if (c.dense) {
+      // Belly grid points rarely touch: a height alone tells, before the normal and soil. It
+      // also tells whether the point is near enough to refine around (below).
+      const double e = ElevationNear(terrain, earthworks_, p.x(), p.z());
+      grid_near_[k] = e > p.y() - kBellyRefineGapM;
+      if (solids.empty() && e <= p.y()) {
+        c.air_steps = std::min(c.air_steps + 1, 1 << 20);
+        continue;
+      }
     }
     if (c.ground.epoch != epoch_) {
       c.ground.valid = false;
@@ -389,26 +411,20 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   // once, owned by the point towards +ahead / +left unless that neighbour is not near.
   if (sampled > always_count_) {
     const double L2 = type_.base.length_m / 2.0 + 1e-9, W2 = type_.base.width_m / 2.0 + 1e-9;
-    auto near = [&](const Vector3d& body) {
-      const Vector3d p = x_ + R * body;
-      return terrain.ElevationAt(p.x(), p.z()) > p.y() - kBellyRefineGapM;
-    };
-    auto is_grid = [&](const Vector3d& body) {
-      return std::abs(body.x()) <= L2 && std::abs(body.z()) <= W2 && std::abs(body.z()) > 1e-9;
-    };
     const Vector3d steps[] = {{grid_step_ahead_m_, 0.0, 0.0},
                               {-grid_step_ahead_m_, 0.0, 0.0},
                               {0.0, 0.0, grid_step_left_m_},
                               {0.0, 0.0, -grid_step_left_m_}};
     for (size_t k = always_count_ + static_cast<size_t>(per_side_); k < sampled; ++k) {
       const Contact& c = contacts_[k];
-      if (!near(c.body)) continue;
+      if (!grid_near_[k]) continue;
       for (int d = 0; d < 4 && count < touches.size(); ++d) {
-        const Vector3d q = c.body + steps[d];
         const Vector3d mid = c.body + 0.5 * steps[d];
         if (std::abs(mid.x()) > L2 || std::abs(mid.z()) > W2) continue;
         const bool towards_plus = d == 0 || d == 2;
-        if (is_grid(q) && near(q) && !towards_plus) continue;  // the neighbour owns this edge
+        const int q = grid_neighbours_[k][static_cast<size_t>(d)];
+        // The neighbour owns this edge.
+        if (q >= 0 && grid_near_[static_cast<size_t>(q)] && !towards_plus) continue;
         const Vector3d r = R * mid;
         const Vector3d p = x_ + r;
         GroundPlaneCache cache;

@@ -1,6 +1,7 @@
 // PhysicalVehicle: a rigid body on spring-damper contacts, driven within the grip of the ground.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -152,6 +153,13 @@ class PhysicalVehicle {
   int64_t pending_ns_ = 0;
   uint32_t epoch_ = 0;         // counts Advance calls: ground caches of an earlier one are stale
   std::vector<Solid> solids_;  // reused between Advance calls
+  // Craters and berms near the vehicle, gathered with solids_ for a chunk of steps of one Advance
+  // (the terrain cannot change during one).
+  std::vector<NearEarthwork> earthworks_;
+  // Belly grid: each point's neighbours towards +ahead, -ahead, +left, -left (contact index, -1
+  // where there is no grid point), and whether the point is near the surface this step.
+  std::vector<std::array<int, 4>> grid_neighbours_;
+  std::vector<uint8_t> grid_near_;
   Damage damage_ = Damage::kNone;
   bool frozen_ = false;  // tipped over: the wreck stays where it came to lie
   double sin_pitch_limit_ = 0.0, tan_roll_limit_ = 0.0;

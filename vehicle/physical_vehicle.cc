@@ -24,8 +24,8 @@ constexpr double kDampingRatio = 0.6;
 // Belly contacts bottom out almost at once: the hull is rigid.
 constexpr double kBellyTravelM = 0.03;
 // The tag leaves after this many steps without the deck (0.1 s); a fall stays latched for 1 s.
-constexpr int kLeaveDeckSteps = 20;
-constexpr int kFallLatchSteps = 200;
+constexpr int kLeaveDeckSteps = static_cast<int>(100'000'000 / kPhysicsStepNs);
+constexpr int kFallLatchSteps = static_cast<int>(1'000'000'000 / kPhysicsStepNs);
 // Belly grid points are at most this far apart.
 constexpr double kBellyGridSpacingM = 0.5;
 // A belly grid point this close to the surface also samples half-way to its neighbours: a crease
@@ -488,16 +488,20 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
       const double vf1 = vf + f_rr * h / m;
       double fw = m * (v_cmd - vf1) / h;
       const bool accelerating = v_cmd != 0.0 && fw * v_cmd > 0.0 && vf1 * v_cmd >= 0.0;
-      if (accelerating) {
-        const double engine = type_.engine_power_w / std::max(std::abs(vf1), kEngineFloorSpeedMps);
-        const double limit = std::min(engine, cg);
-        fw = std::clamp(fw, -limit, limit);
-      }
       const double fs = -m * vs / h;
       const Vector3d yaw_body = R.transpose() * yaw_axis;
       const double inertia_n = yaw_body.dot(inertia_.cwiseProduct(yaw_body));
       const double moment = inertia_n * (r_cmd - yaw) / h;
       const double arm = type_.base.length_m / 4.0;
+      if (accelerating) {
+        // The engine drives with what grip the side force and the turn leave: pressed against a
+        // wall at an angle, the running gear holds sideways rather than spinning and sliding
+        // along it at a speed that grew with the step.
+        const double engine = type_.engine_power_w / std::max(std::abs(vf1), kEngineFloorSpeedMps);
+        const double left = cs * cs - fs * fs - (moment / arm) * (moment / arm);
+        const double limit = std::min({engine, cg, std::sqrt(std::max(0.0, left))});
+        fw = std::clamp(fw, -limit, limit);
+      }
       const double demand = std::sqrt(fw * fw + fs * fs + (moment / arm) * (moment / arm));
       double scale = 1.0;
       if (demand > cs) {

@@ -21,8 +21,8 @@ namespace dt {
 
 // The fixed internal step: every Advance runs whole steps of this length, whatever the caller's
 // tick, and keeps the remainder for the next call (docs/vehicles.md "Time step").
-inline constexpr int64_t kPhysicsStepNs = 5'000'000;
-inline constexpr double kPhysicsStepS = 0.005;
+inline constexpr int64_t kPhysicsStepNs = 10'000'000;
+inline constexpr double kPhysicsStepS = 0.010;
 inline constexpr double kGravityMps2 = 9.81;
 // Static sag of the running gear under the vehicle's weight; the springs follow from it.
 inline constexpr double kStaticSagM = 0.05;
@@ -31,7 +31,7 @@ inline constexpr double kGearTravelM = 0.2;
 // The most a body point moves in one (sub)step: half the thinnest solid (deck slab 0.5 m).
 inline constexpr double kMaxMovePerStepM = 0.2;
 // A contact that was clear of the ground this long and touches again is a landing.
-inline constexpr int kLandingAirSteps = 4;
+inline constexpr int kLandingAirSteps = static_cast<int>(20'000'000 / kPhysicsStepNs);
 
 enum class Damage : uint8_t { kNone = 0, kImmobilised = 1, kDestroyed = 2 };
 std::string_view DamageName(Damage damage);  // "none", "immobilised", "destroyed"

@@ -38,7 +38,7 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
 // terrain updates); a point inside it needs no grid look-up.
 struct GroundPlaneCache {
   bool valid = false;
-  uint32_t epoch = 0;  // the owner's count of terrain states: a cache of another is stale
+  uint64_t stamp = 0;  // the terrain's stamp when filled (Terrain::stamp): another's is stale
   double x0 = 0, z0 = 0, x1 = 0, z1 = 0;  // the cell
   double square_x0 = 0, square_z0 = 0, inverse_spacing = 0;
   bool upper = false;                       // which triangle of the square

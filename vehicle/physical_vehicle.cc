@@ -39,6 +39,9 @@ constexpr double kHullSampleSpacingM = 0.5;
 constexpr double kTrackContactSpacingM = 2.0;
 // Below this speed the engine's force is taken at this speed (P / v is unbounded at rest).
 constexpr double kEngineFloorSpeedMps = 1.0;
+// Features are gathered this far around the area a chunk of steps can reach, and gathered again
+// once a chunk reaches outside (or the terrain changed).
+constexpr double kNearCacheMarginM = 24.0;
 
 Quaterniond HeadingQuaternion(double heading_rad) {
   return Quaterniond(Eigen::AngleAxisd(-heading_rad, Vector3d::UnitY()));
@@ -299,11 +302,17 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
                              type_.base.name, x_.x(), x_.z(), terrain.ground().size_m())};
   }
   PhysicalReport report;
-  ++epoch_;
   pending_ns_ += std::llround(dt_s * 1e9);
   const int64_t steps = pending_ns_ / kPhysicsStepNs;
   pending_ns_ -= steps * kPhysicsStepNs;
   if (frozen_) return report;
+  // The running gear's contacts are read in every step: fetched now, their misses (a fleet's
+  // vehicles do not stay in the cache between ticks) overlap the gathering of features below.
+  {
+    const char* begin = reinterpret_cast<const char*>(contacts_.data());
+    const char* end = reinterpret_cast<const char*>(contacts_.data() + always_count_ + per_side_);
+    for (const char* p = begin; p < end; p += 64) __builtin_prefetch(p);
+  }
   const double reach =
       std::hypot(type_.base.length_m, type_.base.width_m) / 2.0 + type_.hull_height_m + 2.0;
   // Solids are gathered for chunks of steps, over the area the vehicle can reach in one.
@@ -312,8 +321,24 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
     const int64_t n = std::min(kChunkSteps, steps - done);
     const double margin = reach + (v_.norm() + 20.0) * kPhysicsStepS * static_cast<double>(n);
     const Rect area = Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(margin);
-    SolidsNear(terrain, area, solids_);
-    EarthworksNear(terrain, area, earthworks_);
+    if (near_stamp_ != terrain.stamp() || area.min_x < near_area_.min_x ||
+        area.min_z < near_area_.min_z || area.max_x > near_area_.max_x ||
+        area.max_z > near_area_.max_z) {
+      near_area_ = area.Expanded(kNearCacheMarginM);
+      SolidsNear(terrain, near_area_, near_solids_);
+      near_solid_bounds_.clear();
+      for (const Solid& s : near_solids_) near_solid_bounds_.push_back(PlanBounds(s));
+      EarthworksNear(terrain, near_area_, near_earthworks_);
+      near_stamp_ = terrain.stamp();
+    }
+    solids_.clear();
+    for (size_t i = 0; i < near_solids_.size(); ++i) {
+      if (near_solid_bounds_[i].Intersects(area)) solids_.push_back(near_solids_[i]);
+    }
+    earthworks_.clear();
+    for (const NearEarthwork& e : near_earthworks_) {
+      if (e.bounds.Intersects(area)) earthworks_.push_back(e);
+    }
     for (int64_t k = 0; k < n && !frozen_; ++k) {
       // Substeps keep every move under kMaxMovePerStepM, so no solid is tunnelled through.
       const double fastest = v_.norm() + w_.norm() * reach;
@@ -372,9 +397,9 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
         continue;
       }
     }
-    if (c.ground.epoch != epoch_) {
+    if (c.ground.stamp != terrain.stamp()) {
       c.ground.valid = false;
-      c.ground.epoch = epoch_;
+      c.ground.stamp = terrain.stamp();
     }
     const SurfaceSample s =
         SampleSurface(terrain, solids, p.x(), p.z(), p.y() + c.reach_m, c.ground);

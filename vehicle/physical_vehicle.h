@@ -114,7 +114,7 @@ class PhysicalVehicle {
     double reach_m = 0.0;  // a solid top this far above the point still carries it
     int air_steps = 0;
     bool dense = false;       // belly grid: only sampled where features lie under the footprint
-    GroundPlaneCache ground;  // valid for one Advance (epoch_): the terrain may change between
+    GroundPlaneCache ground;  // valid while the terrain's stamp is the one it was filled under
   };
 
   PhysicalVehicle(const PhysicalVehicleType& type, double x_m, double z_m, double heading_rad,
@@ -151,10 +151,16 @@ class PhysicalVehicle {
   double cmd_speed_mps_ = 0.0;
   double cmd_rate_rad_s_ = 0.0;
   int64_t pending_ns_ = 0;
-  uint32_t epoch_ = 0;         // counts Advance calls: ground caches of an earlier one are stale
-  std::vector<Solid> solids_;  // reused between Advance calls
-  // Craters and berms near the vehicle, gathered with solids_ for a chunk of steps of one Advance
-  // (the terrain cannot change during one).
+  // Bridge solids and earthworks over an area around the vehicle, kept between Advance calls
+  // while the terrain's stamp is the one they were gathered under and every chunk of steps
+  // stays inside the area: the terrain's index reaches into scattered memory.
+  uint64_t near_stamp_ = 0;  // 0: nothing gathered (stamps start at 1)
+  Rect near_area_;
+  std::vector<Solid> near_solids_;
+  std::vector<Rect> near_solid_bounds_;
+  std::vector<NearEarthwork> near_earthworks_;
+  // Those of them that the vehicle can reach in the current chunk of steps.
+  std::vector<Solid> solids_;
   std::vector<NearEarthwork> earthworks_;
   // Belly grid: each point's neighbours towards +ahead, -ahead, +left, -left (contact index, -1
   // where there is no grid point), and whether the point is near the surface this step.

@@ -173,15 +173,18 @@ bool AnyOverlaps(std::span<const NearEarthwork> near, const Rect& area) {
   return false;
 }
 
-double ElevationNear(const Terrain& terrain, std::span<const NearEarthwork> near, double x_m,
-                     double z_m) {
-  const double ground = terrain.GroundElevationAt(x_m, z_m);
-  double highest_offset_m = 0.0;  // as Terrain::ElevationAt: kNotCovered never beats 0
+bool EarthworkElevationAt(const Terrain& terrain, std::span<const NearEarthwork> near, double x_m,
+                          double z_m, double& elevation_m) {
+  double highest_offset_m = 0.0;
+  bool over = false;
   for (const NearEarthwork& e : near) {
     if (!e.bounds.Contains(x_m, z_m)) continue;
+    over = true;
     highest_offset_m = std::max(highest_offset_m, e.feature->OffsetOrNotCovered(x_m, z_m));
   }
-  return ground + highest_offset_m;
+  if (!over) return false;
+  elevation_m = terrain.GroundElevationAt(x_m, z_m) + highest_offset_m;
+  return true;
 }
 
 }  // namespace dt

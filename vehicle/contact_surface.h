@@ -70,9 +70,10 @@ void EarthworksNear(const Terrain& terrain, const Rect& area, std::vector<NearEa
 // the one `near` was gathered over.
 bool AnyOverlaps(std::span<const NearEarthwork> near, const Rect& area);
 
-// Terrain::ElevationAt(x, z), the same bits, for a point inside the area `near` was gathered
-// over: the ground plus the highest earthwork offset over it.
-double ElevationNear(const Terrain& terrain, std::span<const NearEarthwork> near, double x_m,
-                     double z_m);
+// Terrain::ElevationAt(x, z), the same bits, where the bounds of one of `near` (gathered over an
+// area holding the point) hold the point: the ground plus the highest earthwork offset over it
+// (into `elevation_m`, true); false, and nothing asked of the ground, elsewhere.
+bool EarthworkElevationAt(const Terrain& terrain, std::span<const NearEarthwork> near, double x_m,
+                          double z_m, double& elevation_m);
 
 }  // namespace dt

@@ -388,11 +388,14 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
     const Vector3d r = R * c.body;
     const Vector3d p = x_ + r;
     if (c.dense) {
-      // Belly grid points rarely touch: a height alone tells, before the normal and soil. It
-      // also tells whether the point is near enough to refine around (below).
-      const double e = ElevationNear(terrain, earthworks_, p.x(), p.z());
-      grid_near_[k] = e > p.y() - kBellyRefineGapM;
-      if (solids.empty() && e <= p.y()) {
+      // Only over an earthwork can the ground rise into the belly between the running gear (the
+      // bare ground's triangles are far wider than the gear's spacing), and belly grid points
+      // rarely touch even there: a height alone tells, before the normal and soil. It also tells
+      // whether the point is near enough to refine around (below).
+      double e = 0.0;
+      const bool over = EarthworkElevationAt(terrain, earthworks_, p.x(), p.z(), e);
+      grid_near_[k] = over && e > p.y() - kBellyRefineGapM;
+      if (solids.empty() && (!over || e <= p.y())) {
         c.air_steps = std::min(c.air_steps + 1, 1 << 20);
         continue;
       }

@@ -240,5 +240,25 @@ TEST(PhysicalVehicle, AtRestOnFlatGroundStaysAtRest) {
   }
 }
 
+// The vehicle keeps what it gathered from the terrain between ticks (docs/vehicles.md "Contacts"):
+// a crater made under a parked tank, and its removal, reach it at once.
+TEST(PhysicalVehicle, SeesTheTerrainChangeUnderItBetweenTicks) {
+  auto t = FlatTerrain();
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 150, 150, 0.3).value();
+  Drive(*t, v, 0, 0, 2);
+  const double parked = v.elevation_m();
+  const uint64_t before = t->stamp();
+  ASSERT_TRUE(t->Add(FeatureId{1, 1, 1}, FeatureParams::Crater(150, 150, 8.0)).ok());
+  EXPECT_NE(t->stamp(), before);
+  Drive(*t, v, 0, 0, 4);
+  const double in_crater = v.elevation_m();
+  ASSERT_TRUE(t->Remove(FeatureId{1, 1, 1}).ok());
+  Drive(*t, v, 0, 0, 4);
+  std::printf("tank parked at %.3f m; a 16 m crater made under it: %.3f m; removed: %.3f m\n",
+              parked, in_crater, v.elevation_m());
+  EXPECT_GT(in_crater, parked + 0.3);  // the crater's rim, under its running gear, lifted it
+  EXPECT_NEAR(v.elevation_m(), parked, 0.05);  // and is back on the flat ground
+}
+
 }  // namespace
 }  // namespace dt::test

@@ -55,8 +55,8 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
 // it: only there can the surface rise between a vehicle's always-sampled contacts.
 bool EarthworkNear(const Terrain& terrain, const Rect& area);
 
-// An earthwork near a vehicle and its bounds, kept by the vehicle while the terrain cannot change
-// (one Advance): asking it is local, where the terrain's own index reaches into the features'
+// An earthwork near a vehicle and its bounds, kept by the vehicle while the terrain's stamp holds
+// (Terrain::stamp): asking it is local, where the terrain's own index reaches into the features'
 // scattered memory for every point.
 struct NearEarthwork {
   const Feature* feature = nullptr;

@@ -107,7 +107,7 @@ Worst RandomDrive(const Terrain& t, uint64_t seed, double seconds) {
     worst.solid_m = std::max(worst.solid_m, in.depth_m);
     // Free fall from the last tick's vertical speed bounds how far the centre of mass can drop.
     const double y = v.position_m().y();
-    // A tick runs whole 5 ms steps (6 or 7 of them), and semi-implicit Euler falls
+    // A tick runs whole internal steps (3 or 4 of 10 ms), and semi-implicit Euler falls
     // g T (T + h) / 2 in T = n h from rest.
     const double T = r.steps * kPhysicsStepS;
     const double allowed =

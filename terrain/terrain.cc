@@ -1,6 +1,7 @@
 #include "terrain/terrain.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 
@@ -10,12 +11,21 @@
 
 namespace dt {
 
+namespace {
+// Stamps are drawn from one sequence for the whole process, so no two terrains share one. Only
+// ever compared for equality: no result depends on their values.
+std::atomic<uint64_t> next_stamp{1};
+}  // namespace
+
 Terrain::Terrain(HeightGrid ground) : ground_(std::move(ground)) {
   const size_t squares = static_cast<size_t>(ground_.squares_per_side()) *
                          static_cast<size_t>(ground_.squares_per_side());
   squares_.resize(squares);
   bits_.assign(squares, 0);
+  Changed();
 }
+
+void Terrain::Changed() { stamp_ = next_stamp.fetch_add(1, std::memory_order_relaxed); }
 
 void Terrain::SquareRange(const Rect& rect, SquareIndex& lo, SquareIndex& hi) const {
   const double s = ground_.spacing_m();
@@ -57,6 +67,7 @@ Status Terrain::CheckPlacement(const Feature& candidate, const Feature* replacin
 }
 
 void Terrain::Index(const Feature* feature) {
+  Changed();
   SquareIndex lo, hi;
   SquareRange(feature->Bounds(), lo, hi);
   for (int j = lo.j; j <= hi.j; ++j) {
@@ -68,6 +79,7 @@ void Terrain::Index(const Feature* feature) {
 }
 
 void Terrain::Unindex(const Feature* feature) {
+  Changed();
   SquareIndex lo, hi;
   SquareRange(feature->Bounds(), lo, hi);
   for (int j = lo.j; j <= hi.j; ++j) {
@@ -170,6 +182,7 @@ void Terrain::RemoveAll() {
   features_.Clear();
   for (auto& list : squares_) std::vector<const Feature*>().swap(list);
   std::fill(bits_.begin(), bits_.end(), uint16_t{0});
+  Changed();
 }
 
 Status Terrain::SetPostElevation(int i, int j, float elevation_m) {
@@ -181,6 +194,7 @@ Status Terrain::SetPostElevation(int i, int j, float elevation_m) {
     return Error{fmt::format("post ({}, {}) elevation {} is not finite", i, j, elevation_m)};
   }
   ground_.set_post(i, j, elevation_m);
+  Changed();
   // The post is a corner of up to four squares; every feature touching them recomputes once.
   std::vector<Feature*> touched;
   for (int dj = -1; dj <= 0; ++dj) {
@@ -208,6 +222,7 @@ Status Terrain::SetSoil(SquareIndex square, TriangleHalf half, Material soil) {
     return Error{fmt::format("{} is not a soil", static_cast<uint16_t>(soil))};
   }
   ground_.set_soil(square, half, soil);
+  Changed();
   return Status::Ok();
 }
 

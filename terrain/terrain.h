@@ -29,6 +29,9 @@ class Terrain {
   explicit Terrain(HeightGrid ground);
 
   const HeightGrid& ground() const { return ground_; }
+  // Changes with every change of the ground or the features and is never the same for two
+  // terrains: what a caller cached from the terrain's answers stays valid while it is unchanged.
+  uint64_t stamp() const { return stamp_; }
 
   // Adds a feature. Refused if the ID exists, the parameters are invalid, the feature leaves the
   // terrain, or it conflicts with another (overlapping bridges).
@@ -89,11 +92,13 @@ class Terrain {
   // The bitgrid cells of `square` the feature may cover.
   uint16_t CellsMaybeCovered(const Feature& feature, SquareIndex square) const;
   void RecomputeBits(SquareIndex square);
+  void Changed();  // draws a new stamp
 
   HeightGrid ground_;
   FeatureTable features_;
   std::vector<std::vector<const Feature*>> squares_;  // features touching each square
   std::vector<uint16_t> bits_;                        // 4 x 4 presence bits per square
+  uint64_t stamp_ = 0;
 };
 
 }  // namespace dt

@@ -84,6 +84,19 @@ std::vector<Solid> BridgeSolids(const Bridge& b, const HeightGrid& ground) {
   return out;
 }
 
+Rect PlanBounds(const Solid& s) {
+  // From the bridge frame back to the ground: (dx, dz) = along (ux, uz) + right (uz, -ux).
+  Rect out{INFINITY, INFINITY, -INFINITY, -INFINITY};
+  for (const double a : {s.a0_m, s.a1_m}) {
+    for (const double r : {s.r0_m, s.r1_m}) {
+      const double x = s.origin_x_m + a * s.ux + r * s.uz;
+      const double z = s.origin_z_m + a * s.uz - r * s.ux;
+      out = out.Union(Rect{x, z, x, z});
+    }
+  }
+  return out;
+}
+
 std::vector<Solid> SolidsNear(const Terrain& terrain, const Rect& area) {
   std::vector<Solid> out;
   SolidsNear(terrain, area, out);

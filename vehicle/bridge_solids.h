@@ -46,6 +46,9 @@ struct Solid {
   double TopSlope() const { return (top1_m - top0_m) / (a1_m - a0_m); }
 };
 
+// The rectangle on the ground holding a solid's plan.
+Rect PlanBounds(const Solid& solid);
+
 // The solids of one bridge (docs/vehicles.md "Bridges as solids"): an intact bridge is three
 // deck slabs (ramp 1, span, ramp 2) and four piers; a destroyed one keeps its ramp slabs and piers
 // and has rubble on the ground instead of a span.

@@ -8,6 +8,8 @@ namespace {
 
 // Step of the central differences that give the normal over earthworks.
 constexpr double kNormalStepM = 0.1;
+// Earthworks cover points up to 1e-9 m outside their bounds (their edge tolerance).
+constexpr double kBoundsSlackM = 1e-6;
 
 }  // namespace
 
@@ -136,6 +138,53 @@ bool EarthworkNear(const Terrain& terrain, const Rect& area) {
     }
   }
   return false;
+}
+
+void EarthworksNear(const Terrain& terrain, const Rect& area, std::vector<NearEarthwork>& out) {
+  out.clear();
+  const HeightGrid& g = terrain.ground();
+  const double size = g.size_m();
+  const SquareIndex lo =
+      g.SquareAt(std::clamp(area.min_x, 0.0, size), std::clamp(area.min_z, 0.0, size));
+  const SquareIndex hi =
+      g.SquareAt(std::clamp(area.max_x, 0.0, size), std::clamp(area.max_z, 0.0, size));
+  for (int j = lo.j; j <= hi.j; ++j) {
+    for (int i = lo.i; i <= hi.i; ++i) {
+      if (terrain.SquareBits({i, j}) == 0) continue;
+      for (const Feature* f : terrain.FeaturesInSquare({i, j})) {
+        if (f->type() == FeatureType::kBridge) continue;
+        // Features cover their bounds' edges within a tolerance (1e-9 m): widened past it, the
+        // bounds hold every point a feature covers.
+        const Rect b = f->Bounds().Expanded(kBoundsSlackM);
+        if (!b.Intersects(area)) continue;
+        if (std::any_of(out.begin(), out.end(),
+                        [f](const NearEarthwork& e) { return e.feature == f; }))
+          continue;
+        out.push_back({f, b});
+      }
+    }
+  }
+}
+
+bool AnyOverlaps(std::span<const NearEarthwork> near, const Rect& area) {
+  for (const NearEarthwork& e : near) {
+    if (e.bounds.Intersects(area)) return true;
+  }
+  return false;
+}
+
+bool EarthworkElevationAt(const Terrain& terrain, std::span<const NearEarthwork> near, double x_m,
+                          double z_m, double& elevation_m) {
+  double highest_offset_m = 0.0;
+  bool over = false;
+  for (const NearEarthwork& e : near) {
+    if (!e.bounds.Contains(x_m, z_m)) continue;
+    over = true;
+    highest_offset_m = std::max(highest_offset_m, e.feature->OffsetOrNotCovered(x_m, z_m));
+  }
+  if (!over) return false;
+  elevation_m = terrain.GroundElevationAt(x_m, z_m) + highest_offset_m;
+  return true;
 }
 
 }  // namespace dt

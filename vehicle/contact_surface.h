@@ -3,11 +3,13 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include <Eigen/Core>
 
 #include "terrain/feature_id.h"
 #include "terrain/material.h"
+#include "terrain/rect.h"
 #include "terrain/terrain.h"
 #include "vehicle/bridge_solids.h"
 
@@ -36,7 +38,7 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
 // terrain updates); a point inside it needs no grid look-up.
 struct GroundPlaneCache {
   bool valid = false;
-  uint32_t epoch = 0;  // the owner's count of terrain states: a cache of another is stale
+  uint64_t stamp = 0;  // the terrain's stamp when filled (Terrain::stamp): another's is stale
   double x0 = 0, z0 = 0, x1 = 0, z1 = 0;  // the cell
   double square_x0 = 0, square_z0 = 0, inverse_spacing = 0;
   bool upper = false;                       // which triangle of the square
@@ -52,5 +54,26 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
 // True if the bounds of a crater or berm indexed in the squares the rectangle touches overlap
 // it: only there can the surface rise between a vehicle's always-sampled contacts.
 bool EarthworkNear(const Terrain& terrain, const Rect& area);
+
+// An earthwork near a vehicle and its bounds, kept by the vehicle while the terrain's stamp holds
+// (Terrain::stamp): asking it is local, where the terrain's own index reaches into the features'
+// scattered memory for every point.
+struct NearEarthwork {
+  const Feature* feature = nullptr;
+  Rect bounds;
+};
+
+// Every crater and berm whose bounds overlap `area`, each once, into `out` (cleared first).
+void EarthworksNear(const Terrain& terrain, const Rect& area, std::vector<NearEarthwork>& out);
+
+// True if the bounds of one of `near` overlap `area`: EarthworkNear's answer for any area inside
+// the one `near` was gathered over.
+bool AnyOverlaps(std::span<const NearEarthwork> near, const Rect& area);
+
+// Terrain::ElevationAt(x, z), the same bits, where the bounds of one of `near` (gathered over an
+// area holding the point) hold the point: the ground plus the highest earthwork offset over it
+// (into `elevation_m`, true); false, and nothing asked of the ground, elsewhere.
+bool EarthworkElevationAt(const Terrain& terrain, std::span<const NearEarthwork> near, double x_m,
+                          double z_m, double& elevation_m);
 
 }  // namespace dt

@@ -48,6 +48,11 @@ HullPenetration DeepestPenetration(std::span<const Eigen::Vector3d> points,
         best.depth_m = pick->depth;
         best.normal = pick->dir;
         best.push_m = pick->dir * pick->depth;
+        // Down through a sloping underside the face's normal leans with the slope: the velocity
+        // into it includes moving along under a ceiling that comes down, which is what drives
+        // the point into it step after step.
+        if (pick == &exits[5] && bottom_slope != 0.0)
+          best.normal = (bottom_slope * along - Eigen::Vector3d::UnitY()).normalized();
         best.point_m = p;
         best.bridge = s.bridge;
       }

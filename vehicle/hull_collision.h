@@ -12,8 +12,10 @@ namespace dt {
 
 struct HullPenetration {
   bool hit = false;
-  Eigen::Vector3d push_m = Eigen::Vector3d::Zero();   // translation that takes the point out
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero();   // unit direction of push_m
+  Eigen::Vector3d push_m = Eigen::Vector3d::Zero();  // translation that takes the point out
+  // The face's outward unit normal: push_m's direction, except down through a sloping underside,
+  // where push_m is straight down and the normal leans with the slope.
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   Eigen::Vector3d point_m = Eigen::Vector3d::Zero();  // the deepest point (world)
   double depth_m = 0.0;
   FeatureId bridge;

@@ -24,8 +24,8 @@ constexpr double kDampingRatio = 0.6;
 // Belly contacts bottom out almost at once: the hull is rigid.
 constexpr double kBellyTravelM = 0.03;
 // The tag leaves after this many steps without the deck (0.1 s); a fall stays latched for 1 s.
-constexpr int kLeaveDeckSteps = 20;
-constexpr int kFallLatchSteps = 200;
+constexpr int kLeaveDeckSteps = static_cast<int>(100'000'000 / kPhysicsStepNs);
+constexpr int kFallLatchSteps = static_cast<int>(1'000'000'000 / kPhysicsStepNs);
 // Belly grid points are at most this far apart.
 constexpr double kBellyGridSpacingM = 0.5;
 // A belly grid point this close to the surface also samples half-way to its neighbours: a crease
@@ -39,6 +39,9 @@ constexpr double kHullSampleSpacingM = 0.5;
 constexpr double kTrackContactSpacingM = 2.0;
 // Below this speed the engine's force is taken at this speed (P / v is unbounded at rest).
 constexpr double kEngineFloorSpeedMps = 1.0;
+// Features are gathered this far around the area a chunk of steps can reach, and gathered again
+// once a chunk reaches outside (or the terrain changed).
+constexpr double kNearCacheMarginM = 24.0;
 
 Quaterniond HeadingQuaternion(double heading_rad) {
   return Quaterniond(Eigen::AngleAxisd(-heading_rad, Vector3d::UnitY()));
@@ -97,13 +100,28 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
   const int gl = std::max(3, static_cast<int>(std::ceil(W / kBellyGridSpacingM)) + 1);
   grid_step_ahead_m_ = L / (ga - 1);
   grid_step_left_m_ = W / (gl - 1);
+  std::vector<int> grid_index(static_cast<size_t>(ga * gl), -1);
   for (int i = 0; i < ga; ++i) {
     for (int j = 0; j < gl; ++j) {
       const double left = -W / 2.0 + W * j / (gl - 1);
       if (std::abs(left) < 1e-9) continue;  // the centre line is above
       const double ahead = -L / 2.0 + L * i / (ga - 1);
+      grid_index[static_cast<size_t>(i * gl + j)] = static_cast<int>(contacts_.size());
       contacts_.push_back(
           {Vector3d(ahead, type.clearance_m - cg, left), false, kBellyTravelM, 0, true, {}});
+    }
+  }
+  grid_neighbours_.assign(contacts_.size(), {-1, -1, -1, -1});
+  grid_near_.assign(contacts_.size(), 0);
+  auto grid_at = [&](int i, int j) {
+    return i < 0 || i >= ga || j < 0 || j >= gl ? -1 : grid_index[static_cast<size_t>(i * gl + j)];
+  };
+  for (int i = 0; i < ga; ++i) {
+    for (int j = 0; j < gl; ++j) {
+      const int k = grid_at(i, j);
+      if (k < 0) continue;
+      grid_neighbours_[static_cast<size_t>(k)] = {grid_at(i + 1, j), grid_at(i - 1, j),
+                                                  grid_at(i, j + 1), grid_at(i, j - 1)};
     }
   }
   // Hull perimeter from the belly to the roof, in rows close enough that no deck slab fits
@@ -284,11 +302,17 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
                              type_.base.name, x_.x(), x_.z(), terrain.ground().size_m())};
   }
   PhysicalReport report;
-  ++epoch_;
   pending_ns_ += std::llround(dt_s * 1e9);
   const int64_t steps = pending_ns_ / kPhysicsStepNs;
   pending_ns_ -= steps * kPhysicsStepNs;
   if (frozen_) return report;
+  // The running gear's contacts are read in every step: fetched now, their misses (a fleet's
+  // vehicles do not stay in the cache between ticks) overlap the gathering of features below.
+  {
+    const char* begin = reinterpret_cast<const char*>(contacts_.data());
+    const char* end = reinterpret_cast<const char*>(contacts_.data() + always_count_ + per_side_);
+    for (const char* p = begin; p < end; p += 64) __builtin_prefetch(p);
+  }
   const double reach =
       std::hypot(type_.base.length_m, type_.base.width_m) / 2.0 + type_.hull_height_m + 2.0;
   // Solids are gathered for chunks of steps, over the area the vehicle can reach in one.
@@ -296,7 +320,25 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
   for (int64_t done = 0; done < steps && !frozen_;) {
     const int64_t n = std::min(kChunkSteps, steps - done);
     const double margin = reach + (v_.norm() + 20.0) * kPhysicsStepS * static_cast<double>(n);
-    SolidsNear(terrain, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(margin), solids_);
+    const Rect area = Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(margin);
+    if (near_stamp_ != terrain.stamp() || area.min_x < near_area_.min_x ||
+        area.min_z < near_area_.min_z || area.max_x > near_area_.max_x ||
+        area.max_z > near_area_.max_z) {
+      near_area_ = area.Expanded(kNearCacheMarginM);
+      SolidsNear(terrain, near_area_, near_solids_);
+      near_solid_bounds_.clear();
+      for (const Solid& s : near_solids_) near_solid_bounds_.push_back(PlanBounds(s));
+      EarthworksNear(terrain, near_area_, near_earthworks_);
+      near_stamp_ = terrain.stamp();
+    }
+    solids_.clear();
+    for (size_t i = 0; i < near_solids_.size(); ++i) {
+      if (near_solid_bounds_[i].Intersects(area)) solids_.push_back(near_solids_[i]);
+    }
+    earthworks_.clear();
+    for (const NearEarthwork& e : near_earthworks_) {
+      if (e.bounds.Intersects(area)) earthworks_.push_back(e);
+    }
     for (int64_t k = 0; k < n && !frozen_; ++k) {
       // Substeps keep every move under kMaxMovePerStepM, so no solid is tunnelled through.
       const double fastest = v_.norm() + w_.norm() * reach;
@@ -338,21 +380,29 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   const double half_diagonal = 0.5 * std::hypot(type_.base.length_m, type_.base.width_m);
   const size_t sampled =
       !solids.empty() ||
-              EarthworkNear(terrain, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(half_diagonal))
+              AnyOverlaps(earthworks_, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(half_diagonal))
           ? contacts_.size()
           : always_count_;
   for (size_t k = 0; k < sampled && count < touches.size(); ++k) {
     Contact& c = contacts_[k];
     const Vector3d r = R * c.body;
     const Vector3d p = x_ + r;
-    // Belly grid points rarely touch: a height alone tells, before the normal and soil.
-    if (c.dense && solids.empty() && terrain.ElevationAt(p.x(), p.z()) <= p.y()) {
-      c.air_steps = std::min(c.air_steps + 1, 1 << 20);
-      continue;
+    if (c.dense) {
+      // Only over an earthwork can the ground rise into the belly between the running gear (the
+      // bare ground's triangles are far wider than the gear's spacing), and belly grid points
+      // rarely touch even there: a height alone tells, before the normal and soil. It also tells
+      // whether the point is near enough to refine around (below).
+      double e = 0.0;
+      const bool over = EarthworkElevationAt(terrain, earthworks_, p.x(), p.z(), e);
+      grid_near_[k] = over && e > p.y() - kBellyRefineGapM;
+      if (solids.empty() && (!over || e <= p.y())) {
+        c.air_steps = std::min(c.air_steps + 1, 1 << 20);
+        continue;
+      }
     }
-    if (c.ground.epoch != epoch_) {
+    if (c.ground.stamp != terrain.stamp()) {
       c.ground.valid = false;
-      c.ground.epoch = epoch_;
+      c.ground.stamp = terrain.stamp();
     }
     const SurfaceSample s =
         SampleSurface(terrain, solids, p.x(), p.z(), p.y() + c.reach_m, c.ground);
@@ -389,26 +439,20 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   // once, owned by the point towards +ahead / +left unless that neighbour is not near.
   if (sampled > always_count_) {
     const double L2 = type_.base.length_m / 2.0 + 1e-9, W2 = type_.base.width_m / 2.0 + 1e-9;
-    auto near = [&](const Vector3d& body) {
-      const Vector3d p = x_ + R * body;
-      return terrain.ElevationAt(p.x(), p.z()) > p.y() - kBellyRefineGapM;
-    };
-    auto is_grid = [&](const Vector3d& body) {
-      return std::abs(body.x()) <= L2 && std::abs(body.z()) <= W2 && std::abs(body.z()) > 1e-9;
-    };
     const Vector3d steps[] = {{grid_step_ahead_m_, 0.0, 0.0},
                               {-grid_step_ahead_m_, 0.0, 0.0},
                               {0.0, 0.0, grid_step_left_m_},
                               {0.0, 0.0, -grid_step_left_m_}};
     for (size_t k = always_count_ + static_cast<size_t>(per_side_); k < sampled; ++k) {
       const Contact& c = contacts_[k];
-      if (!near(c.body)) continue;
+      if (!grid_near_[k]) continue;
       for (int d = 0; d < 4 && count < touches.size(); ++d) {
-        const Vector3d q = c.body + steps[d];
         const Vector3d mid = c.body + 0.5 * steps[d];
         if (std::abs(mid.x()) > L2 || std::abs(mid.z()) > W2) continue;
         const bool towards_plus = d == 0 || d == 2;
-        if (is_grid(q) && near(q) && !towards_plus) continue;  // the neighbour owns this edge
+        const int q = grid_neighbours_[k][static_cast<size_t>(d)];
+        // The neighbour owns this edge.
+        if (q >= 0 && grid_near_[static_cast<size_t>(q)] && !towards_plus) continue;
         const Vector3d r = R * mid;
         const Vector3d p = x_ + r;
         GroundPlaneCache cache;
@@ -472,16 +516,20 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
       const double vf1 = vf + f_rr * h / m;
       double fw = m * (v_cmd - vf1) / h;
       const bool accelerating = v_cmd != 0.0 && fw * v_cmd > 0.0 && vf1 * v_cmd >= 0.0;
-      if (accelerating) {
-        const double engine = type_.engine_power_w / std::max(std::abs(vf1), kEngineFloorSpeedMps);
-        const double limit = std::min(engine, cg);
-        fw = std::clamp(fw, -limit, limit);
-      }
       const double fs = -m * vs / h;
       const Vector3d yaw_body = R.transpose() * yaw_axis;
       const double inertia_n = yaw_body.dot(inertia_.cwiseProduct(yaw_body));
       const double moment = inertia_n * (r_cmd - yaw) / h;
       const double arm = type_.base.length_m / 4.0;
+      if (accelerating) {
+        // The engine drives with what grip the side force and the turn leave: pressed against a
+        // wall at an angle, the running gear holds sideways rather than spinning and sliding
+        // along it at a speed that grew with the step.
+        const double engine = type_.engine_power_w / std::max(std::abs(vf1), kEngineFloorSpeedMps);
+        const double left = cs * cs - fs * fs - (moment / arm) * (moment / arm);
+        const double limit = std::min({engine, cg, std::sqrt(std::max(0.0, left))});
+        fw = std::clamp(fw, -limit, limit);
+      }
       const double demand = std::sqrt(fw * fw + fs * fs + (moment / arm) * (moment / arm));
       double scale = 1.0;
       if (demand > cs) {

@@ -1,6 +1,7 @@
 // PhysicalVehicle: a rigid body on spring-damper contacts, driven within the grip of the ground.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -20,8 +21,8 @@ namespace dt {
 
 // The fixed internal step: every Advance runs whole steps of this length, whatever the caller's
 // tick, and keeps the remainder for the next call (docs/vehicles.md "Time step").
-inline constexpr int64_t kPhysicsStepNs = 5'000'000;
-inline constexpr double kPhysicsStepS = 0.005;
+inline constexpr int64_t kPhysicsStepNs = 10'000'000;
+inline constexpr double kPhysicsStepS = 0.010;
 inline constexpr double kGravityMps2 = 9.81;
 // Static sag of the running gear under the vehicle's weight; the springs follow from it.
 inline constexpr double kStaticSagM = 0.05;
@@ -30,7 +31,7 @@ inline constexpr double kGearTravelM = 0.2;
 // The most a body point moves in one (sub)step: half the thinnest solid (deck slab 0.5 m).
 inline constexpr double kMaxMovePerStepM = 0.2;
 // A contact that was clear of the ground this long and touches again is a landing.
-inline constexpr int kLandingAirSteps = 4;
+inline constexpr int kLandingAirSteps = static_cast<int>(20'000'000 / kPhysicsStepNs);
 
 enum class Damage : uint8_t { kNone = 0, kImmobilised = 1, kDestroyed = 2 };
 std::string_view DamageName(Damage damage);  // "none", "immobilised", "destroyed"
@@ -113,7 +114,7 @@ class PhysicalVehicle {
     double reach_m = 0.0;  // a solid top this far above the point still carries it
     int air_steps = 0;
     bool dense = false;       // belly grid: only sampled where features lie under the footprint
-    GroundPlaneCache ground;  // valid for one Advance (epoch_): the terrain may change between
+    GroundPlaneCache ground;  // valid while the terrain's stamp is the one it was filled under
   };
 
   PhysicalVehicle(const PhysicalVehicleType& type, double x_m, double z_m, double heading_rad,
@@ -150,8 +151,21 @@ class PhysicalVehicle {
   double cmd_speed_mps_ = 0.0;
   double cmd_rate_rad_s_ = 0.0;
   int64_t pending_ns_ = 0;
-  uint32_t epoch_ = 0;         // counts Advance calls: ground caches of an earlier one are stale
-  std::vector<Solid> solids_;  // reused between Advance calls
+  // Bridge solids and earthworks over an area around the vehicle, kept between Advance calls
+  // while the terrain's stamp is the one they were gathered under and every chunk of steps
+  // stays inside the area: the terrain's index reaches into scattered memory.
+  uint64_t near_stamp_ = 0;  // 0: nothing gathered (stamps start at 1)
+  Rect near_area_;
+  std::vector<Solid> near_solids_;
+  std::vector<Rect> near_solid_bounds_;
+  std::vector<NearEarthwork> near_earthworks_;
+  // Those of them that the vehicle can reach in the current chunk of steps.
+  std::vector<Solid> solids_;
+  std::vector<NearEarthwork> earthworks_;
+  // Belly grid: each point's neighbours towards +ahead, -ahead, +left, -left (contact index, -1
+  // where there is no grid point), and whether the point is near the surface this step.
+  std::vector<std::array<int, 4>> grid_neighbours_;
+  std::vector<uint8_t> grid_near_;
   Damage damage_ = Damage::kNone;
   bool frozen_ = false;  // tipped over: the wreck stays where it came to lie
   double sin_pitch_limit_ = 0.0, tan_roll_limit_ = 0.0;

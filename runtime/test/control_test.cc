@@ -210,7 +210,7 @@ TEST(ControlCommandTest, ADriveSaysWhichValuesTheVehicleClamped) {
   ASSERT_TRUE(r.ok) << r.error;
   EXPECT_EQ(r.body, fmt::format("speed 1e+30 m/s clamped to {} m/s, the tank's top speed",
                                 tank.max_speed_mps));
-  EXPECT_EQ(node.vehicle.speed_mps(), tank.max_speed_mps);
+  EXPECT_EQ(node.vehicle.commanded_speed_mps(), tank.max_speed_mps);
 
   r = RunFeatureCommand(ParseControlCommand("drive 0 -50 0").value(), node);
   ASSERT_TRUE(r.ok) << r.error;
@@ -222,13 +222,13 @@ TEST(ControlCommandTest, ADriveSaysWhichValuesTheVehicleClamped) {
   EXPECT_EQ(r.body, fmt::format("heading rate -1000 deg/s clamped to {:.6g} deg/s, the tank's top "
                                 "turn rate",
                                 -tank.max_turn_rate_rad_s * 180.0 / std::numbers::pi));
-  EXPECT_EQ(node.vehicle.speed_mps(), 5.0);
+  EXPECT_EQ(node.vehicle.commanded_speed_mps(), 5.0);
 
   // Within the limits: nothing to say.
   r = RunFeatureCommand(ParseControlCommand("drive 0 -3 20").value(), node);
   ASSERT_TRUE(r.ok) << r.error;
   EXPECT_EQ(r.body, "");
-  EXPECT_EQ(node.vehicle.speed_mps(), -3.0);
+  EXPECT_EQ(node.vehicle.commanded_speed_mps(), -3.0);
 }
 
 TEST(ControlServerTest, AnswersRequestsOverTheSocket) {

@@ -6,7 +6,10 @@
 
 #include "runtime/node_actions.h"
 #include "terrain/berm_operations.h"
-#include "terrain/vehicle.h"
+#include "terrain/terrain.h"
+#include "vehicle/physical_type.h"
+#include "vehicle/shipped_friction.h"
+#include "vehicle/simulated_vehicle.h"
 
 namespace dt {
 
@@ -44,15 +47,21 @@ class MapActions : public NodeActions {
     return ids;
   }
   int vehicle_count() const override { return 1; }
-  // One tank on a 100 m terrain: the vehicle's own clamping decides what is applied.
+  // One tank (the physical model, as a node's) on a 100 m terrain: the vehicle's own clamping
+  // decides what is applied.
   Result<AppliedDrive> Drive(int index, double speed_mps, double rate) override {
     if (Status s = vehicle.Command(speed_mps, rate); !s) return s.error();
     drives.push_back({index, speed_mps, rate});
-    return AppliedDrive{vehicle.type().name, vehicle.speed_mps(), vehicle.heading_rate_rad_s()};
+    return AppliedDrive{vehicle.type().base.name, vehicle.commanded_speed_mps(),
+                        vehicle.commanded_rate_rad_s()};
   }
 
   uint32_t number = 0;
-  Vehicle vehicle = Vehicle::Make(TankType(), 50, 50, 0, 100).value();
+  Terrain terrain{HeightGrid(11, 10.0, 0.0f)};
+  SimulatedVehicle vehicle =
+      SimulatedVehicle::Make(BuiltInPhysicalType("tank", ShippedFrictionTable()).value(), terrain,
+                             50, 50, 0)
+          .value();
   std::map<FeatureId, FeatureParams> features;
   struct DriveCall {
     int index;

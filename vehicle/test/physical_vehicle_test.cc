@@ -67,15 +67,16 @@ TEST(PhysicalVehicle, InternalStepDoesNotDependOnTheCallersTick) {
   ASSERT_TRUE(a.Command(10, 0.2).ok());
   ASSERT_TRUE(b.Command(10, 0.2).ok());
   ASSERT_TRUE(c.Command(10, 0.2).ok());
-  // 3 s as 75 ticks of 40 ms, as 600 calls of 5 ms, or as 90 ticks of 1/30 s plus what is left:
-  // the same 600 fixed steps run, so the trajectories are the same bits.
+  // 3 s as 75 ticks of 40 ms, as calls of one internal step each, or as 90 ticks of 1/30 s plus
+  // what is left: the same fixed steps run, so the trajectories are the same bits.
+  constexpr int kSteps = static_cast<int>(3'000'000'000 / kPhysicsStepNs);
   for (int i = 0; i < 75; ++i) ASSERT_TRUE(a.Advance(*t, 0.04).ok());
-  for (int i = 0; i < 600; ++i) ASSERT_TRUE(b.Advance(*t, 0.005).ok());
+  for (int i = 0; i < kSteps; ++i) ASSERT_TRUE(b.Advance(*t, kPhysicsStepS).ok());
   int steps = 0;
   for (int i = 0; i < 90; ++i) steps += c.Advance(*t, 1.0 / 30.0).value().steps;
-  EXPECT_EQ(steps, 599);  // 1/30 s is 33 333 333 ns: the last step waits for the next call
+  EXPECT_EQ(steps, kSteps - 1);  // 1/30 s is 33 333 333 ns: the last step waits for the next call
   steps += c.Advance(*t, 1e-6).value().steps;
-  EXPECT_EQ(steps, 600);
+  EXPECT_EQ(steps, kSteps);
   for (const PhysicalVehicle* v : {&b, &c}) {
     EXPECT_EQ(a.x_m(), v->x_m());
     EXPECT_EQ(a.z_m(), v->z_m());
@@ -216,8 +217,10 @@ TEST(PhysicalVehicle, FallDamageFollowsTheTypesThresholds) {
                 std::string(DamageName(v.damage())).c_str());
     EXPECT_NEAR(log.max_landing_mps, std::sqrt(2 * kGravityMps2 * c.height_m), 0.15);
     EXPECT_EQ(v.damage(), c.expected);
-    // The fall took time: no tick dropped more than free fall allows by the end of the fall.
-    EXPECT_LE(lowest_drop_tick, std::sqrt(2 * kGravityMps2 * c.height_m) * kTick + 0.01);
+    // The fall took time: no tick dropped more than free fall allows by the end of the fall, over
+    // the time the tick ran (whole internal steps: 1/30 s runs 3 or 4 of 10 ms).
+    const double longest_tick_s = std::ceil(kTick / kPhysicsStepS) * kPhysicsStepS;
+    EXPECT_LE(lowest_drop_tick, std::sqrt(2 * kGravityMps2 * c.height_m) * longest_tick_s + 0.01);
   }
   auto wreck = PhysicalVehicle::MakeAt(PhysType("tank"), *t, 200, 100, 0, kGround + 6).value();
   Drive(*t, wreck, 0, 0, 3);
@@ -235,6 +238,26 @@ TEST(PhysicalVehicle, AtRestOnFlatGroundStaysAtRest) {
     EXPECT_LT((v.position_m() - x0).norm(), 1e-6);
     EXPECT_LT(v.velocity_mps().norm(), 1e-6);
   }
+}
+
+// The vehicle keeps what it gathered from the terrain between ticks (docs/vehicles.md "Contacts"):
+// a crater made under a parked tank, and its removal, reach it at once.
+TEST(PhysicalVehicle, SeesTheTerrainChangeUnderItBetweenTicks) {
+  auto t = FlatTerrain();
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 150, 150, 0.3).value();
+  Drive(*t, v, 0, 0, 2);
+  const double parked = v.elevation_m();
+  const uint64_t before = t->stamp();
+  ASSERT_TRUE(t->Add(FeatureId{1, 1, 1}, FeatureParams::Crater(150, 150, 8.0)).ok());
+  EXPECT_NE(t->stamp(), before);
+  Drive(*t, v, 0, 0, 4);
+  const double in_crater = v.elevation_m();
+  ASSERT_TRUE(t->Remove(FeatureId{1, 1, 1}).ok());
+  Drive(*t, v, 0, 0, 4);
+  std::printf("tank parked at %.3f m; a 16 m crater made under it: %.3f m; removed: %.3f m\n",
+              parked, in_crater, v.elevation_m());
+  EXPECT_GT(in_crater, parked + 0.3);  // the crater's rim, under its running gear, lifted it
+  EXPECT_NEAR(v.elevation_m(), parked, 0.05);  // and is back on the flat ground
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // them, under the physical model and, where the thesis's rule applies, the light model.
 #include <cstdio>
 
+#include "terrain/berm.h"
+#include "terrain/berm_operations.h"
 #include "terrain/bridge.h"
 #include "terrain/vehicle_traversal.h"
 #include "vehicle/light_vehicle.h"
@@ -296,6 +298,118 @@ TEST(ThesisScenario, RampSideStopsAVehicleWhereItIsHigherThanTheBelly) {
   Print("across ramp 1 at 2 m", v, l);
   EXPECT_GT(l.blocked_ticks, 0);
   EXPECT_LT(v.z_m() + 7.9 / 2, 195.1);
+}
+
+// Thesis IV: a vehicle turning on the span stays on the deck (the tag holds, no fall), with the
+// deck under all its running gear.
+TEST(ThesisScenario, TurningOnTheSpanStaysOnTheDeck) {
+  auto t = BridgeTerrain();
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 50, 200, 0).value();
+  Drive(*t, v, 8, 0, 20, [](const PhysicalVehicle& pv) { return pv.x_m() > 118; });
+  Drive(*t, v, 0, 0, 3);  // brake to a stop on the span
+  ASSERT_TRUE(v.on_bridge());
+  const double heading0 = v.heading_rad();
+  const DriveLog l = Drive(*t, v, 0, 0.5, 10, [&](const PhysicalVehicle& pv) {
+    return pv.heading_rad() - heading0 >= kPi / 2;
+  });
+  Print("turn on the span", v, l);
+  std::printf("  turned %.1f deg on the spot\n", Deg(v.heading_rad() - heading0));
+  EXPECT_GE(v.heading_rad() - heading0, kPi / 2 - 0.02);
+  EXPECT_TRUE(v.on_bridge());
+  EXPECT_EQ(l.fell_off + l.drove_off + l.mounted, 0);
+  EXPECT_NEAR(l.min_elevation_m, 16.0, 0.05);  // on the deck throughout
+  EXPECT_NEAR(l.max_elevation_m, 16.0, 0.05);
+  EXPECT_LT(std::max(Deg(l.max_roll_rad), -Deg(l.min_roll_rad)), 1.0);
+  EXPECT_TRUE(v.mobile());
+}
+
+// Thesis IV, one tire off the deck: a jeep on the span with its centre of mass past the edge
+// (its right wheels off the deck, its left wheels on it) tips off and falls: one fell-off event,
+// and it ends on the ground below, destroyed. (With the centre of mass over the deck it should
+// stay: docs/vehicles.md "Not done".)
+TEST(ThesisScenario, OneTireOffTheDeckWithTheCentrePastTheEdgeFalls) {
+  auto t = BridgeTerrain();
+  // The deck spans z 195..205; heading +x, the jeep's right side is towards -z.
+  auto v = PhysicalVehicle::MakeAt(PhysType("jeep"), *t, 120, 194.6, 0, 16.0).value();
+  const DriveLog l = Drive(*t, v, 0, 0, 5);
+  Print("one tire off, centre past the edge", v, l);
+  EXPECT_EQ(l.mounted, 1);  // its left wheels stood on the deck
+  EXPECT_EQ(l.fell_off, 1);
+  EXPECT_FALSE(v.on_bridge());
+  EXPECT_GT(l.max_roll_rad, 0.5);    // over to the right first
+  EXPECT_LT(v.elevation_m(), 12.0);  // on the ground below (10 m), as a wreck on its side or roof
+  EXPECT_EQ(v.damage(), Damage::kDestroyed);
+}
+
+// Thesis IV and fig. 7, emplacement: a tank reverses into a U of three berms open to the rear
+// and stops inside it, hull out of the berms, level between the side berms.
+TEST(ThesisScenario, EmplacementBackedInto) {
+  auto t = FlatTerrain();
+  EmplacementSpec spec;
+  spec.centre_x_m = 150;
+  spec.centre_z_m = 150;
+  spec.facing_rad = 0.0;  // front berm at x 156, open towards -x
+  spec.size_m = 12;
+  spec.width_m = 4;
+  spec.height_m = 2;
+  const auto berms = EmplacementBerms(spec).value();
+  for (uint32_t k = 0; k < 3; ++k) ASSERT_TRUE(t->Add({1, 1, 20 + k}, berms[k]).ok());
+  // Facing away from the front berm, backing in from outside the opening.
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 128, 150, kPi).value();
+  double worst = 0.0;
+  const DriveLog l = Drive(*t, v, -3, 0, 20, [&](const PhysicalVehicle& pv) {
+    worst = std::max(worst, GroundPenetration(*t, pv));
+    return pv.x_m() > 149;
+  });
+  const DriveLog rest = Drive(*t, v, 0, 0, 3);
+  Print("emplacement, backed in", v, l);
+  std::printf("  at rest x %.1f z %.1f, roll %.1f deg, deepest hull penetration %.3f m\n", v.x_m(),
+              v.z_m(), Deg(v.roll_rad()), worst);
+  EXPECT_GT(v.x_m(), 148.0);  // inside the U: its centre past the side berms' open ends
+  EXPECT_LT(v.x_m(), 152.0);  // short of the front berm's foot (x 154)
+  EXPECT_NEAR(v.z_m(), 150.0, 0.5);
+  EXPECT_LT(worst, 0.1);
+  EXPECT_LT(std::max(Deg(l.max_roll_rad), -Deg(l.min_roll_rad)), 1.0);  // never on a side berm
+  EXPECT_NEAR(rest.max_elevation_m, 10.0, 0.05);                        // on the pit's floor
+  EXPECT_TRUE(v.mobile());
+}
+
+// Thesis III.C.2 and IV, breach: a berm too steep to climb stops a tank; a gap cut through it
+// while the tank waits (the terrain changes under a vehicle that keeps what it gathered) lets it
+// drive through on the ground.
+TEST(ThesisScenario, BreachLetsATankThroughABermThatStoppedIt) {
+  auto t = FlatTerrain();
+  const FeatureId berm{1, 1, 9};
+  // 3 m high, 6 m wide: 56-degree faces, crest along z at x = 100 from z 130 to 170.
+  ASSERT_TRUE(t->Add(berm, FeatureParams::Berm(100, 130, kPi / 2, 40, 6, 3.0)).ok());
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 80, 150, 0).value();
+  DriveLog l = Drive(*t, v, 4, 0, 10);
+  Print("berm before the breach", v, l);
+  EXPECT_LT(v.x_m(), 97.0);
+  EXPECT_LT(l.max_elevation_m, 12.0);
+  const double stopped_x = v.x_m();
+  // Back off the berm's foot onto the flat ground and wait there.
+  Drive(*t, v, -3, 0, 10, [](const PhysicalVehicle& pv) { return pv.x_m() < 85; });
+  Drive(*t, v, 0, 0, 2);
+  ASSERT_NEAR(v.elevation_m(), 10.0, 0.01);
+
+  const auto* b = static_cast<const Berm*>(t->Find(berm));
+  const auto pieces = BreachBerm(*b, 20.0, 8.0).value();  // an 8 m gap at z 146..154
+  ASSERT_TRUE(t->Remove(berm).ok());
+  for (uint32_t k = 0; k < pieces.size(); ++k) ASSERT_TRUE(t->Add({1, 1, 30 + k}, pieces[k]).ok());
+  double worst = 0.0;
+  l = Drive(*t, v, 4, 0, 15, [&](const PhysicalVehicle& pv) {
+    worst = std::max(worst, GroundPenetration(*t, pv));
+    return pv.x_m() > 115;
+  });
+  Print("through the breach", v, l);
+  std::printf("  stopped at x %.1f before; deepest hull penetration through the gap %.3f m\n",
+              stopped_x, worst);
+  EXPECT_GT(v.x_m(), 115.0);
+  EXPECT_NEAR(v.z_m(), 150.0, 0.5);
+  EXPECT_LT(l.max_elevation_m, 10.1);  // on the ground through the gap
+  EXPECT_LT(worst, 0.1);
+  EXPECT_TRUE(v.mobile());
 }
 
 TEST(ThesisScenario, LightModelReportsAFallOnce) {

@@ -26,6 +26,7 @@ TOP_LEVEL = {
     "max_feature_t": ("kMaxFeature", []),
     "playback_t": ("kPlayback", []),
     "anti_entropy_t": ("kAntiEntropy", []),
+    "vehicle_state_t": ("kVehicleState", ["entity_id"]),
 }
 MAX_AUTH_BYTES = 128  # dt::dds_codec::kMaxAuthBytes
 

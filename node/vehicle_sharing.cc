@@ -9,6 +9,7 @@
 #include "log/log.h"
 #include "pdu/conversion.h"
 #include "runtime/simulated_vehicle_sprite.h"
+#include "vehicle/observed_motion.h"
 
 namespace dt {
 namespace {

@@ -138,4 +138,28 @@ void MotionEstimator::Update(const DrPose& pose, double t_s) {
   }
 }
 
+void MotionEstimator::UpdateWithRates(const DrPose& pose, double t_s,
+                                      const std::array<double, 3>& velocity_mps,
+                                      const std::array<double, 3>& angular_velocity_body_rad_s) {
+  const double dt = t_s - t_s_;
+  if (samples_ > 0 && dt > 0.0) {
+    // Exponential smoothing with a time constant of 0.1 s.
+    const double alpha = dt / (dt + 0.1);
+    for (size_t i = 0; i < 3; ++i) {
+      const double a = (velocity_mps[i] - velocity_[i]) / dt;
+      acceleration_[i] += alpha * (a - acceleration_[i]);
+    }
+  }
+  if (samples_ == 0 || dt > 0.0) {
+    velocity_ = velocity_mps;
+    omega_ = angular_velocity_body_rad_s;
+    Clamp(velocity_, kMaxVehicleSpeedMps);
+    Clamp(acceleration_, kMaxVehicleAccelerationMps2);
+    Clamp(omega_, kMaxVehicleAngularRateRadS);
+    pose_ = pose;
+    t_s_ = t_s;
+    samples_ = std::min(samples_ + 1, 2);
+  }
+}
+
 }  // namespace dt

@@ -53,6 +53,12 @@ Eigen::Vector3d BodyRateBetween(const Eigen::Matrix3d& r_prev, const Eigen::Matr
 class MotionEstimator {
  public:
   void Update(const DrPose& pose, double t_s);
+  // The same where the model knows its own velocity (world) and body angular velocity: they are
+  // taken as they are, and the acceleration is the difference of successive velocities, smoothed
+  // over about 0.1 s (a model stepping in fixed steps is sampled at tick times that fall between
+  // its steps, which makes single differences jitter).
+  void UpdateWithRates(const DrPose& pose, double t_s, const std::array<double, 3>& velocity_mps,
+                       const std::array<double, 3>& angular_velocity_body_rad_s);
   const DrPose& pose() const { return pose_; }
   const std::array<double, 3>& velocity_mps() const { return velocity_; }
   const std::array<double, 3>& acceleration_mps2() const { return acceleration_; }

@@ -28,20 +28,16 @@ NodeApp::NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process)
   rc.ids = ids_.get();
   replica_ = std::make_unique<Replica>(rc, std::move(ground), *transport_.bus);
   if (!replica_->load_status()) throw std::runtime_error(replica_->load_status().error().message);
+  sharing_ =
+      std::make_unique<VehicleSharing>(*transport_.bus, process.address, exercise.dead_reckoning);
   for (size_t i = 0; i < process.vehicles.size(); ++i) {
     const VehicleConfig& vc = process.vehicles[i];
-    auto fail = [&](const std::string& message) {
-      return std::invalid_argument(
-          fmt::format("{}: {} vehicle {}: {}", exercise.source.string(), process.name, i, message));
-    };
-    Result<PhysicalVehicleType> type = BuiltInPhysicalType(vc.type, *exercise.friction);
-    if (!type) throw fail(type.error().message);
-    Result<SimulatedVehicle> v = SimulatedVehicle::Make(type.value(), replica_->terrain(), vc.x_m,
-                                                        vc.z_m, vc.heading_rad, vc.model);
-    if (!v) throw fail(v.error().message);
-    DT_LOG_INFO("vehicle {}: a {} at ({:.1f}, {:.1f}) moved by the {} model", i, vc.type, vc.x_m,
-                vc.z_m, VehicleModelName(vc.model));
-    vehicles_.push_back(std::move(v).value());
+    Result<int> added =
+        Spawn({vc.type, vc.x_m, vc.z_m, vc.heading_rad, std::string(VehicleModelName(vc.model))});
+    if (!added) {
+      throw std::invalid_argument(fmt::format("{}: {} vehicle {}: {}", exercise.source.string(),
+                                              process.name, i, added.error().message));
+    }
   }
 }
 
@@ -52,6 +48,7 @@ void NodeApp::Start(int64_t now_ms) {
 }
 
 void NodeApp::Tick(int64_t now_ms, double dt_s) {
+  now_ms_ = now_ms;
   replica_->Tick(now_ms);
   for (size_t i = 0; i < vehicles_.size(); ++i) {
     SimulatedVehicle& v = vehicles_[i];
@@ -75,6 +72,7 @@ void NodeApp::Tick(int64_t now_ms, double dt_s) {
     else if (!e.cause.empty())
       DT_LOG_WARN("vehicle {} ({}) {}", i, v.type_name(), e.cause);
   }
+  sharing_->Tick(vehicles_, replica_->terrain(), static_cast<double>(now_ms) / 1000.0);
   if (!was_ready_) {
     if (ready()) {
       was_ready_ = true;
@@ -112,8 +110,22 @@ ControlReply NodeApp::Handle(std::string_view line) {
     quit_ = true;
     return ControlReply::Ok("bye");
   }
+  switch (c.value().verb) {
+    case ControlVerb::kVehicles:
+      return ControlReply::Ok(sharing_->VehiclesText(vehicles_));
+    case ControlVerb::kRender:  // remote vehicles too, in their owners' colours
+      if (Status s =
+              RenderMapPng(replica_->terrain(), sharing_->Sprites(vehicles_), c.value().path);
+          !s) {
+        return ControlReply::Fail(s.error().message);
+      }
+      return ControlReply::Ok(c.value().path);
+    default:
+      break;
+  }
   if (auto r = AnswerCommonCommand(c.value(), process_.name, NodeRole::kNode, *replica_, transport_,
                                    vehicles_)) {
+    if (c.value().verb == ControlVerb::kStatus && r->ok) r->body += "\n" + sharing_->StatusLines();
     return *r;
   }
   ControlReply reply = RunFeatureCommand(c.value(), *this);
@@ -148,6 +160,34 @@ Result<AppliedDrive> NodeApp::Drive(int index, double speed_mps, double heading_
   SimulatedVehicle& v = vehicles_[static_cast<size_t>(index)];
   if (Status s = v.Command(speed_mps, heading_rate_rad_s); !s) return s.error();
   return AppliedDrive{v.type_name(), v.commanded_speed_mps(), v.commanded_rate_rad_s()};
+}
+
+Result<int> NodeApp::Spawn(const SpawnRequest& request) {
+  const std::optional<VehicleModel> model = ParseVehicleModel(request.model);
+  if (!model)
+    return Error{fmt::format("vehicle model \"{}\" is neither physical nor light", request.model)};
+  Result<PhysicalVehicleType> type = BuiltInPhysicalType(request.type, *exercise_.friction);
+  if (!type) return type.error();
+  Result<SimulatedVehicle> v = SimulatedVehicle::Make(
+      type.value(), replica_->terrain(), request.x_m, request.z_m, request.heading_rad, *model);
+  if (!v) return v.error();
+  vehicles_.push_back(std::move(v).value());
+  const EntityId id = sharing_->AddLocal(vehicles_.back());
+  const int index = vehicle_count() - 1;
+  DT_LOG_INFO("vehicle {} ({}): a {} at ({:.1f}, {:.1f}) moved by the {} model", index,
+              id.ToString(), request.type, request.x_m, request.z_m, request.model);
+  return index;
+}
+
+Status NodeApp::Remove(int index) {
+  if (index < 0 || index >= vehicle_count()) {
+    return Error{
+        fmt::format("vehicle {} does not exist (this node has {})", index, vehicle_count())};
+  }
+  const auto i = static_cast<size_t>(index);
+  sharing_->RemoveLocal(i, vehicles_[i], static_cast<double>(now_ms_) / 1000.0);
+  vehicles_.erase(vehicles_.begin() + index);
+  return {};
 }
 
 }  // namespace dt

@@ -8,6 +8,7 @@
 
 #include "engine/replica.h"
 #include "node/scenario_runner.h"
+#include "node/vehicle_sharing.h"
 #include "runtime/control_protocol.h"
 #include "runtime/exercise_config.h"
 #include "runtime/id_reservation_file.h"
@@ -40,6 +41,7 @@ class NodeApp final : public NodeActions {
   bool quit_requested() const { return quit_; }
   const Replica& replica() const { return *replica_; }
   const std::vector<SimulatedVehicle>& vehicles() const { return vehicles_; }
+  const VehicleSharing& sharing() const { return *sharing_; }
 
   // NodeActions.
   Result<FeatureId> Create(const FeatureParams& params) override;
@@ -50,6 +52,8 @@ class NodeApp final : public NodeActions {
                                         double gap_width_m) override;
   int vehicle_count() const override { return static_cast<int>(vehicles_.size()); }
   Result<AppliedDrive> Drive(int index, double speed_mps, double heading_rate_rad_s) override;
+  Result<int> Spawn(const SpawnRequest& request) override;
+  Status Remove(int index) override;
 
  private:
   const ExerciseConfig& exercise_;
@@ -59,6 +63,8 @@ class NodeApp final : public NodeActions {
   std::unique_ptr<IdReservationFile> ids_;  // outlives the replica
   std::unique_ptr<Replica> replica_;
   std::vector<SimulatedVehicle> vehicles_;
+  std::unique_ptr<VehicleSharing> sharing_;  // over transport_.bus; its order is vehicles_'
+  int64_t now_ms_ = 0;
   CatchUpProgress progress_;
   int64_t sign_on_ms_ = 0;
   int64_t scenario_start_ms_ = -1;

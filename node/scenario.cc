@@ -170,13 +170,33 @@ Scenario ParseScenario(std::string_view toml_text, std::string_view source_name,
         steps.push_back(s);
         s = stop;
       }
+    } else if (action == "spawn") {
+      s.action = ScenarioAction::kSpawn;
+      s.spawn.type = r.String("type", "tank");
+      s.spawn.x_m = r.Double("x_m", -1e9, 1e9);
+      s.spawn.z_m = r.Double("z_m", -1e9, 1e9);
+      s.spawn.heading_rad = r.Double("heading_deg", 0.0, -360.0, 360.0) * kDegToRad;
+      s.spawn.model = r.String("model", "physical");
+      if (s.spawn.model != "physical" && s.spawn.model != "light") {
+        r.Fail("model", "expected physical or light");
+      }
+      ++vehicle_count;
+    } else if (action == "remove") {
+      s.action = ScenarioAction::kRemove;
+      s.vehicle = static_cast<int>(r.Int("vehicle", 0, 1 << 20));
+      if (s.vehicle >= vehicle_count) {
+        r.Fail("vehicle", fmt::format("the node has {} vehicle(s) at this step", vehicle_count));
+      }
+      --vehicle_count;
     } else if (action == "wait") {
       s.action = ScenarioAction::kWait;
       s.duration_s = r.Double("duration_s", 0.0, kMaxScenarioS);
       cursor_s += s.duration_s;
       s.at_s = cursor_s;
     } else {
-      r.Fail("action", "expected crater, berm, bridge, update, destroy, breach, drive or wait");
+      r.Fail(
+          "action",
+          "expected crater, berm, bridge, update, destroy, breach, drive, spawn, remove or wait");
     }
     r.Finish();
     steps.push_back(std::move(s));

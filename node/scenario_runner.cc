@@ -64,6 +64,14 @@ Status ScenarioRunner::Run(const ScenarioStep& step, NodeActions& actions) {
       if (!applied) return applied.error();
       return Status::Ok();
     }
+    case ScenarioAction::kSpawn: {
+      Result<int> index = actions.Spawn(step.spawn);
+      if (!index) return index.error();
+      DT_LOG_INFO("scenario: spawned vehicle {} (a {})", index.value(), step.spawn.type);
+      return Status::Ok();
+    }
+    case ScenarioAction::kRemove:
+      return actions.Remove(step.vehicle);
     case ScenarioAction::kWait:
       return Status::Ok();
   }

@@ -88,7 +88,7 @@ class PduBus {
   uint64_t own_echoes_ = 0;
   std::tuple<Handlers<dtpdu::construct_t>, Handlers<dtpdu::update_t>, Handlers<dtpdu::destruct_t>,
              Handlers<dtpdu::max_feature_t>, Handlers<dtpdu::playback_t>,
-             Handlers<dtpdu::anti_entropy_t>>
+             Handlers<dtpdu::anti_entropy_t>, Handlers<dtpdu::vehicle_state_t>>
       handlers_;
 };
 

@@ -12,6 +12,7 @@
 #include "dtpdu/max_feature_t.hpp"
 #include "dtpdu/playback_t.hpp"
 #include "dtpdu/update_t.hpp"
+#include "dtpdu/vehicle_state_t.hpp"
 #include "pdu/pdu_type.h"
 #include "terrain/feature_id.h"
 
@@ -42,6 +43,10 @@ struct PduTraits<dtpdu::playback_t> {
 template <>
 struct PduTraits<dtpdu::anti_entropy_t> {
   static constexpr PduType kType = PduType::kAntiEntropy;
+};
+template <>
+struct PduTraits<dtpdu::vehicle_state_t> {
+  static constexpr PduType kType = PduType::kVehicleState;
 };
 
 template <typename Pdu>

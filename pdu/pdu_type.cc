@@ -18,6 +18,8 @@ std::string_view PduTypeName(PduType type) {
       return "PLAYBACK";
     case PduType::kAntiEntropy:
       return "ANTIENTROPY";
+    case PduType::kVehicleState:
+      return "VEHICLESTATE";
   }
   return "UNKNOWN";
 }

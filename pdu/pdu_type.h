@@ -23,13 +23,15 @@ enum class PduType : uint8_t {
   kMaxFeature = 223,
   kPlayback = 224,
   kAntiEntropy = 225,
+  // Shared vehicles (docs/pdu.md "VehicleState"); 226..229 are left to terrain PDUs.
+  kVehicleState = 230,
 };
 
-inline constexpr std::array<PduType, 6> kAllPduTypes = {PduType::kConstruct, PduType::kUpdate,
-                                                        PduType::kDestruct,  PduType::kMaxFeature,
-                                                        PduType::kPlayback,  PduType::kAntiEntropy};
+inline constexpr std::array<PduType, 7> kAllPduTypes = {
+    PduType::kConstruct, PduType::kUpdate,      PduType::kDestruct,    PduType::kMaxFeature,
+    PduType::kPlayback,  PduType::kAntiEntropy, PduType::kVehicleState};
 
-// "CONSTRUCT", "UPDATE", "DESTRUCT", "MAXFEATURE", "PLAYBACK", "ANTIENTROPY".
+// "CONSTRUCT", "UPDATE", "DESTRUCT", "MAXFEATURE", "PLAYBACK", "ANTIENTROPY", "VEHICLESTATE".
 std::string_view PduTypeName(PduType type);
 // The PduType with this wire value; nullopt if it names none.
 std::optional<PduType> PduTypeFromRaw(uint8_t raw);

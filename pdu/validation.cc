@@ -7,6 +7,8 @@
 
 #include "log/log.h"
 #include "pdu/conversion.h"
+#include "pdu/vehicle_state.h"
+#include "terrain/vehicle_type.h"
 
 namespace dt {
 namespace {
@@ -117,13 +119,14 @@ std::optional<Rejection> ValidateFeature(const Pdu& pdu, const ValidationContext
 
 std::string_view RejectReasonName(RejectReason reason) {
   static constexpr std::array<std::string_view, kRejectReasonCount> kNames = {
-      "oversized",        "truncated",         "wrong_fingerprint",
-      "trailing_bytes",   "wrong_protocol",    "foreign_exercise",
-      "unknown_pdu_type", "pdu_type_mismatch", "unknown_feature",
-      "unknown_material", "not_finite",        "out_of_range",
-      "off_terrain",      "bad_field",         "inverted_range",
-      "huge_range",       "unauthenticated",   "bad_mac",
-      "sender_mismatch",  "replayed",          "stale"};
+      "oversized",          "truncated",         "wrong_fingerprint",
+      "trailing_bytes",     "wrong_protocol",    "foreign_exercise",
+      "unknown_pdu_type",   "pdu_type_mismatch", "unknown_feature",
+      "unknown_material",   "not_finite",        "out_of_range",
+      "off_terrain",        "bad_field",         "inverted_range",
+      "huge_range",         "unauthenticated",   "bad_mac",
+      "sender_mismatch",    "replayed",          "stale",
+      "unknown_entity_type"};
   const auto i = static_cast<size_t>(reason);
   return i < kNames.size() ? kNames[i] : "unknown";
 }
@@ -276,6 +279,94 @@ std::optional<Rejection> Validate(const dtpdu::anti_entropy_t& pdu, const Valida
   return std::nullopt;
 }
 
+std::optional<Rejection> Validate(const dtpdu::vehicle_state_t& pdu, const ValidationContext& ctx) {
+  if (auto r = CheckHeader(pdu.header, PduType::kVehicleState, pdu.sender_seq, ctx)) return r;
+  if (pdu.entity_id.entity < 1 || pdu.entity_id.entity > 65535) {
+    return Reject(RejectReason::kBadField,
+                  fmt::format("entity number {} is outside [1, 65535]", pdu.entity_id.entity));
+  }
+  if (pdu.force_id > kMaxForceId) {
+    return Reject(RejectReason::kBadField, fmt::format("force_id {}", pdu.force_id));
+  }
+  const VehicleStateFields s = FromVehicleState(pdu);
+  if (VehicleNameOfEntityType(s.type).empty()) {
+    return Reject(RejectReason::kUnknownEntityType,
+                  fmt::format("entity type {} of entity {}", s.type.ToString(), s.id.ToString()));
+  }
+  const char* const axes[3] = {"[0]", "[1]", "[2]"};
+  const std::pair<const char*, const double*> vectors[] = {
+      {"location_m", pdu.location_m},
+      {"linear_velocity_mps", pdu.linear_velocity_mps},
+      {"orientation_rad", pdu.orientation_rad},
+      {"linear_acceleration_mps2", pdu.linear_acceleration_mps2},
+      {"angular_velocity_rad_s", pdu.angular_velocity_rad_s}};
+  for (const auto& [name, v] : vectors) {
+    for (int i = 0; i < 3; ++i) {
+      if (!std::isfinite(v[i])) {
+        return Reject(RejectReason::kNotFinite, fmt::format("{}{} = {}", name, axes[i], v[i]));
+      }
+    }
+  }
+  auto norm = [](const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
+  if (const double speed = norm(pdu.linear_velocity_mps); speed > kMaxVehicleSpeedMps) {
+    return Reject(RejectReason::kOutOfRange,
+                  fmt::format("speed {} m/s of entity {} is beyond any vehicle type's {} m/s",
+                              speed, s.id.ToString(), kMaxVehicleSpeedMps));
+  }
+  if (const double a = norm(pdu.linear_acceleration_mps2); a > kMaxVehicleAccelerationMps2) {
+    return Reject(RejectReason::kOutOfRange,
+                  fmt::format("acceleration {} m/s^2 > {} m/s^2", a, kMaxVehicleAccelerationMps2));
+  }
+  if (const double w = norm(pdu.angular_velocity_rad_s); w > kMaxVehicleAngularRateRadS) {
+    return Reject(RejectReason::kOutOfRange, fmt::format("angular velocity {} rad/s > {} rad/s", w,
+                                                         kMaxVehicleAngularRateRadS));
+  }
+  constexpr double kTwoPi = 6.283185307179586;
+  constexpr double kPi = kTwoPi / 2;
+  if (std::abs(s.heading_rad) > kTwoPi || std::abs(s.pitch_rad) > kPi ||
+      std::abs(s.roll_rad) > kPi) {
+    return Reject(RejectReason::kOutOfRange,
+                  fmt::format("orientation ({}, {}, {}) rad: heading beyond one turn either way, "
+                              "or pitch or roll beyond half a turn",
+                              s.heading_rad, s.pitch_rad, s.roll_rad));
+  }
+  for (const auto& [name, v] : {std::pair{"x", s.location_m[0]}, std::pair{"z", s.location_m[2]}}) {
+    if (v < 0.0 || v > ctx.terrain_size_m) {
+      return Reject(RejectReason::kOffTerrain,
+                    fmt::format("entity {} at {} = {} m is outside [0, {}] m", s.id.ToString(),
+                                name, v, ctx.terrain_size_m));
+    }
+  }
+  if (std::abs(s.location_m[1]) > kMaxVehicleAltitudeM) {
+    return Reject(RejectReason::kOutOfRange,
+                  fmt::format("y = {} m is beyond +-{} m", s.location_m[1], kMaxVehicleAltitudeM));
+  }
+  if ((s.appearance & ~appearance::kKnown) != 0) {
+    return Reject(RejectReason::kBadField,
+                  fmt::format("appearance {:#010x} has bits outside {:#010x}", s.appearance,
+                              appearance::kKnown));
+  }
+  if (!IsValidDeadReckoningAlgorithm(pdu.dead_reckoning_algorithm)) {
+    return Reject(RejectReason::kBadField,
+                  fmt::format("dead_reckoning_algorithm {}", pdu.dead_reckoning_algorithm));
+  }
+  if (pdu.marking_charset != kMarkingAscii) {
+    return Reject(RejectReason::kBadField,
+                  fmt::format("marking_charset {} (only 1, ASCII)", pdu.marking_charset));
+  }
+  // Printable characters, then NULs only: one encoding per marking.
+  bool ended = false;
+  for (size_t i = 0; i < kMarkingChars; ++i) {
+    const uint8_t c = pdu.marking[i];
+    if (c == 0) {
+      ended = true;
+    } else if (ended || c < 32 || c > 126) {
+      return Reject(RejectReason::kBadField, fmt::format("marking byte {} is {:#04x}", i, c));
+    }
+  }
+  return std::nullopt;
+}
+
 template <AnyPdu Pdu>
 std::optional<Rejection> DecodePdu(std::span<const uint8_t> bytes, Pdu& out) {
   if (bytes.size() > kMaxPduBytes) {
@@ -318,6 +409,7 @@ template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::des
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::max_feature_t&);
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::playback_t&);
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::anti_entropy_t&);
+template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::vehicle_state_t&);
 
 uint64_t RejectCounters::total() const {
   uint64_t sum = 0;

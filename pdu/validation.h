@@ -37,9 +37,11 @@ enum class RejectReason : uint8_t {
   kSenderMismatch,   // the trailer's sender is not the PDU's sender field
   kReplayed,         // an older incarnation of the sender, or a sequence seen or out of the window
   kStale,            // send time further from the receiver's clock than the tolerance
+  // VehicleState (pdu/vehicle_state.h):
+  kUnknownEntityType,  // an entity type no vehicle type of the exercise has
 };
-inline constexpr size_t kRejectReasonCount = 21;
-static_assert(static_cast<size_t>(RejectReason::kStale) + 1 == kRejectReasonCount);
+inline constexpr size_t kRejectReasonCount = 22;
+static_assert(static_cast<size_t>(RejectReason::kUnknownEntityType) + 1 == kRejectReasonCount);
 
 // "oversized", "truncated", ... as used in logs and reports.
 std::string_view RejectReasonName(RejectReason reason);
@@ -62,6 +64,12 @@ std::optional<Rejection> Validate(const dtpdu::destruct_t& pdu, const Validation
 std::optional<Rejection> Validate(const dtpdu::max_feature_t& pdu, const ValidationContext& ctx);
 std::optional<Rejection> Validate(const dtpdu::playback_t& pdu, const ValidationContext& ctx);
 std::optional<Rejection> Validate(const dtpdu::anti_entropy_t& pdu, const ValidationContext& ctx);
+std::optional<Rejection> Validate(const dtpdu::vehicle_state_t& pdu, const ValidationContext& ctx);
+
+// VehicleState limits beyond which a value is absurd for every vehicle type (out_of_range).
+inline constexpr double kMaxVehicleAccelerationMps2 = 200.0;
+inline constexpr double kMaxVehicleAngularRateRadS = 20.0;
+inline constexpr double kMaxVehicleAltitudeM = 10000.0;  // |location y|
 
 // Decodes bytes as Pdu without validating fields: size limit, fingerprint, truncation, trailing
 // bytes. Never throws and never crashes on any input.

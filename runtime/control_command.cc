@@ -150,6 +150,7 @@ std::string ControlUsage() {
          "destroy <site:host:number>\n"
          "breach <site:host:number> <gap_start_m> <gap_width_m>\n"
          "drive <vehicle> <speed_mps> <heading_rate_deg_s>\n"
+         "spawn <type> <x_m> <z_m> <heading_deg> [physical|light] | remove <vehicle> | vehicles\n"
          "status | digest | features | ping | quit\n"
          "render <file.png>\n"
          "export <file.dtt> | import <file.dtt> (server)\n"
@@ -283,6 +284,40 @@ Result<ControlCommand> ParseControlCommand(std::string_view line) {
     c.heading_rate_rad_s = v.value()[2] * kDegToRad;
     return c;
   }
+  if (verb == "spawn") {
+    if (w.size() != 5 && w.size() != 6) {
+      return Error{"spawn takes <type> <x_m> <z_m> <heading_deg> [physical|light]"};
+    }
+    Result<double> x = Number("x_m", w[2]);
+    Result<double> z = Number("z_m", w[3]);
+    Result<double> h = Number("heading_deg", w[4]);
+    if (!x) return x.error();
+    if (!z) return z.error();
+    if (!h) return h.error();
+    c.verb = ControlVerb::kSpawn;
+    c.spawn.type = std::string(w[1]);
+    c.spawn.x_m = x.value();
+    c.spawn.z_m = z.value();
+    c.spawn.heading_rad = h.value() * kDegToRad;
+    if (w.size() == 6) {
+      if (w[5] != "physical" && w[5] != "light") {
+        return Error{fmt::format("spawn model \"{}\" is neither physical nor light", w[5])};
+      }
+      c.spawn.model = std::string(w[5]);
+    }
+    return c;
+  }
+  if (verb == "remove") {
+    Result<std::vector<double>> v = Numbers(w, {"vehicle"});
+    if (!v) return v.error();
+    const double index = v.value()[0];
+    if (index < 0.0 || index != std::floor(index) || index > 1e6) {
+      return Error{fmt::format("vehicle \"{}\" is not an index", w[1])};
+    }
+    c.verb = ControlVerb::kRemove;
+    c.vehicle = static_cast<int>(index);
+    return c;
+  }
   if (verb == "render" || verb == "export" || verb == "import") {
     if (w.size() != 2) return Error{fmt::format("{} takes <file>", verb)};
     c.verb = verb == "render" ? ControlVerb::kRender
@@ -316,6 +351,7 @@ Result<ControlCommand> ParseControlCommand(std::string_view line) {
   if (verb == "heal") return no_args(ControlVerb::kHeal);
   if (verb == "ping") return no_args(ControlVerb::kPing);
   if (verb == "quit") return no_args(ControlVerb::kQuit);
+  if (verb == "vehicles") return no_args(ControlVerb::kVehicles);
   return Error{fmt::format("unknown command \"{}\"; commands:\n{}", verb, ControlUsage())};
 }
 
@@ -353,6 +389,14 @@ ControlReply RunFeatureCommand(const ControlCommand& c, NodeActions& actions) {
       if (!applied) return ControlReply::Fail(applied.error().message);
       return ControlReply::Ok(ClampNotes(c, applied.value()));
     }
+    case ControlVerb::kSpawn: {
+      Result<int> index = actions.Spawn(c.spawn);
+      if (!index) return ControlReply::Fail(index.error().message);
+      return ControlReply::Ok(fmt::format("{}", index.value()));
+    }
+    case ControlVerb::kRemove:
+      if (Status s = actions.Remove(c.vehicle); !s) return ControlReply::Fail(s.error().message);
+      return ControlReply::Ok();
     default:
       return ControlReply::Fail("not a feature command");
   }

@@ -32,6 +32,9 @@ enum class ControlVerb {
   kExport,     // export <file.dtt>: the server saves its terrain as a terrain file
   kImport,     // import <file.dtt>: the server issues a terrain file's features
   kQuit,       // quit
+  kVehicles,   // vehicles: local and remote vehicles, one a line (nodes)
+  kSpawn,      // spawn <type> <x_m> <z_m> <heading_deg> [physical|light]
+  kRemove,     // remove <vehicle>
 };
 
 struct ControlCommand {
@@ -47,6 +50,7 @@ struct ControlCommand {
   std::string path;                // render, export, import
   double drop_probability = 0.0;   // loss
   std::vector<NodeAddress> nodes;  // partition
+  SpawnRequest spawn;              // spawn
 };
 
 // The usage text listing every command (docs/node.md "Control socket").
@@ -61,7 +65,7 @@ Result<FeatureId> ParseFeatureId(std::string_view text);
 // "site:host".
 Result<NodeAddress> ParseNodeAddress(std::string_view text);
 
-// Runs a feature or drive command (kCreate .. kDrive) against the node. The reply body of a
+// Runs a feature, drive, spawn or remove command against the node. The reply body of a
 // create or breach lists the new IDs, one a line; that of a drive names each value the vehicle
 // clamped to its type's limits ("speed 1e+30 m/s clamped to 18 m/s, the tank's top speed").
 ControlReply RunFeatureCommand(const ControlCommand& command, NodeActions& actions);

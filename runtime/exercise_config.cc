@@ -136,9 +136,9 @@ std::filesystem::path ExerciseConfig::SocketPath(std::string_view process_name) 
 ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,
                                    const std::filesystem::path& base_dir) {
   const toml::table root = TomlReader::ParseText(toml_text, source_name);
-  const TomlReader top(
-      root, std::string(source_name), "",
-      {"exercise", "terrain", "protocol", "faults", "server", "standby", "node", "auth", "view"});
+  const TomlReader top(root, std::string(source_name), "",
+                       {"exercise", "terrain", "protocol", "faults", "server", "standby", "node",
+                        "auth", "view", "vehicles"});
   ExerciseConfig c;
   c.source = std::string(source_name);
 
@@ -213,6 +213,21 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     c.faults.reorder_window = f->Int("reorder_window", 0, 0, 1000);
     c.fault_seed = static_cast<uint64_t>(f->Int("seed", 1, 0, INT64_MAX));
     f->Finish();
+  }
+
+  if (auto v =
+          top.OptionalTable("vehicles", {"position_threshold_m", "orientation_threshold_deg",
+                                         "heartbeat_s", "timeout_heartbeats", "dead_reckoning"})) {
+    DeadReckoningThresholds& d = c.dead_reckoning;
+    d.position_m = v->Double("position_threshold_m", 1.0, 0.01, 1000.0);
+    d.orientation_deg = v->Double("orientation_threshold_deg", 3.0, 0.01, 180.0);
+    d.heartbeat_s = v->Double("heartbeat_s", 5.0, 0.1, 3600.0);
+    d.timeout_heartbeats = v->Double("timeout_heartbeats", 2.4, 1.0, 100.0);
+    const std::string drm = v->String("dead_reckoning", "rvw");
+    const auto algorithm = ParseDeadReckoningAlgorithm(drm);
+    if (!algorithm) v->Fail("dead_reckoning", "expected static, fpw, rpw, rvw or fvw");
+    d.algorithm = *algorithm;
+    v->Finish();
   }
 
   if (require_server) {

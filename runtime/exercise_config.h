@@ -15,6 +15,7 @@
 #include "terrain/feature_id.h"
 #include "terrain/friction_table.h"
 #include "terrain/random_terrain.h"
+#include "vehicle/dead_reckoning_policy.h"
 #include "vehicle/simulated_vehicle.h"
 
 namespace dt {
@@ -77,6 +78,8 @@ struct ExerciseConfig {
   ProtocolTiming protocol;
   AuthSettings auth;
   FaultConfig faults;  // injected on receipt by every process (pdu/faulty_transport.h)
+  // Shared vehicles' dead reckoning ([vehicles], docs/vehicles.md "Shared vehicles").
+  DeadReckoningThresholds dead_reckoning;
   uint64_t fault_seed = 1;
   // Absent exactly when the file says [protocol] require_server = false: an exercise without a
   // server (a replay of a recording, docs/pdu.md), whose nodes sign on with what they hear.

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "terrain/feature_id.h"
 #include "terrain/feature_params.h"
 #include "terrain/result.h"
@@ -17,6 +19,13 @@ struct AppliedDrive {
   std::string vehicle_type;  // "tank"
   double speed_mps = 0.0;
   double heading_rate_rad_s = 0.0;
+};
+
+// A vehicle to add at run time (docs/node.md "Control socket": spawn).
+struct SpawnRequest {
+  std::string type = "tank";  // a built-in type
+  double x_m = 0.0, z_m = 0.0, heading_rad = 0.0;
+  std::string model = "physical";  // "physical" or "light"
 };
 
 // Implemented by the node process over its replica and vehicles; tests implement it in memory.
@@ -34,6 +43,15 @@ class NodeActions {
   virtual int vehicle_count() const = 0;
   // Commands vehicle `index` (0-based); answers what the vehicle took after clamping.
   virtual Result<AppliedDrive> Drive(int index, double speed_mps, double heading_rate_rad_s) = 0;
+  // Adds a vehicle (shared with the exercise); answers its index. Processes without vehicles
+  // refuse.
+  virtual Result<int> Spawn(const SpawnRequest& request) {
+    return Error{fmt::format("cannot spawn a {}: this process has no vehicles", request.type)};
+  }
+  // Removes vehicle `index` from the exercise; later vehicles move down one index.
+  virtual Status Remove(int index) {
+    return Error{fmt::format("cannot remove vehicle {}: this process has no vehicles", index)};
+  }
 };
 
 }  // namespace dt

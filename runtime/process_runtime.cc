@@ -167,12 +167,17 @@ std::string StatusText(const std::string& name, NodeRole role, const Replica& re
 
 Status RenderMapPng(const Terrain& terrain, const std::vector<SimulatedVehicle>& vehicles,
                     const std::string& path) {
+  std::vector<VehicleSprite> sprites;
+  for (const SimulatedVehicle& v : vehicles) sprites.push_back(SpriteOf(v));
+  return RenderMapPng(terrain, sprites, path);
+}
+
+Status RenderMapPng(const Terrain& terrain, const std::vector<VehicleSprite>& sprites,
+                    const std::string& path) {
   try {
     static Renderer* renderer = new Renderer();  // one OSMesa context for the process's life
     const double size_m = terrain.ground().size_m();
     const Camera camera = Camera::MapOf(Rect{0.0, 0.0, size_m, size_m}, 512);
-    std::vector<VehicleSprite> sprites;
-    for (const SimulatedVehicle& v : vehicles) sprites.push_back(SpriteOf(v));
     RenderOptions options;
     options.grid_spacing_m = 0.0;
     return WritePng(renderer->Render(terrain, sprites, camera, options), path);

@@ -12,6 +12,7 @@
 #include "pdu/faulty_transport.h"
 #include "pdu/pdu_bus.h"
 #include "pdu/retrying_transport.h"
+#include "render/vehicle_sprite.h"
 #include "runtime/control_command.h"
 #include "runtime/control_server.h"
 #include "runtime/exercise_config.h"
@@ -77,6 +78,9 @@ std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
 // Renders the terrain and vehicles as a 512-pixel map PNG. Error if the file cannot be written
 // or no renderer can be made.
 Status RenderMapPng(const Terrain& terrain, const std::vector<SimulatedVehicle>& vehicles,
+                    const std::string& path);
+// The same with the sprites given (a node's own and remote vehicles in their owners' colours).
+Status RenderMapPng(const Terrain& terrain, const std::vector<VehicleSprite>& sprites,
                     const std::string& path);
 
 // Reports a long catch-up: a rewritten line on a terminal, a log line every few seconds

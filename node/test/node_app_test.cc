@@ -173,6 +173,44 @@ TEST_F(NodeAppTest, APhysicalTankDiesAtADestroyedBridgesDropWhereALightOneDrives
   EXPECT_GT(std::filesystem::file_size(png), 0u);
 }
 
+TEST_F(NodeAppTest, SpawnsListsAndRemovesVehiclesAtRunTime) {
+  const ExerciseConfig exercise =
+      Exercise("[[node.vehicle]]\ntype = \"tank\"\nx_m = 50\nz_m = 100\n", false);
+  NodeApp node(exercise, exercise.nodes[0]);
+  node.Start(0);
+  node.Tick(33, 0.033);
+  ControlReply r = node.Handle("spawn jeep 120 80 90 light");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.body, "1");
+  ASSERT_EQ(node.vehicles().size(), 2u);
+  EXPECT_EQ(node.vehicles()[1].model(), VehicleModel::kLight);
+  node.Tick(66, 0.033);
+  r = node.Handle("vehicles");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_NE(r.body.find("local 0 1:1:1 tank owner=1:1"), std::string::npos) << r.body;
+  EXPECT_NE(r.body.find("local 1 1:1:2 jeep owner=1:1 x_m=120.00"), std::string::npos) << r.body;
+  // Refused, changing nothing: an unknown type, a place off the terrain, a missing vehicle.
+  r = node.Handle("spawn boat 10 10 0");
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("boat"), std::string::npos) << r.error;
+  EXPECT_FALSE(node.Handle("spawn tank 5000 10 0").ok);
+  r = node.Handle("remove 2");
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("vehicle 2 does not exist (this node has 2)"), std::string::npos);
+  EXPECT_EQ(node.vehicles().size(), 2u);
+  // Removing the tank moves the jeep to index 0; its entity ID stays.
+  ASSERT_TRUE(node.Handle("remove 0").ok);
+  ASSERT_EQ(node.vehicles().size(), 1u);
+  EXPECT_EQ(node.vehicles()[0].type_name(), "jeep");
+  r = node.Handle("vehicles");
+  EXPECT_NE(r.body.find("local 0 1:1:2 jeep"), std::string::npos) << r.body;
+  EXPECT_EQ(r.body.find("tank"), std::string::npos) << r.body;
+  r = node.Handle("status");
+  EXPECT_NE(r.body.find("local_vehicles 1\nremote_vehicles 0"), std::string::npos) << r.body;
+  // The first states and the removal were sent.
+  EXPECT_GE(node.sharing().sent(), 3u);
+}
+
 TEST_F(NodeAppTest, RefusesADriveThatIsNotFiniteAndClampsOneOutOfRange) {
   const ExerciseConfig exercise =
       Exercise("[[node.vehicle]]\ntype = \"jeep\"\nx_m = 50\nz_m = 50\n", false);

@@ -222,6 +222,45 @@ points = [[10, 50], [30, 50], [20, 70]]
              "points = [[1, 1], [5, 1], [3, 4]]\n");
 }
 
+TEST(ScenarioTest, SpawnAndRemoveChangeWhichVehicleIndicesExist) {
+  const std::string spawn =
+      "[[step]]\naction = \"spawn\"\ntype = \"jeep\"\nx_m = 10\nz_m = 20\nheading_deg = 90\n"
+      "model = \"light\"\n";
+  const std::string drive1 = "[[step]]\naction = \"drive\"\nvehicle = 1\nspeed_mps = 1\n";
+  const std::string remove0 = "[[step]]\naction = \"remove\"\nvehicle = 0\n";
+  EXPECT_NE(ErrorOf(drive1).find("has 1 vehicle"), std::string::npos);
+  EXPECT_EQ(ErrorOf(spawn + drive1), "");
+  EXPECT_NE(ErrorOf(spawn + remove0 + drive1).find("has 1 vehicle"), std::string::npos);
+  EXPECT_NE(ErrorOf(remove0 + remove0).find("0 vehicle(s) at this step"), std::string::npos)
+      << ErrorOf(remove0 + remove0);
+  EXPECT_NE(ErrorOf(spawn + "[[step]]\naction = \"spawn\"\nx_m = 1\nz_m = 1\nmodel = \"x\"\n")
+                .find("step[1].model"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("[[step]]\naction = \"spawn\"\nx_m = 1\n").find("z_m"), std::string::npos);
+
+  const Scenario sc = ParseScenario(spawn + remove0, "s.toml", 1);
+  ASSERT_EQ(sc.steps.size(), 2u);
+  EXPECT_EQ(sc.steps[0].action, ScenarioAction::kSpawn);
+  EXPECT_EQ(sc.steps[0].spawn.type, "jeep");
+  EXPECT_EQ(sc.steps[0].spawn.model, "light");
+  EXPECT_NEAR(sc.steps[0].spawn.heading_rad, 1.5707963267948966, 1e-12);
+  struct Fleet : MapActions {
+    std::vector<std::string> calls;
+    Result<int> Spawn(const SpawnRequest& r) override {
+      calls.push_back("spawn " + r.type);
+      return 1;
+    }
+    Status Remove(int index) override {
+      calls.push_back("remove " + std::to_string(index));
+      return Status::Ok();
+    }
+  } fleet;
+  ScenarioRunner runner(sc);
+  runner.Advance(0.0, fleet);
+  EXPECT_EQ(fleet.calls, (std::vector<std::string>{"spawn jeep", "remove 0"}));
+  EXPECT_EQ(runner.failed(), 0);
+}
+
 TEST(ScenarioTest, ShippedScenariosParse) {
   const std::filesystem::path dir = std::filesystem::path(DT_SOURCE_DIR) / "configs/scenarios";
   int count = 0;

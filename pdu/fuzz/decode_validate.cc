@@ -6,6 +6,7 @@
 #include "pdu/conversion.h"
 #include "pdu/pdu_auth.h"
 #include "pdu/validation.h"
+#include "pdu/vehicle_state.h"
 
 namespace dt::fuzz {
 namespace {
@@ -23,12 +24,19 @@ bool One(std::span<const uint8_t> bytes) {
   } else if constexpr (PduTraits<Pdu>::kType == PduType::kUpdate) {
     auto f = FromUpdate(pdu);
     if (!f || !ValidateFeatureParams(f.value().params)) std::abort();
+  } else if constexpr (PduTraits<Pdu>::kType == PduType::kVehicleState) {
+    // What a handler sees converts to fields and back to the very same PDU.
+    auto again = ToVehicleState(FromVehicleState(pdu));
+    again.header = pdu.header;
+    again.sender = pdu.sender;
+    again.sender_seq = pdu.sender_seq;
+    if (EncodePdu(again) != EncodePdu(pdu)) std::abort();
   }
   return true;
 }
 
 bool DecodeAs(uint8_t selector, std::span<const uint8_t> bytes) {
-  switch (selector % 6) {
+  switch (selector % kFuzzTypes) {
     case 0:
       return One<dtpdu::construct_t>(bytes);
     case 1:
@@ -39,8 +47,10 @@ bool DecodeAs(uint8_t selector, std::span<const uint8_t> bytes) {
       return One<dtpdu::max_feature_t>(bytes);
     case 4:
       return One<dtpdu::playback_t>(bytes);
-    default:
+    case 5:
       return One<dtpdu::anti_entropy_t>(bytes);
+    default:
+      return One<dtpdu::vehicle_state_t>(bytes);
   }
 }
 
@@ -51,7 +61,7 @@ std::vector<uint8_t> FuzzKey() { return std::vector<uint8_t>(32, 0x42); }
 bool DecodeValidateOne(const uint8_t* data, size_t size) {
   if (size == 0) return false;
   const std::span<const uint8_t> bytes(data + 1, size - 1);
-  if ((data[0] / 6) % 2 == 0) return DecodeAs(data[0], bytes);
+  if ((data[0] / kFuzzTypes) % 2 == 0) return DecodeAs(data[0], bytes);
   static const auto key = std::make_shared<const ExerciseKey>(FuzzKey());
   // A fresh receiver per input, so its replay window never makes one input depend on another.
   PduAuthenticator receiver(

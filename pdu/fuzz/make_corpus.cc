@@ -60,7 +60,10 @@ int main(int argc, char** argv) {
   Family(dir, "playback", 4, sample::Playback());
   Family(dir, "antientropy", 5, sample::AntiEntropySummary());
   Family(dir, "antientropy_hashes", 5, sample::AntiEntropyHashes());
-  // Signed by the samples' sender with the fuzz key and clock (selector + 6: authenticated).
+  Family(dir, "vehiclestate", 6, sample::VehicleState());
+  // Signed by the samples' sender with the fuzz key and clock (selector + kFuzzTypes:
+  // authenticated).
+  constexpr uint8_t kSigned = fuzz::kFuzzTypes;
   auto key = std::make_shared<const ExerciseKey>(fuzz::FuzzKey());
   PduAuthenticator signer({1, 2}, PduAuthConfig{.key = key,
                                                 .wall_clock_ms = [] { return fuzz::kFuzzClockMs; },
@@ -69,15 +72,15 @@ int main(int argc, char** argv) {
     signer.Sign(bytes);
     return bytes;
   };
-  Write(dir, "signed_construct_valid", 6, signed_pdu(EncodePdu(sample::Construct())));
-  Write(dir, "signed_update_valid", 7, signed_pdu(EncodePdu(sample::Update())));
-  Write(dir, "signed_maxfeature_valid", 9, signed_pdu(EncodePdu(sample::MaxFeature())));
+  Write(dir, "signed_construct_valid", kSigned + 0, signed_pdu(EncodePdu(sample::Construct())));
+  Write(dir, "signed_update_valid", kSigned + 1, signed_pdu(EncodePdu(sample::Update())));
+  Write(dir, "signed_maxfeature_valid", kSigned + 3, signed_pdu(EncodePdu(sample::MaxFeature())));
   auto forged = signed_pdu(EncodePdu(sample::Destruct()));
   forged[forged.size() - 1] ^= 0x01;  // the MAC's last byte
-  Write(dir, "signed_destruct_bad_mac", 8, forged);
+  Write(dir, "signed_destruct_bad_mac", kSigned + 2, forged);
   auto old_magic = signed_pdu(EncodePdu(sample::Playback()));
   old_magic[EncodePdu(sample::Playback()).size() + 3] = '1';  // DTA1: the HMAC trailer
-  Write(dir, "signed_playback_old_trailer", 10, old_magic);
+  Write(dir, "signed_playback_old_trailer", kSigned + 4, old_magic);
   Family(dir, "antientropy_copies", 5, sample::AntiEntropyCopies());
 
   auto c = sample::Construct();
@@ -155,6 +158,26 @@ int main(int argc, char** argv) {
   ae.hashes.pop_back();
   ae.num_hashes = 1;
   Write(dir, "antientropy_copies_short_hashes", 5, EncodePdu(ae));
+  Write(dir, "signed_vehiclestate_valid", kSigned + 6,
+        signed_pdu(EncodePdu(sample::VehicleState())));
+  auto v = sample::VehicleState();
+  v.linear_velocity_mps[0] = std::numeric_limits<double>::infinity();
+  Write(dir, "vehiclestate_infinite_velocity", 6, EncodePdu(v));
+  v = sample::VehicleState();
+  v.linear_velocity_mps[2] = 400.0;
+  Write(dir, "vehiclestate_absurd_speed", 6, EncodePdu(v));
+  v = sample::VehicleState();
+  v.location_m[0] = 1000.5;
+  Write(dir, "vehiclestate_off_terrain", 6, EncodePdu(v));
+  v = sample::VehicleState();
+  v.entity_type.category = 99;
+  Write(dir, "vehiclestate_unknown_type", 6, EncodePdu(v));
+  v = sample::VehicleState();
+  v.dead_reckoning_algorithm = 9;
+  Write(dir, "vehiclestate_bad_algorithm", 6, EncodePdu(v));
+  v = sample::VehicleState();
+  v.appearance = static_cast<int32_t>(1u << 31);
+  Write(dir, "vehiclestate_bad_appearance", 6, EncodePdu(v));
   Write(dir, "empty", 0, {});
   std::printf("wrote %d inputs to %s\n", written, dir.c_str());
   return 0;

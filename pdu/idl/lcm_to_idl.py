@@ -26,6 +26,7 @@ TOP_LEVEL = {
     "max_feature_t": ("kMaxFeature", []),
     "playback_t": ("kPlayback", []),
     "anti_entropy_t": ("kAntiEntropy", []),
+    "vehicle_state_t": ("kVehicleState", ["entity_id"]),
 }
 MAX_AUTH_BYTES = 128  # dt::dds_codec::kMaxAuthBytes
 
@@ -268,10 +269,12 @@ def emit_codec(structs):
         out.append("  return true;")
         out.append("}")
         out.append("")
+    # `Lcm pdu{}`: value-initialised, or GCC -O2 -Werror (the ci preset) suspects fixed arrays
+    # of read before LCM's decode wrote them.
     out += [
         "template <typename Lcm, typename Idl>",
         "Status WriteAs(dds_entity_t writer, std::string_view lcm_name, std::span<const uint8_t> bytes) {",
-        "  Lcm pdu;",
+        "  Lcm pdu{};",
         "  const int used = pdu.decode(bytes.data(), 0, static_cast<int>(bytes.size()));",
         "  if (used < 0) {",
         "    return Error{fmt::format(\"{} bytes are not an LCM-encoded {} (wrong fingerprint or truncated)\",",
@@ -301,7 +304,7 @@ def emit_codec(structs):
         "template <typename Lcm, typename Idl>",
         "bool ReadAs(const void* sample, std::vector<uint8_t>& bytes) {",
         "  const Idl& s = *static_cast<const Idl*>(sample);",
-        "  Lcm pdu;",
+        "  Lcm pdu{};",
         "  if (!FromIdl(s, pdu)) return false;",
         "  const int size = pdu.getEncodedSize();",
         "  bytes.resize(static_cast<size_t>(size) + s.auth._length);",

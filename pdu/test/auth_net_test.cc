@@ -35,8 +35,8 @@ PduBusConfig Config(NodeAddress local, std::shared_ptr<const ExerciseKey> key) {
 using testing::HandleUntil;
 
 // The types the test sends (and its receiver subscribes to).
-constexpr PduType kSentTypes[] = {PduType::kConstruct, PduType::kUpdate, PduType::kDestruct,
-                                  PduType::kMaxFeature, PduType::kPlayback};
+constexpr PduType kSentTypes[] = {PduType::kConstruct,  PduType::kUpdate,   PduType::kDestruct,
+                                  PduType::kMaxFeature, PduType::kPlayback, PduType::kVehicleState};
 
 void AwaitReaders(Transport& sender, int readers) {
   if (auto* dds = dynamic_cast<DdsTransport*>(&sender)) {
@@ -68,6 +68,7 @@ TEST_P(AuthOnEveryCarrier, AuthenticPdusArriveAndForgeriesAndReplaysDoNot) {
   to.Subscribe<dtpdu::destruct_t>([&](const dtpdu::destruct_t&) { ++got; });
   to.Subscribe<dtpdu::max_feature_t>([&](const dtpdu::max_feature_t&) { ++got; });
   to.Subscribe<dtpdu::playback_t>([&](const dtpdu::playback_t&) { ++got; });
+  to.Subscribe<dtpdu::vehicle_state_t>([&](const dtpdu::vehicle_state_t&) { ++got; });
   b->Subscribe(PduType::kConstruct, [&](std::span<const uint8_t> bytes) {
     raw.emplace_back(bytes.begin(), bytes.end());
   });
@@ -79,7 +80,8 @@ TEST_P(AuthOnEveryCarrier, AuthenticPdusArriveAndForgeriesAndReplaysDoNot) {
   ASSERT_TRUE(from.Publish(sample::Destruct()).ok());
   ASSERT_TRUE(from.Publish(sample::MaxFeature()).ok());
   ASSERT_TRUE(from.Publish(sample::Playback()).ok());
-  ASSERT_TRUE(HandleUntil({a.get(), b}, [&] { return got == 5; })) << got << " of 5 arrived";
+  ASSERT_TRUE(from.Publish(sample::VehicleState()).ok());
+  ASSERT_TRUE(HandleUntil({a.get(), b}, [&] { return got == 6; })) << got << " of 6 arrived";
   EXPECT_EQ(to.rejects().total(), 0u);
   ASSERT_EQ(raw.size(), 1u);
   // The carrier kept the trailer byte for byte: the LCM PDU is followed by exactly 64 bytes.
@@ -97,7 +99,7 @@ TEST_P(AuthOnEveryCarrier, AuthenticPdusArriveAndForgeriesAndReplaysDoNot) {
   EXPECT_EQ(to.rejects().count(RejectReason::kReplayed), 1u);
   EXPECT_EQ(to.rejects().count(RejectReason::kUnauthenticated), 1u);
   EXPECT_EQ(to.rejects().count(RejectReason::kBadMac), 1u);
-  EXPECT_EQ(got, 5);
+  EXPECT_EQ(got, 6);
 }
 
 INSTANTIATE_TEST_SUITE_P(Carriers, AuthOnEveryCarrier, ::testing::Values("memq://", kUdpm, kDds),

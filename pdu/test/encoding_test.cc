@@ -14,8 +14,11 @@
 #include "dtpdu/anti_entropy_entry_t.hpp"
 #include "dtpdu/anti_entropy_t.hpp"
 #include "dtpdu/crater_vertex_edit_t.hpp"
+#include "dtpdu/entity_id_t.hpp"
+#include "dtpdu/entity_type_t.hpp"
 #include "dtpdu/header_t.hpp"
 #include "dtpdu/node_address_t.hpp"
+#include "dtpdu/vehicle_state_t.hpp"
 #include "pdu/pdu_traits.h"
 #include "pdu/test/sample_pdus.h"
 
@@ -145,6 +148,9 @@ TEST(Encoding, EveryLcmTypeHasItsOwnFingerprint) {
       {"playback_t", dtpdu::playback_t::getHash()},
       {"anti_entropy_entry_t", dtpdu::anti_entropy_entry_t::getHash()},
       {"anti_entropy_t", dtpdu::anti_entropy_t::getHash()},
+      {"entity_id_t", dtpdu::entity_id_t::getHash()},
+      {"entity_type_t", dtpdu::entity_type_t::getHash()},
+      {"vehicle_state_t", dtpdu::vehicle_state_t::getHash()},
   };
   // Every type of pdu/lcm is in the list, so a new one cannot escape the check.
   std::set<std::string> files;

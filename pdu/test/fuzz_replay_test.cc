@@ -45,7 +45,8 @@ TEST(FuzzReplay, EveryTruncationIsRejected) {
       WithSelector(4, EncodePdu(sample::Playback())),
       WithSelector(5, EncodePdu(sample::AntiEntropySummary())),
       WithSelector(5, EncodePdu(sample::AntiEntropyHashes())),
-      WithSelector(5, EncodePdu(sample::AntiEntropyCopies()))};
+      WithSelector(5, EncodePdu(sample::AntiEntropyCopies())),
+      WithSelector(6, EncodePdu(sample::VehicleState()))};
   for (const auto& full : inputs) {
     ASSERT_TRUE(Accepted(full));
     for (size_t n = 0; n < full.size(); ++n) {
@@ -64,7 +65,8 @@ TEST(FuzzReplay, RandomCorruptionsNeverCrash) {
       WithSelector(4, EncodePdu(sample::Playback())),
       WithSelector(5, EncodePdu(sample::AntiEntropySummary())),
       WithSelector(5, EncodePdu(sample::AntiEntropyHashes())),
-      WithSelector(5, EncodePdu(sample::AntiEntropyCopies()))};
+      WithSelector(5, EncodePdu(sample::AntiEntropyCopies())),
+      WithSelector(6, EncodePdu(sample::VehicleState()))};
   size_t accepted = 0;
   size_t total = 0;
   for (const auto& full : inputs) {

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Tests pdu/idl/lcm_to_idl.py: the IDL it writes has every LCM struct with the same members in
-the same order (plus `auth` on the PDU types, keys on the feature types); a member added to one
+the same order (plus `auth` on the PDU types, keys on the feature and vehicle types); a member added to one
 .lcm file (as a fingerprint change would) reaches that type's IDL and conversions only; what the
 generator cannot map is refused naming the file and line.
 Usage: lcm_to_idl_test.py <lcm_to_idl.py> <file.lcm>...
@@ -64,6 +64,8 @@ def main():
             check(got == want, f"{name}: IDL members {got} != LCM members {want}")
             if name in ("construct_t", "update_t", "destruct_t"):
                 check(keys == ["origin", "feature_number"], f"{name}: keys {keys}")
+            elif name == "vehicle_state_t":  # one DDS instance per vehicle
+                check(keys == ["entity_id"], f"{name}: keys {keys}")
             else:
                 check(keys == [], f"{name}: unexpected keys {keys}")
 

@@ -97,6 +97,7 @@ TEST_P(EveryCarrier, EveryPduTypeRoundTrips) {
   ExpectRoundTrip(from, to, p.sender(), b, sample::MaxFeature());
   ExpectRoundTrip(from, to, p.sender(), b, sample::Playback());
   ExpectRoundTrip(from, to, p.sender(), b, sample::AntiEntropySummary());
+  ExpectRoundTrip(from, to, p.sender(), b, sample::VehicleState());
   EXPECT_EQ(to.rejects().total(), 0u);
 }
 

@@ -4,6 +4,7 @@
 #include "pdu/conversion.h"
 #include "pdu/pdu_traits.h"
 #include "pdu/validation.h"
+#include "pdu/vehicle_state.h"
 
 namespace dt::sample {
 
@@ -154,6 +155,31 @@ inline dtpdu::anti_entropy_t AntiEntropyCopies() {
   pdu.end = 41;
   pdu.hashes = {static_cast<int64_t>(0xfeedfacecafebeefull), 0};  // it holds no change 41
   pdu.num_hashes = 2;
+  return pdu;
+}
+
+// Tank 1:2:5 of node 1:2 turning at 8 m/s, with every field set.
+inline VehicleStateFields Tank() {
+  VehicleStateFields v;
+  v.id = {1, 2, 5};
+  v.force_id = 1;
+  v.type = *EntityTypeOfVehicle("tank");
+  v.location_m = {500.25, 12.5, 250.75};
+  v.velocity_mps = {6.0, 0.25, 5.25};
+  v.heading_rad = 0.7;
+  v.pitch_rad = 0.05;
+  v.roll_rad = -0.02;
+  v.appearance = appearance::kOnBridge;
+  v.algorithm = DeadReckoningAlgorithm::kRvw;
+  v.acceleration_mps2 = {-0.5, 0.0, 0.75};
+  v.angular_velocity_body_rad_s = {0.0, -0.1, 0.01};
+  v.marking = "TANK-5";
+  return v;
+}
+
+inline dtpdu::vehicle_state_t VehicleState() {
+  auto pdu = ToVehicleState(Tank());
+  StampHeader(pdu);
   return pdu;
 }
 

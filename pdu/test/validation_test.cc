@@ -42,6 +42,7 @@ TEST(Validation, SamplesOfEveryTypePassAndDecodeToWhatWasSent) {
   EXPECT_EQ(ReasonFor(sample::AntiEntropySummary()), std::nullopt);
   EXPECT_EQ(ReasonFor(sample::AntiEntropyHashes()), std::nullopt);
   EXPECT_EQ(ReasonFor(sample::AntiEntropyCopies()), std::nullopt);
+  EXPECT_EQ(ReasonFor(sample::VehicleState()), std::nullopt);
   dtpdu::construct_t out;
   const auto bytes = EncodePdu(sample::Construct());
   ASSERT_EQ(DecodeAndValidate(std::span<const uint8_t>(bytes), Context(), out), std::nullopt);

@@ -80,9 +80,21 @@ TEST(ControlCommandTest, ParsesEveryVerb) {
   EXPECT_EQ(c.value().nodes.size(), 2u);
   EXPECT_EQ(ParseControlCommand("loss 0.3").value().drop_probability, 0.3);
   EXPECT_EQ(ParseControlCommand("render /tmp/x.png").value().path, "/tmp/x.png");
-  for (const char* v : {"status", "digest", "features", "heal", "ping", "quit"}) {
+  for (const char* v : {"status", "digest", "features", "heal", "ping", "quit", "vehicles"}) {
     EXPECT_TRUE(ParseControlCommand(v)) << v;
   }
+  c = ParseControlCommand("spawn jeep 10 20 90 light");
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_EQ(c.value().verb, ControlVerb::kSpawn);
+  EXPECT_EQ(c.value().spawn.type, "jeep");
+  EXPECT_EQ(c.value().spawn.model, "light");
+  EXPECT_DOUBLE_EQ(c.value().spawn.z_m, 20.0);
+  EXPECT_NEAR(c.value().spawn.heading_rad, 1.5707963267948966, 1e-12);
+  EXPECT_EQ(ParseControlCommand("spawn tank 1 2 0").value().spawn.model, "physical");
+  c = ParseControlCommand("remove 4");
+  ASSERT_TRUE(c);
+  EXPECT_EQ(c.value().verb, ControlVerb::kRemove);
+  EXPECT_EQ(c.value().vehicle, 4);
 }
 
 TEST(ControlCommandTest, RefusesBadCommandsWithTheValue) {
@@ -115,6 +127,11 @@ TEST(ControlCommandTest, RefusesBadCommandsWithTheValue) {
   EXPECT_NE(err("loss 2").find("outside [0, 1]"), std::string::npos);
   EXPECT_NE(err("status now").find("no arguments"), std::string::npos);
   EXPECT_NE(err("fly 1 2").find("unknown command \"fly\""), std::string::npos);
+  EXPECT_NE(err("spawn tank 1 2").find("spawn takes"), std::string::npos);
+  EXPECT_NE(err("spawn tank 1 nan 0").find("z_m \"nan\""), std::string::npos);
+  EXPECT_NE(err("spawn tank 1 2 0 heavy").find("\"heavy\" is neither"), std::string::npos);
+  EXPECT_NE(err("remove -1").find("not an index"), std::string::npos);
+  EXPECT_NE(err("remove 1.5").find("not an index"), std::string::npos);
   EXPECT_NE(err("").find("empty"), std::string::npos);
 }
 

@@ -146,6 +146,27 @@ TEST(ExerciseConfigTest, AVehicleNamesItsModelAndTheExerciseItsFrictionFile) {
   EXPECT_NE(e.find("/base/none.toml"), std::string::npos) << e;
 }
 
+TEST(ExerciseConfigTest, VehiclesTableSetsTheDeadReckoningThresholds) {
+  const ExerciseConfig defaults = ParseExerciseConfig(kGood, "ex.toml", "/base");
+  EXPECT_EQ(defaults.dead_reckoning.position_m, 1.0);
+  EXPECT_EQ(defaults.dead_reckoning.heartbeat_s, 5.0);
+  EXPECT_EQ(defaults.dead_reckoning.algorithm, DeadReckoningAlgorithm::kRvw);
+  const std::string with = std::string(kGood) +
+                           "\n[vehicles]\nposition_threshold_m = 0.5\n"
+                           "orientation_threshold_deg = 2\nheartbeat_s = 10\n"
+                           "timeout_heartbeats = 3\ndead_reckoning = \"fpw\"\n";
+  const ExerciseConfig c = ParseExerciseConfig(with, "ex.toml", "/base");
+  EXPECT_EQ(c.dead_reckoning.position_m, 0.5);
+  EXPECT_EQ(c.dead_reckoning.orientation_deg, 2.0);
+  EXPECT_EQ(c.dead_reckoning.timeout_s(), 30.0);
+  EXPECT_EQ(c.dead_reckoning.algorithm, DeadReckoningAlgorithm::kFpw);
+  std::string e = ErrorOf(std::string(kGood) + "\n[vehicles]\nheartbeat_s = 0\n");
+  EXPECT_NE(e.find("vehicles.heartbeat_s"), std::string::npos) << e;
+  e = ErrorOf(std::string(kGood) + "\n[vehicles]\ndead_reckoning = \"dvw\"\n");
+  EXPECT_NE(e.find("vehicles.dead_reckoning"), std::string::npos) << e;
+  EXPECT_NE(e.find("static, fpw"), std::string::npos) << e;
+}
+
 TEST(ExerciseConfigTest, ErrorsNameFileKeyAndValue) {
   std::string e = ErrorOf(Replace(kGood, "tick_hz = 20", "tick_hz = 0"));
   EXPECT_NE(e.find("ex.toml"), std::string::npos) << e;

@@ -53,7 +53,7 @@ void ReliefRenderer::Run() {
     for (const auto& [id, params] : job->features) (void)terrain.Add(id, params);
     // The renderer's one OSMesa context lives on this thread only (RenderMapPng's own).
     std::optional<std::string> bytes;
-    if (Status s = RenderMapPng(terrain, {}, png_path_.string()); !s) {
+    if (Status s = RenderMapPng(terrain, std::vector<VehicleSprite>{}, png_path_.string()); !s) {
       DT_LOG_WARN("relief: {}", s.error().message);
     } else {
       std::ifstream in(png_path_, std::ios::binary);

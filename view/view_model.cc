@@ -46,6 +46,20 @@ nlohmann::json FeatureJson(FeatureId id, const Record& record) {
       j["h2"] = p.height_m[1];
       j["status"] = p.status == BridgeStatus::kDestroyed ? "destroyed" : "intact";
       break;
+    case FeatureType::kDitch:
+    case FeatureType::kBermLine:
+    case FeatureType::kArea: {
+      // Each point's cross-section: height (a ditch's depth) and width; an area's are 0.
+      nlohmann::json points = nlohmann::json::array();
+      for (const FeaturePoint& q : p.points)
+        points.push_back({q.x_m, q.z_m, q.height_m, q.width_m});
+      j["points"] = std::move(points);
+      if (p.type == FeatureType::kArea) {
+        j["soil"] = std::string(MaterialName(p.material));
+        if (p.material == Material::kWater) j["level"] = p.height_m[0];
+      }
+      break;
+    }
   }
   return j;
 }
@@ -68,9 +82,13 @@ std::string ViewModel::Name(NodeAddress a) const {
 void ViewModel::Note(const Change& c, int64_t now_ms, std::vector<Event>& events) {
   Event e{now_ms, KindName(c.kind), c.id.ToString(), Name(c.author()), c.stamp.change_seq};
   const NodeAddress author = c.author();
-  if (c.kind == ChangeKind::kDestruct && c.params.type == FeatureType::kBerm) {
+  // Berms, berm lines and ditches are what a breach cuts (engine/replica.h Breach).
+  const bool breachable = c.params.type == FeatureType::kBerm ||
+                          c.params.type == FeatureType::kBermLine ||
+                          c.params.type == FeatureType::kDitch;
+  if (c.kind == ChangeKind::kDestruct && breachable) {
     last_berm_destruct_[author] = {c.stamp.change_seq, c.id};
-  } else if (c.kind == ChangeKind::kConstruct && c.params.type == FeatureType::kBerm) {
+  } else if (c.kind == ChangeKind::kConstruct && breachable) {
     // A breach is one Destruct of the berm and a Construct per piece, in consecutive sequences.
     auto it = last_berm_destruct_.find(author);
     if (it != last_berm_destruct_.end() && c.stamp.change_seq - it->second.first <= 2) {

@@ -86,6 +86,43 @@ TEST_F(ViewModelTest, ADeltaHoldsWhatChangedAndNothingWhenNothingDid) {
   EXPECT_EQ(d["seq"].get<uint64_t>(), model.seq());
 }
 
+TEST_F(ViewModelTest, EarthworksCarryTheirPointsAndAnAreaItsSoil) {
+  cluster_.Start(kView, NodeRole::kObserver);
+  cluster_.Run(500);
+  ViewModel model(View(), Names());
+  (void)model.Update(1, {}, {}, 1);
+  auto ditch =
+      A().Create(FeatureParams::Ditch({{40, 40, 2, 6}, {80, 40, 2, 6}, {90, 70, 1.5, 5}}, 1));
+  auto flood = B().Create(FeatureParams::Area({{10, 80, 0, 0}, {40, 80, 0, 0}, {25, 110, 0, 0}},
+                                              Material::kWater, 25.0));
+  ASSERT_TRUE(ditch.ok()) << ditch.error().message;
+  ASSERT_TRUE(flood.ok()) << flood.error().message;
+  cluster_.Run(300);
+  const nlohmann::json d = model.Update(2, {}, {}, 1);
+  ASSERT_EQ(d["features"].size(), 2u);
+  for (const auto& f : d["features"]) {
+    if (f["id"] == ditch.value().ToString()) {
+      EXPECT_EQ(f["type"], "ditch");
+      ASSERT_EQ(f["points"].size(), 3u);
+      EXPECT_EQ(f["points"][2], nlohmann::json({90.0, 70.0, 1.5, 5.0}));
+      EXPECT_FALSE(f.contains("soil"));
+    } else {
+      EXPECT_EQ(f["type"], "area");
+      EXPECT_EQ(f["soil"], "water");
+      EXPECT_DOUBLE_EQ(f["level"].get<double>(), 25.0);
+      EXPECT_EQ(f["points"].size(), 3u);
+    }
+  }
+  // A ditch's breach is shown as one, like a berm's.
+  auto pieces = B().Breach(ditch.value(), 10, 5);
+  ASSERT_TRUE(pieces.ok()) << pieces.error().message;
+  cluster_.Run(300);
+  const nlohmann::json b = model.Update(3, {}, {}, 1);
+  size_t breaches = 0;
+  for (const auto& e : b["events"]) breaches += e["kind"] == "breach" ? 1 : 0;
+  EXPECT_EQ(breaches, pieces.value().size());
+}
+
 TEST_F(ViewModelTest, ProcessesGoingSilentAndComingBackAreEvents) {
   cluster_.Start(kView, NodeRole::kObserver);
   ViewModel model(View(), Names());

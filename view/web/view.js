@@ -59,6 +59,25 @@ function drawFeature(f) {
                     fill: destroyed ? "rgba(255,60,40,0.25)" : "rgba(120,200,255,0.45)",
                     stroke: colour, "stroke-width": 2,
                     "stroke-dasharray": destroyed ? "6 3" : placed }, g);
+  } else if (f.type === "ditch" || f.type === "berm_line") {
+    // The centre line, as wide as each segment's mean top width.
+    const piece = (f.history || []).some((e) => e.kind === "breach" && e.feature === f.id);
+    const cut = f.type === "ditch";
+    for (let i = 0; i + 1 < f.points.length; ++i) {
+      const [ax, az, , aw] = f.points[i], [bx, bz, , bw] = f.points[i + 1];
+      el("line", { x1: ax, y1: Y(az), x2: bx, y2: Y(bz), "stroke-linecap": "round",
+                   stroke: cut ? "rgba(70,40,20,0.55)" : "rgba(200,170,90,0.45)",
+                   "stroke-width": (aw + bw) / 2 }, g);
+    }
+    el("polyline", { points: f.points.map(([x, z]) => `${x},${Y(z)}`).join(" "), fill: "none",
+                     stroke: piece ? "#ff60d0" : cut ? "#c08050" : "#e8d080", "stroke-width": 1.5,
+                     "stroke-dasharray": placed }, g);
+  } else if (f.type === "area") {
+    const fills = { water: "rgba(40,110,220,0.45)", mud: "rgba(110,80,40,0.45)",
+                    burnt: "rgba(30,30,30,0.45)", oil: "rgba(20,10,30,0.55)" };
+    el("polygon", { points: f.points.map(([x, z]) => `${x},${Y(z)}`).join(" "),
+                    fill: fills[f.soil] || "rgba(160,160,160,0.35)", stroke: "#a0c0ff",
+                    "stroke-width": 1, "stroke-dasharray": placed }, g);
   }
   g.addEventListener("click", (ev) => { ev.stopPropagation(); select(f.id); });
   if (!(f.id in window.dtView.drawnAt)) window.dtView.drawnAt[f.id] = Date.now();

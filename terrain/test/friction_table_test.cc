@@ -100,9 +100,10 @@ TEST(FrictionTableTest, BadConfigsNameKeyAndValue) {
   ExpectThrows("classes = [", {"not valid TOML"});
   ExpectThrows(ConfigWith("classes", "colour = \"red\"\nclasses"),
                {"colour = 'red'", "unknown key"});
-  // A key after the last table belongs to it.
+  // A key after the last table (the last material's) belongs to it.
+  const std::string last(MaterialName(static_cast<Material>(kMaterialCount - 1)));
   ExpectThrows(Config("colour = \"red\"\n"),
-               {"friction.steel.colour = 'red'", "not one of the listed classes"});
+               {"friction." + last + ".colour = 'red'", "not one of the listed classes"});
   ExpectThrows(ConfigWith("classes = [\"tracked\", \"wheeled\"]\n", ""), {"classes is missing"});
   ExpectThrows(ConfigWith("classes = [\"tracked\", \"wheeled\"]", "classes = []"),
                {"classes = []", "non-empty array"});

@@ -130,8 +130,12 @@ class Exercise:
 
 
 def others(statuses, senders):
-    """Per process, how many of the logged PDUs another process sent."""
-    return {p: sum(1 for a in senders if a != s["address"]) for p, s in statuses.items()}
+    """Per process, how many of the logged PDUs another process sent and it listens to: only
+    nodes subscribe to VehicleState (the server holds no vehicles), so only they count those."""
+    return {p: sum(1 for a, channel in senders
+                   if a != s["address"] and (s["role"] == "node" or
+                                             not channel.endswith("_VEHICLESTATE")))
+            for p, s in statuses.items()}
 
 
 def settled(procs, nodes):
@@ -250,7 +254,8 @@ def main():
         check({n1, n2} <= logged_ids, f"the log lacks the craters {n1}, {n2}: it has {logged_ids}")
         # A process drops its own PDUs as echoes before authenticating anything, so it refuses
         # the others' share of the log.
-        senders = [":".join(str(x) for x in struct.unpack(">HH", e.data[15:19])) for e in events]
+        senders = [(":".join(str(x) for x in struct.unpack(">HH", e.data[15:19])), e.channel)
+                   for e in events]
         print(f"recorded {len(events)} PDUs of run 1, {len(constructs)} Constructs")
 
         # ---- 2. Forgeries from a stranger without the key.

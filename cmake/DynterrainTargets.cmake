@@ -87,3 +87,43 @@ function(dt_benchmark name)
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} benchmark::benchmark)
   dt_target_defaults(${name})
 endfunction()
+
+# dt_fuzzer(name FOLDER f SOURCES ... [INCLUDES ...] LIBS ... RUNS n MAX_LEN bytes TIMEOUT s)
+# A libFuzzer target (fuzz preset: DT_BUILD_FUZZERS, clang) whose seed corpus is
+# <source>/<f>/fuzz/corpus, and the ctest entry <name minus _fuzzer>_fuzz_short running it for
+# RUNS inputs. In the fuzz preset that runs the fuzzer built there; in every other preset
+# cmake/fuzz_short.sh first builds it with clang in <build>/fuzz-short (one tree for every
+# fuzzer, under one resource lock), so a gcc suite includes the short run too.
+function(dt_fuzzer name)
+  cmake_parse_arguments(ARG "" "FOLDER;RUNS;MAX_LEN;TIMEOUT" "SOURCES;INCLUDES;LIBS" ${ARGN})
+  string(REGEX REPLACE "_fuzzer$" "_fuzz_short" test_name ${name})
+  set(corpus ${PROJECT_SOURCE_DIR}/${ARG_FOLDER}/fuzz/corpus)
+  if(DT_BUILD_FUZZERS)
+    if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+      message(FATAL_ERROR "DT_BUILD_FUZZERS needs clang (use the fuzz preset)")
+    endif()
+    # The code under test is compiled into the fuzzer so libFuzzer sees its coverage.
+    add_executable(${name} ${ARG_SOURCES})
+    target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR})
+    if(ARG_INCLUDES)
+      target_include_directories(${name} SYSTEM PRIVATE ${ARG_INCLUDES})
+    endif()
+    target_link_libraries(${name} PRIVATE ${ARG_LIBS})
+    target_compile_features(${name} PRIVATE cxx_std_20)
+    target_compile_options(${name} PRIVATE -fsanitize=fuzzer,address,undefined
+                                           -fno-sanitize-recover=all)
+    target_link_options(${name} PRIVATE -fsanitize=fuzzer,address,undefined)
+    # New inputs go to a build directory, never into the committed seed corpus.
+    add_test(NAME ${test_name}
+             COMMAND sh -c "mkdir -p ${name}_out && exec $<TARGET_FILE:${name}> -runs=${ARG_RUNS} -seed=1 -max_len=${ARG_MAX_LEN} ${name}_out ${corpus}"
+             WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+    set_tests_properties(${test_name} PROPERTIES LABELS "unit" TIMEOUT ${ARG_TIMEOUT})
+  else()
+    add_test(NAME ${test_name}
+             COMMAND ${PROJECT_SOURCE_DIR}/cmake/fuzz_short.sh ${PROJECT_SOURCE_DIR}
+                     ${CMAKE_BINARY_DIR}/fuzz-short ${name} ${ARG_FOLDER} ${ARG_RUNS} ${ARG_MAX_LEN})
+    set_tests_properties(${test_name} PROPERTIES LABELS "unit" TIMEOUT ${ARG_TIMEOUT}
+                                                 SKIP_RETURN_CODE 77
+                                                 RESOURCE_LOCK fuzz_short_tree)
+  endif()
+endfunction()

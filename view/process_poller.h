@@ -10,7 +10,6 @@
 #include <vector>
 
 #include "view/process_row.h"
-#include "view/vehicle_source.h"
 
 namespace dt {
 
@@ -19,18 +18,16 @@ struct PolledProcess {
   std::filesystem::path socket;
 };
 
-// The rows' control-socket fields, and the nodes' vehicles from their status lines: the vehicle
-// source until vehicles are shared by PDU (view/vehicle_source.h).
-class ProcessPoller : public VehicleSource {
+// The rows' control-socket fields (vehicles come by PDU: view/shared_vehicle_source.h).
+class ProcessPoller {
  public:
   // Polls each process every period_ms, waiting at most timeout_ms for a reply.
   ProcessPoller(std::vector<PolledProcess> processes, int period_ms, int timeout_ms);
-  ~ProcessPoller() override;
+  ~ProcessPoller();
   ProcessPoller(const ProcessPoller&) = delete;
   ProcessPoller& operator=(const ProcessPoller&) = delete;
 
   std::vector<ProcessRow> Rows() const;
-  std::vector<VehicleView> Vehicles() override;
 
  private:
   void Run();
@@ -39,14 +36,8 @@ class ProcessPoller : public VehicleSource {
   int period_ms_, timeout_ms_;
   mutable std::mutex mu_;
   std::vector<ProcessRow> rows_;
-  std::vector<VehicleView> vehicles_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };
-
-// The `vehicle <i> <type> x_m=.. z_m=.. heading_rad=.. speed_mps=.. alive=..` lines of a status
-// reply, owned by `owner`.
-std::vector<VehicleView> ParseStatusVehicles(const std::string& status_text,
-                                             const std::string& owner);
 
 }  // namespace dt

@@ -51,6 +51,8 @@ ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOp
     polled.push_back({p->name, role, p->address.ToString(), exercise.SocketPath(p->name)});
   }
   names[view_.process.address] = view_.process.name;
+  vehicles_ =
+      std::make_unique<SharedVehicleSource>(*transport_.bus, names, exercise.dead_reckoning);
   model_ = std::make_unique<ViewModel>(*replica_, names);
   relief_ =
       std::make_unique<ReliefRenderer>(exercise.run_dir / (view_.process.name + "-relief.png"));
@@ -106,7 +108,8 @@ void ViewApp::Tick(int64_t now_ms) {
     // The page shows how long ago in whole tenths of a second: finer would be a delta per tick.
     if (r.last_heard_ago_ms > 0) r.last_heard_ago_ms = r.last_heard_ago_ms / 100 * 100;
   }
-  const std::vector<VehicleView> vehicles = poller_->Vehicles();
+  vehicles_->Tick(replica_->terrain(), static_cast<double>(now_ms) / 1000.0);
+  const std::vector<VehicleView> vehicles = vehicles_->Vehicles();
   web_->Publish([&] {
     nlohmann::json delta = model_->Update(WallMs(), rows, vehicles, relief_version_);
     return delta.is_null() ? std::string() : delta.dump();

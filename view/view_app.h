@@ -13,6 +13,7 @@
 #include "runtime/process_runtime.h"
 #include "view/process_poller.h"
 #include "view/relief_renderer.h"
+#include "view/shared_vehicle_source.h"
 #include "view/view_model.h"
 #include "view/web_server.h"
 
@@ -21,7 +22,7 @@ namespace dt {
 struct ViewOptions {
   std::filesystem::path web_dir;  // the page's files (view/web)
   bool allow_commands = false;    // operator actions from the page (off unless asked)
-  int poll_period_ms = 100;       // each process's status: ≥ 10 vehicle updates per second
+  int poll_period_ms = 100;       // each process's status
   int relief_min_period_ms = 1000;
 };
 
@@ -55,6 +56,7 @@ class ViewApp {
   std::unique_ptr<Replica> replica_;
   std::unique_ptr<ViewModel> model_;
   std::unique_ptr<ProcessPoller> poller_;
+  std::unique_ptr<SharedVehicleSource> vehicles_;
   std::unique_ptr<WebServer> web_;
   std::unique_ptr<ReliefRenderer> relief_;
   std::set<std::string> nodes_;

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "pdu/test/test_bus_config.h"
 #include "pdu/transport.h"
 #include "vehicle/physical_type.h"
 #include "vehicle/shipped_friction.h"
@@ -15,13 +16,7 @@ namespace {
 constexpr uint8_t kExercise = 3;
 constexpr double kTickS = 1.0 / 30;
 
-PduBusConfig Config(NodeAddress local) {
-  PduBusConfig c;
-  c.exercise_id = kExercise;
-  c.local = local;
-  c.terrain_size_m = 640;
-  return c;
-}
+PduBusConfig Config(NodeAddress local) { return testing::TestBusConfig(local, kExercise, 640); }
 
 SimulatedVehicle LightTank(const Terrain& terrain, double x, double z) {
   auto type = BuiltInPhysicalType("tank", ShippedFrictionTable());

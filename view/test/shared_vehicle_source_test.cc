@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "pdu/test/test_bus_config.h"
 #include "pdu/transport.h"
 
 namespace dt {
@@ -12,19 +13,11 @@ namespace {
 
 constexpr uint8_t kExercise = 3;
 
-PduBusConfig Config(NodeAddress local) {
-  PduBusConfig c;
-  c.exercise_id = kExercise;
-  c.local = local;
-  c.terrain_size_m = 640;
-  return c;
-}
-
 TEST(SharedVehicleSource, ANodesVehicleIsDrawnDeadReckonedMarkedDeadAndRemoved) {
   const Terrain terrain(HeightGrid(65, 10.0, 2.0f, Material::kDirt));
   auto transport = MakeTransport("memq://", kExercise);
-  PduBus owner_bus(*transport, Config({1, 1}));
-  PduBus view_bus(*transport, Config({1, 50}));
+  PduBus owner_bus(*transport, testing::TestBusConfig({1, 1}, kExercise, 640));
+  PduBus view_bus(*transport, testing::TestBusConfig({1, 50}, kExercise, 640));
   SharedVehicleSource source(view_bus, {{{1, 1}, "node-1"}}, {});
 
   VehicleStateFields s;

@@ -21,8 +21,8 @@ struct VehicleView {
 };
 
 // Polled by the view's loop at its tick rate (the page receives a vehicle delta whenever the
-// list differs). Today's source reads each node's `status` vehicle lines (view/process_poller.h);
-// a source fed by the shared vehicle state PDUs replaces it without touching the page.
+// list differs). The view's source is the exercise's VehicleState PDUs
+// (view/shared_vehicle_source.h); another (a recording, say) would plug in here alike.
 class VehicleSource {
  public:
   virtual ~VehicleSource() = default;

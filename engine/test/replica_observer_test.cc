@@ -34,16 +34,6 @@ class ObserverTest : public ::testing::Test, public testing::ServerAndTwoNodes {
  protected:
   ObserverTest() : ServerAndTwoNodes(5, Defaults()) {}
 
-  PduBus& Bus(NodeAddress who) {
-    transports_.push_back(cluster_.net().Join(who, 1));
-    PduBusConfig bc;
-    bc.exercise_id = 1;
-    bc.local = who;
-    bc.terrain_size_m = 128.0;
-    bc.clock = [] { return 0u; };
-    buses_.push_back(std::make_unique<PduBus>(*transports_.back(), bc));
-    return *buses_.back();
-  }
   // A playback request as an observer sends one while it catches up, addressed to `target`.
   static dtpdu::playback_t Request(NodeAddress target, NodeAddress subject) {
     dtpdu::playback_t p{};
@@ -63,9 +53,6 @@ class ObserverTest : public ::testing::Test, public testing::ServerAndTwoNodes {
       for (auto& b : buses_) (void)b->HandleTimeout(0);
     }
   }
-
-  std::vector<std::unique_ptr<Transport>> transports_;
-  std::vector<std::unique_ptr<PduBus>> buses_;
 };
 
 TEST_F(ObserverTest, ALateObserverHoldsTheTerrainSendsNoReportsAndCreatesNothing) {
@@ -75,7 +62,7 @@ TEST_F(ObserverTest, ALateObserverHoldsTheTerrainSendsNoReportsAndCreatesNothing
   }
   Run(500);
   std::set<NodeAddress> reporters;
-  Bus({1, 50}).Subscribe<dtpdu::max_feature_t>(
+  BusAs({1, 50}).Subscribe<dtpdu::max_feature_t>(
       [&](const dtpdu::max_feature_t& m) { reporters.insert(FromPdu(m.sender)); });
   Replica& view = cluster_.Start(kView, NodeRole::kObserver);
   EXPECT_TRUE(view.signed_on());  // it listens at once: nothing of its own to learn
@@ -123,7 +110,7 @@ TEST_F(ObserverTest, ANodeSigningOnDoesNotWaitForAnObserverItHears) {
   Run(300);
   cluster_.Crash(kB);
   Run(300);
-  PduBus& view = Bus(kView);
+  PduBus& view = BusAs(kView);
   Replica& b = cluster_.Start(kB, NodeRole::kNode);
   for (int i = 0; i < 20 && !b.signed_on(); ++i) {
     ASSERT_TRUE(view.Publish(Request(kA, kA)).ok());
@@ -141,17 +128,17 @@ TEST_F(ObserverTest, AnObserverIsNeverAskedForPlayback) {
   cluster_.Crash(kServer);
   cluster_.Crash(kA);
   std::set<NodeAddress> asked;
-  Bus({1, 50}).Subscribe<dtpdu::playback_t>([&](const dtpdu::playback_t& p) {
+  BusAs({1, 50}).Subscribe<dtpdu::playback_t>([&](const dtpdu::playback_t& p) {
     if (!p.is_response && FromPdu(p.requesting) == kB) asked.insert(FromPdu(p.transmitting));
   });
-  PduBus& view = Bus(kView);
+  PduBus& view = BusAs(kView);
   dtpdu::max_feature_t claim{};
   claim.subject = ToPdu(kA);
   claim.max_feature_number = 1;
   claim.max_change_seq = 1;
   claim.lamport = 1;
   claim.role = static_cast<uint8_t>(NodeRole::kNode);
-  ASSERT_TRUE(Bus(kA).Publish(claim).ok());  // A's last report, then A is gone
+  ASSERT_TRUE(BusAs(kA).Publish(claim).ok());  // A's last report, then A is gone
   for (int i = 0; i < 10; ++i) {
     ASSERT_TRUE(view.Publish(Request(kB, kB)).ok());
     Run(100);
@@ -161,7 +148,7 @@ TEST_F(ObserverTest, AnObserverIsNeverAskedForPlayback) {
 }
 
 TEST_F(ObserverTest, AChangeByAnObserverAndAClaimAboutOneAreRefused) {
-  PduBus& view = Bus(kView);
+  PduBus& view = BusAs(kView);
   FeaturePdu f;
   f.id = {kView.site, kView.host, 1};
   f.params = FeatureParams::Crater(60, 60, 4);
@@ -175,7 +162,7 @@ TEST_F(ObserverTest, AChangeByAnObserverAndAClaimAboutOneAreRefused) {
   claim.max_change_seq = 7;
   claim.lamport = 5;
   claim.role = static_cast<uint8_t>(NodeRole::kServer);
-  ASSERT_TRUE(Bus({1, 51}).Publish(claim).ok());  // no member: refused as a stranger anyway
+  ASSERT_TRUE(BusAs({1, 51}).Publish(claim).ok());  // no member: refused as a stranger anyway
   Run(300);
   for (Replica* r : {&A(), &B(), &S()}) {
     EXPECT_EQ(r->live_feature_count(), 0u) << r->config().address.ToString();

@@ -38,17 +38,6 @@ class RulesTest : public ::testing::Test, public testing::ServerAndTwoNodes {
  protected:
   RulesTest() : ServerAndTwoNodes(3, Defaults()) {}
 
-  // A bus that sends as `who`, on the cluster's network.
-  PduBus& Forger(NodeAddress who) {
-    transports_.push_back(cluster_.net().Join(who, 1));
-    PduBusConfig bc;
-    bc.exercise_id = 1;
-    bc.local = who;
-    bc.terrain_size_m = 128.0;
-    bc.clock = [] { return 0u; };
-    buses_.push_back(std::make_unique<PduBus>(*transports_.back(), bc));
-    return *buses_.back();
-  }
   static dtpdu::construct_t Crater(NodeAddress author, uint32_t number, uint32_t seq,
                                    uint64_t lamport) {
     FeaturePdu f;
@@ -77,12 +66,10 @@ class RulesTest : public ::testing::Test, public testing::ServerAndTwoNodes {
   }
 
   // On cluster_'s network, so declared after it (destroyed first).
-  std::vector<std::unique_ptr<Transport>> transports_;
-  std::vector<std::unique_ptr<PduBus>> buses_;
 };
 
 TEST_F(RulesTest, AConstructFromANodeInNoExerciseFileIsRefusedEverywhere) {
-  ASSERT_TRUE(Forger(kStranger).Publish(Crater(kStranger, 1, 1, 5)).ok());
+  ASSERT_TRUE(BusAs(kStranger).Publish(Crater(kStranger, 1, 1, 5)).ok());
   cluster_.Run(500);
   for (Replica* r : {&A(), &B(), &S()}) {
     EXPECT_EQ(r->live_feature_count(), 0u);
@@ -93,7 +80,7 @@ TEST_F(RulesTest, AConstructFromANodeInNoExerciseFileIsRefusedEverywhere) {
 }
 
 TEST_F(RulesTest, AStrangersChangeFarAheadStallsNoOneAndARestartedNodeIsReady) {
-  ASSERT_TRUE(Forger(kStranger).Publish(Crater(kStranger, 1, 1000, 5)).ok());
+  ASSERT_TRUE(BusAs(kStranger).Publish(Crater(kStranger, 1, 1000, 5)).ok());
   cluster_.Run(1000);
   ExpectAllEqualAndCaughtUp();
   cluster_.Crash(kB);
@@ -110,7 +97,7 @@ TEST_F(RulesTest, AStrangersChangeFarAheadStallsNoOneAndARestartedNodeIsReady) {
 // the gap is voided by the slot's authority (here the server), once: no permanent stall, and a
 // node started afterwards signs on and is caught up with the same terrain.
 TEST_F(RulesTest, AGapNoLiveReplicaCanFillIsGivenUpOnOnceAndNoOneStalls) {
-  ASSERT_TRUE(Forger(kC).Publish(Crater(kC, 3, 3, 5)).ok());
+  ASSERT_TRUE(BusAs(kC).Publish(Crater(kC, 3, 3, 5)).ok());
   cluster_.Run(5000);
   // Still waiting: a crashed author comes back within this time and voids its own gaps.
   for (Replica* r : {&A(), &B(), &S()}) {
@@ -138,7 +125,7 @@ TEST_F(RulesTest, AGapNoLiveReplicaCanFillIsGivenUpOnOnceAndNoOneStalls) {
 
 TEST_F(RulesTest, AStrangerClaimingToBeTheServerMovesNoCounters) {
   const int64_t seq = A().own_change_seq();
-  PduBus& forger = Forger({90, 90});
+  PduBus& forger = BusAs({90, 90});
   ASSERT_TRUE(forger.Publish(Claim(kA, NodeRole::kServer, 1000000, 5)).ok());
   cluster_.Run(500);
   EXPECT_EQ(A().own_change_seq(), seq);
@@ -151,7 +138,7 @@ TEST_F(RulesTest, AStrangerClaimingToBeTheServerMovesNoCounters) {
 }
 
 TEST_F(RulesTest, AMemberClaimingARoleItDoesNotHaveIsRefused) {
-  ASSERT_TRUE(Forger(kC).Publish(Claim(kA, NodeRole::kServer, 1000000, 5)).ok());
+  ASSERT_TRUE(BusAs(kC).Publish(Claim(kA, NodeRole::kServer, 1000000, 5)).ok());
   cluster_.Run(300);
   EXPECT_GE(A().counters().refused_role, 1u);
   EXPECT_EQ(A().own_change_seq(), 0);
@@ -179,8 +166,8 @@ TEST_F(RulesTest, AnAntiEntropySummaryWithAFalseRoleOrFromAStrangerIsNotHeard) {
   };
   const uint64_t role_refusals = A().counters().refused_role;
   const uint64_t stranger_refusals = A().counters().refused_stranger;
-  ASSERT_TRUE(Forger(kC).Publish(summary(NodeRole::kServer)).ok());
-  ASSERT_TRUE(Forger(kStranger).Publish(summary(NodeRole::kNode)).ok());
+  ASSERT_TRUE(BusAs(kC).Publish(summary(NodeRole::kServer)).ok());
+  ASSERT_TRUE(BusAs(kStranger).Publish(summary(NodeRole::kNode)).ok());
   cluster_.Run(300);
   EXPECT_GT(A().counters().refused_role, role_refusals);
   EXPECT_GT(A().counters().refused_stranger, stranger_refusals);
@@ -190,7 +177,7 @@ TEST_F(RulesTest, AnAntiEntropySummaryWithAFalseRoleOrFromAStrangerIsNotHeard) {
 }
 
 TEST_F(RulesTest, ANodesClaimAboutAnotherNodeIsNotEvidenceForAnyone) {
-  ASSERT_TRUE(Forger(kC).Publish(Claim(kA, NodeRole::kNode, 1000000, 5)).ok());
+  ASSERT_TRUE(BusAs(kC).Publish(Claim(kA, NodeRole::kNode, 1000000, 5)).ok());
   cluster_.Run(300);
   EXPECT_EQ(A().own_change_seq(), 0);
   EXPECT_EQ(B().log(kA) == nullptr ? 0 : B().log(kA)->max_known(), 0);
@@ -200,7 +187,7 @@ TEST_F(RulesTest, ANodesClaimAboutAnotherNodeIsNotEvidenceForAnyone) {
 TEST_F(RulesTest, TheStandbysClaimBeyondWhatASignedOnNodeMadeIsRefused) {
   ASSERT_TRUE(A().Create(FeatureParams::Crater(30, 30, 2)).ok());
   cluster_.Run(300);
-  ASSERT_TRUE(Forger(kStandby).Publish(Claim(kA, NodeRole::kStandby, 1000000, 5)).ok());
+  ASSERT_TRUE(BusAs(kStandby).Publish(Claim(kA, NodeRole::kStandby, 1000000, 5)).ok());
   cluster_.Run(300);
   EXPECT_GE(A().counters().refused_claim, 1u);
   EXPECT_EQ(A().own_change_seq(), 1);
@@ -212,7 +199,7 @@ TEST_F(RulesTest, TheStandbysClaimBeyondWhatASignedOnNodeMadeIsRefused) {
 
 TEST_F(RulesTest, ALamportClockFarAheadIsRefusedAndLaterChangesStillTravel) {
   ASSERT_TRUE(
-      Forger(kC).Publish(Claim(kC, NodeRole::kNode, 0, std::numeric_limits<int64_t>::max())).ok());
+      BusAs(kC).Publish(Claim(kC, NodeRole::kNode, 0, std::numeric_limits<int64_t>::max())).ok());
   cluster_.Run(300);
   EXPECT_GE(A().counters().refused_lamport, 1u);
   auto id = A().Create(FeatureParams::Crater(30, 30, 2));
@@ -223,7 +210,7 @@ TEST_F(RulesTest, ALamportClockFarAheadIsRefusedAndLaterChangesStillTravel) {
 }
 
 TEST_F(RulesTest, AChangeWithAClockFarAheadIsRefused) {
-  PduBus& c = Forger(kC);
+  PduBus& c = BusAs(kC);
   ASSERT_TRUE(c.Publish(Crater(kC, 1, 1, kMaxLamportLead + 1000)).ok());
   cluster_.Run(300);
   EXPECT_EQ(B().live_feature_count(), 0u);

@@ -2,11 +2,15 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <vector>
 
 #include "engine/id_reservation.h"
 #include "engine/memory_change_store.h"
 #include "engine/replica.h"
 #include "engine/test/sim_cluster.h"
+#include "pdu/pdu_bus.h"
+#include "pdu/transport.h"
 
 namespace dt::testing {
 
@@ -44,8 +48,23 @@ class ServerAndTwoNodes {
   Replica& S() { return cluster_.at(kTestServer); }
 
  protected:
+  // A bus of the test's own that sends as `who` on the cluster's network (a member with no
+  // replica, or forged PDUs); the fixture keeps it.
+  PduBus& BusAs(NodeAddress who) {
+    transports_.push_back(cluster_.net().Join(who, 1));
+    PduBusConfig bc;
+    bc.exercise_id = 1;
+    bc.local = who;
+    bc.terrain_size_m = 128.0;
+    bc.clock = [] { return 0u; };
+    buses_.push_back(std::make_unique<PduBus>(*transports_.back(), bc));
+    return *buses_.back();
+  }
+
   MemoryChangeStore store_;
   SimCluster cluster_;
+  std::vector<std::unique_ptr<Transport>> transports_;
+  std::vector<std::unique_ptr<PduBus>> buses_;
 };
 
 }  // namespace dt::testing

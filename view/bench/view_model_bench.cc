@@ -33,9 +33,10 @@ double ThreadCpuSeconds() {
 }
 
 // Feature i of the exercise on a 10 m lattice: 70 % craters, 29 % berms, 1 % bridges (the mix of
-// render_bench's map), never overlapping.
+// render_bench's map), a bridge's ramps reaching into its neighbours' cells; a 15 m margin keeps
+// them on the terrain.
 FeatureParams FeatureAt(int i, int per_side) {
-  const double x = 5.0 + 10.0 * (i % per_side), z = 5.0 + 10.0 * (i / per_side);
+  const double x = 15.0 + 10.0 * (i % per_side), z = 15.0 + 10.0 * (i / per_side);
   if (i % 100 == 99) return FeatureParams::Bridge(x, z, 0.3, 3.0, 2.0, 4.0, 2.0, 1.0, 1.0);
   if (i % 100 >= 70) return FeatureParams::Berm(x, z, 0.7, 7.0, 2.0, 1.0);
   return FeatureParams::Crater(x, z, 2.0);
@@ -64,26 +65,26 @@ FeatureParams Changed(FeatureParams p) {
 struct Exercise {
   explicit Exercise(int features)
       : per_side(static_cast<int>(std::ceil(std::sqrt(features)))),
-        cluster(1, HeightGrid(per_side + 1, 10.0, 5.0f), Config()) {
+        cluster(1, HeightGrid(per_side + 4, 10.0, 5.0f), Config()) {
     cluster.Start(kServer, NodeRole::kServer, &store);
     cluster.Start(kA, NodeRole::kNode);
     cluster.Start(kB, NodeRole::kNode);
     cluster.Start(kView, NodeRole::kObserver);
-    cluster.Run(1000);
+    cluster.Run(2000);  // signed on (after silence_ms)
     for (int i = 0; i < features;) {
       for (int end = std::min(features, i + kBatch); i < end; ++i) {
         auto id = cluster.at(kA).Create(FeatureAt(i, per_side));
         if (!id) throw std::runtime_error(fmt::format("feature {}: {}", i, id.error().message));
         ids.push_back(id.value());
       }
-      cluster.Run(50);
+      cluster.Run(250);  // stored and acknowledged (MaxFeature period 200 ms)
     }
     cluster.Run(1000);
   }
   static ReplicaConfig Config() {
     ReplicaConfig c;
     c.max_feature_period_ms = 200;
-    c.silence_ms = 2000;
+    c.silence_ms = 800;
     c.playback_window = 1024;
     c.members = {{kServer, NodeRole::kServer},
                  {kA, NodeRole::kNode},

@@ -149,7 +149,8 @@ TEST_F(ViewModelTest, ProcessesGoingSilentAndComingBackAreEvents) {
   VehicleView v{"node-a/0", "node-a", "tank", 10, 20, 0.5, 3, true};
   d = model.Update(4, {row}, {v}, 1);
   ASSERT_EQ(d["vehicles"].size(), 1u);
-  EXPECT_EQ(d["vehicles"][0]["owner"], "node-a");
+  EXPECT_EQ(d["vehicles"][0],
+            nlohmann::json::array({"node-a/0", "node-a", "tank", 10.0, 20.0, 0.5, 3.0, true}));
   EXPECT_TRUE(model.Update(5, {row}, {v}, 1).is_null());
 }
 
@@ -163,8 +164,8 @@ TEST_F(ViewModelTest, AVehicleDeltaCarriesTheVehiclesThatChangedAndTheIdsGone) {
   b.x_m += 1.0;
   d = model.Update(2, {}, {a, b}, 1);
   ASSERT_EQ(d["vehicles"].size(), 1u);
-  EXPECT_EQ(d["vehicles"][0]["id"], "node-b/0");
-  EXPECT_DOUBLE_EQ(d["vehicles"][0]["x"].get<double>(), 51.0);
+  EXPECT_EQ(d["vehicles"][0][0], "node-b/0");
+  EXPECT_DOUBLE_EQ(d["vehicles"][0][3].get<double>(), 51.0);
   EXPECT_FALSE(d.contains("vehicles_removed"));
   // Nothing changed: no delta; then a is no longer listed, b is dead.
   EXPECT_TRUE(model.Update(3, {}, {a, b}, 1).is_null());
@@ -172,10 +173,10 @@ TEST_F(ViewModelTest, AVehicleDeltaCarriesTheVehiclesThatChangedAndTheIdsGone) {
   d = model.Update(4, {}, {b}, 1);
   ASSERT_EQ(d["vehicles_removed"], nlohmann::json::array({"node-a/0"}));
   ASSERT_EQ(d["vehicles"].size(), 1u);
-  EXPECT_EQ(d["vehicles"][0]["alive"], false);
+  EXPECT_EQ(d["vehicles"][0][7], false);
   const nlohmann::json s = model.Snapshot(5);
   ASSERT_EQ(s["vehicles"].size(), 1u);
-  EXPECT_EQ(s["vehicles"][0]["id"], "node-b/0");
+  EXPECT_EQ(s["vehicles"][0][0], "node-b/0");
   // A vehicle gone while no delta was sent is still reported gone.
   EXPECT_TRUE(model.Update(6, {}, {b}, 1).is_null());
   d = model.Update(7, {}, {}, 1);

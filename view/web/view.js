@@ -92,7 +92,12 @@ function removeFeature(id) {
 
 const vehicleMarks = new Map();  // vehicle ID -> its marker
 // One vehicle's marker, replaced in place when it moves (a delta carries only those that did).
-function drawVehicle(v) {
+// A vehicle arrives as [id, owner, type, x, z, heading, speed, alive] (docs/view.md "Messages").
+function vehicleOf([id, owner, type, x, z, heading, speed, alive]) {
+  return { id, owner, type, x, z, heading, speed, alive };
+}
+function drawVehicle(row) {
+  const v = vehicleOf(row);
   const layer = $("vehicles");
   const old = vehicleMarks.get(v.id);
   const s = 12;  // metres: a marker, not the vehicle's size

@@ -4,17 +4,18 @@
 Starts dt_server, two dt_node and dt_view (each by PID, readiness by its READY line), then checks:
 the page loads; the features drawn equal the exercise's; craters made with dt_ctl are drawn (the
 latency, from just before dt_ctl ran to the page's own Date.now() when it drew each, is printed,
-not asserted); a crater placed by a click (--allow-commands) runs as node-1's command and the
-page destroys it; a killed node's row turns silent and live again after its restart; a page
-opened late shows the current state at once; node-2 restarted on another terrain is flagged
-diverged while the server and node-1 look alike, and agrees again once back; without
---allow-commands the page has no operator panel and a command sent anyway is refused.
-Screenshots go to <run_dir>. Exits 77 (skipped) when playwright or chromium is not installed.
-Run inside tests/run_in_netns.sh.
+not asserted); the vehicle marker moves when node-1 drives it; a crater placed by a click
+(--allow-commands) runs as node-1's command and the page destroys it; a killed node's row turns
+silent and live again after its restart; a page opened late shows the current state at once;
+node-2 restarted on another terrain is flagged diverged while the server and node-1 look alike,
+and agrees again once back; without --allow-commands the page has no operator panel and a
+command sent anyway is refused. Screenshots go to <run_dir>. Exits 77 (skipped) when playwright
+or chromium is not installed. Run inside tests/run_in_netns.sh.
 
   view_browser_test.py <dt_server> <dt_node> <dt_view> <dt_ctl> <exercise.toml> <run_dir>
                        [<screenshot for docs>]
 """
+import json
 import os
 import shutil
 import signal
@@ -161,6 +162,15 @@ with sync_playwright() as pw:
     # A vehicle marker is drawn in its owner's colour.
     page.wait_for_function("document.querySelectorAll('#vehicles .vehicle').length >= 1",
                            timeout=5000)
+    # ... and moves when driven: the delta carries it, and the page moves its marker.
+    mark = "document.querySelector('#vehicles .vehicle')"
+    parked = page.evaluate(f"{mark}.getAttribute('transform')")
+    ctl("node-1", "drive", "0", "5", "0")
+    page.wait_for_function(f"{mark}.getAttribute('transform') !== {json.dumps(parked)}",
+                           timeout=10000)
+    ctl("node-1", "drive", "0", "0", "0")
+    moved = page.evaluate(f"{mark}.getAttribute('transform')")
+    print(f"the vehicle marker moved from {parked} to {moved}")
 
     # Operator actions (--allow-commands): a crater placed by clicking, as node-1's command, then
     # destroyed from the page; both go through the node, so the server holds the result.

@@ -63,7 +63,8 @@ FeatureParams Changed(FeatureParams p) {
 }
 
 // A server, nodes A and B, and the view's observer replica, in virtual time (engine's SimCluster);
-// A creates `features` features, B none; the view's model has noted them all.
+// A creates `features` features, B none, and every replica holds them all. A refused creation
+// (the benchmark's own layout broken) throws with the feature and the reason.
 struct Exercise {
   explicit Exercise(int features)
       : per_side(static_cast<int>(std::ceil(std::sqrt(features)))),

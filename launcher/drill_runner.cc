@@ -519,6 +519,10 @@ int DrillRunner::Run() {
         sanitizer_reports_.empty() ? ""
                                    : fmt::format("{} reports, first {}", sanitizer_reports_.size(),
                                                  sanitizer_reports_.front()));
+  for (Sampling& v : samplings_) {
+    if (v.csv != nullptr) std::fclose(v.csv);  // a drill cut short
+    v.csv = nullptr;
+  }
   for (auto& [n, f] : logs_) {
     if (f != nullptr) std::fclose(f);
   }

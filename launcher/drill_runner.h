@@ -2,6 +2,7 @@
 // the protocol's guarantee at the end (docs/launcher.md "Drills").
 #pragma once
 
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -72,6 +73,7 @@ class DrillRunner {
     double max_tilt_deg = -1.0;  // of the owner's remote vehicles on the targets; -1 none seen
     std::string max_tilt_where;
     std::vector<std::string> errors;  // replies that failed or did not parse (the first few)
+    std::FILE* csv = nullptr;         // <run_dir>/vehicle-samples-<k>.csv: the error samples
   };
   using Incarnation = std::pair<std::string, int>;
   // Long enough that a node held up for seconds still answers: an unanswered command's outcome

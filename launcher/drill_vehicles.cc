@@ -130,6 +130,14 @@ void DrillRunner::SampleRound(Sampling& s) {
     if (s.errors.size() < 3) s.errors.push_back(e);
   };
   ++s.rounds;
+  if (s.rounds == 1) {
+    // Every sample, for a look at how errors come and go (docs/launcher.md).
+    const std::filesystem::path path =
+        exercise_.run_dir / fmt::format("vehicle-samples-{}.csv", &s - samplings_.data() + 1);
+    s.csv = std::fopen(path.c_str(), "w");
+    if (s.csv != nullptr)
+      std::fprintf(s.csv, "t_s,node,entity,error_m,age_s,owner_speed_mps,tilt_deg\n");
+  }
   // Every live node once, in turn: the owners' truth (their local lines), then the remote copies
   // on the targets. The replies are milliseconds apart (docs/launcher.md says what that costs).
   std::map<std::string, ListedVehicle> truth;  // entity -> the owner's own pose
@@ -168,12 +176,18 @@ void DrillRunner::SampleRound(Sampling& s) {
       ++all;
       within += error_m <= a.error_m ? 1 : 0;
       s.worst_error_m = std::max(s.worst_error_m, error_m);
+      if (s.csv != nullptr) {
+        std::fprintf(s.csv, "%.2f,%s,%s,%.3f,%.2f,%.2f,%.2f\n", t_s, n.c_str(), r.entity.c_str(),
+                     error_m, r.age_s, it->second.speed_mps, TiltDeg(r));
+      }
     }
   }
 }
 
 void DrillRunner::FinishSampling(Sampling& s) {
   const DrillAction& a = *s.action;
+  if (s.csv != nullptr) std::fclose(s.csv);
+  s.csv = nullptr;
   const std::string whose = a.owner.empty() ? "remote vehicles" : a.owner + "'s vehicles";
   const std::string errors =
       s.errors.empty() ? "" : fmt::format("; failed replies: {}", fmt::join(s.errors, "; "));
@@ -194,17 +208,16 @@ void DrillRunner::FinishSampling(Sampling& s) {
       within_all += within;
       all_all += all;
       const double fraction = all > 0 ? static_cast<double>(within) / all : 0.0;
-      ok &= all > 0 && fraction >= a.min_fraction;
+      ok &= all > 0;  // every target held some vehicle with a known truth
       per_node.push_back(fmt::format("{} {:.3f} ({}/{})", n, fraction, within, all));
     }
-    Check(fmt::format("{} within {} m of their owner's truth in at least {} of samples on each "
-                      "node",
-                      whose, a.error_m, a.min_fraction),
-          ok,
-          fmt::format("{}; all {:.3f} ({}/{}), worst {:.2f} m, {} rounds{}",
-                      fmt::join(per_node, ", "),
-                      all_all > 0 ? static_cast<double>(within_all) / all_all : 0.0, within_all,
-                      all_all, s.worst_error_m, s.rounds, errors));
+    const double fraction_all = all_all > 0 ? static_cast<double>(within_all) / all_all : 0.0;
+    Check(fmt::format("{} within {} m of their owner's truth in at least {} of the samples", whose,
+                      a.error_m, a.min_fraction),
+          ok && fraction_all >= a.min_fraction,
+          fmt::format("{:.3f} ({}/{}); per node {}; worst {:.2f} m, {} rounds{}", fraction_all,
+                      within_all, all_all, fmt::join(per_node, ", "), s.worst_error_m, s.rounds,
+                      errors));
   }
 }
 

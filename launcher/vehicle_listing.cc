@@ -62,6 +62,12 @@ Result<std::vector<ListedVehicle>> ParseVehicleListing(std::string_view body) {
         return Error{fmt::format("{}= missing or not a finite number in \"{}\"", key, line)};
       }
     }
+    if (!v.local) {
+      const auto age = keys.find("age_s");
+      if (age == keys.end() || !ParseNumber(age->second, v.age_s)) {
+        return Error{fmt::format("age_s= missing or not a finite number in \"{}\"", line)};
+      }
+    }
     out.push_back(std::move(v));
   }
   return out;

@@ -19,6 +19,7 @@ struct ListedVehicle {
   double heading_deg = 0.0, pitch_deg = 0.0, roll_deg = 0.0;
   double speed_mps = 0.0;
   double model_error_m = 0.0;
+  double age_s = 0.0;  // remote: since the last state arrived (0 for a local vehicle)
 };
 
 // One entry per line; an error naming the line for anything that is not a vehicle line with

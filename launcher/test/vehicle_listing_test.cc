@@ -27,6 +27,8 @@ TEST(VehicleListingTest, ReadsLocalAndRemoteLines) {
   EXPECT_EQ(r.entity, "1:2:1");
   EXPECT_EQ(r.owner, "1:2");
   EXPECT_DOUBLE_EQ(r.heading_deg, 90.0);
+  EXPECT_DOUBLE_EQ(r.age_s, 0.4);
+  EXPECT_DOUBLE_EQ(l.age_s, 0.0);
   EXPECT_DOUBLE_EQ(TiltDeg(r), 17.5);
   EXPECT_DOUBLE_EQ(TiltDeg(l), 1.2);
 }
@@ -41,12 +43,15 @@ TEST(VehicleListingTest, RefusesWhatIsNotAVehicleLine) {
   const std::string good_keys =
       " owner=1:1 x_m=1 y_m=1 z_m=1 heading_deg=0 pitch_deg=0 roll_deg=0 speed_mps=0 "
       "model_error_m=0";
-  EXPECT_TRUE(ParseVehicleListing("remote 1:1:1 tank" + good_keys));
+  EXPECT_TRUE(ParseVehicleListing("local 0 1:1:1 tank" + good_keys));
+  EXPECT_TRUE(ParseVehicleListing("remote 1:1:1 tank" + good_keys + " age_s=0.1"));
+  EXPECT_NE(ParseVehicleListing("remote 1:1:1 tank" + good_keys).error().message.find("age_s"),
+            std::string::npos);
   EXPECT_NE(ParseVehicleListing("ghost 1:1:1 tank" + good_keys).error().message.find("ghost"),
             std::string::npos);
   EXPECT_NE(ParseVehicleListing("remote 1:1:1 tank owner=1:1 x_m=1").error().message.find("y_m"),
             std::string::npos);
-  EXPECT_NE(ParseVehicleListing("remote 1:1:1 tank" + good_keys + " pitch_deg=nan")
+  EXPECT_NE(ParseVehicleListing("remote 1:1:1 tank" + good_keys + " age_s=0 pitch_deg=nan")
                 .error()
                 .message.find("pitch_deg"),
             std::string::npos);

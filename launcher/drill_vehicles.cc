@@ -37,7 +37,9 @@ void DrillRunner::VehiclesSeen(const DrillAction& a) {
   const std::string owner_address = exercise_.FindProcess(a.owner)->address.ToString();
   const std::vector<std::string> targets = VehicleTargets(a);
   const std::string what = fmt::format("{} {} {}'s vehicles within {} s", fmt::join(targets, ", "),
-                                       a.seen ? "hold" : "no longer hold", a.owner, a.within_s);
+                                       targets.size() == 1 ? (a.seen ? "holds" : "no longer holds")
+                                                           : (a.seen ? "hold" : "no longer hold"),
+                                       a.owner, a.within_s);
   const double start_s = ElapsedS();
   std::map<std::string, double> done_s;  // target -> when it first held (or lost) them
   std::string last_problem;

@@ -1,4 +1,5 @@
 // dt_drill: runs a recovery drill (configs/drills/*.toml) and exits non-zero if a check fails.
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <optional>
@@ -50,6 +51,22 @@ int main(int argc, char** argv) {
             throw std::invalid_argument(fmt::format("{}: {} has no process named \"{}\"", a.where,
                                                     exercise.source.string(), n));
           }
+        }
+      }
+      const auto is_node = [&](const std::string& n) {
+        return std::any_of(exercise.nodes.begin(), exercise.nodes.end(),
+                           [&](const dt::ProcessConfig& p) { return p.name == n; });
+      };
+      if (!a.owner.empty() && !is_node(a.owner)) {
+        throw std::invalid_argument(fmt::format("{}: {} has no node named \"{}\" (owner)", a.where,
+                                                exercise.source.string(), a.owner));
+      }
+      const bool vehicle_action = a.kind == dt::DrillActionKind::kVehiclesSeen ||
+                                  a.kind == dt::DrillActionKind::kSampleVehicles;
+      for (const std::string& n : vehicle_action ? a.targets : std::vector<std::string>{}) {
+        if (!is_node(n)) {
+          throw std::invalid_argument(
+              fmt::format("{}: \"{}\" is not a node (vehicle actions watch nodes)", a.where, n));
         }
       }
       if (a.kind == dt::DrillActionKind::kChaos) {

@@ -102,8 +102,10 @@ void GatewayApp::Tick(int64_t now_ms) {
 
 void GatewayApp::DrainDis(int64_t now_ms) {
   // Bounded per call so a flood cannot starve the bus and the control socket.
-  for (int i = 0; i < 4096 && socket_->Receive(buffer_); ++i) {
-    core_->OnDatagram(buffer_, static_cast<double>(now_ms) / 1000.0);
+  for (int i = 0; i < 4096; ++i) {
+    const auto datagram = socket_->Receive();
+    if (!datagram) break;
+    core_->OnDatagram(*datagram, static_cast<double>(now_ms) / 1000.0);
   }
 }
 

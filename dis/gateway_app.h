@@ -52,7 +52,6 @@ class GatewayApp {
   std::unique_ptr<Replica> replica_;
   std::unique_ptr<UdpEndpoint> socket_;
   std::unique_ptr<GatewayCore> core_;
-  std::vector<uint8_t> buffer_;
   int64_t now_ms_ = 0;
   bool quit_ = false;
 };

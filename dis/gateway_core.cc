@@ -102,10 +102,13 @@ bool GatewayCore::SendObject(const ObjectStatePdu& pdu) {
 }
 
 void GatewayCore::SendFeature(const FeatureId& id, OutFeature& f, const Terrain& terrain,
-                              double now_s) {
+                              double now_s, bool changed) {
   const double ground = terrain.GroundElevationAt(f.params.x_m, f.params.z_m);
-  // Update numbers count every PDU issued for the object (1, 2, ...; 0 is never used).
-  const uint16_t next = f.update_number == 0xFFFF ? 1 : f.update_number + 1;
+  // Update numbers count the object's state transitions (1, 2, ...; 0 is never used): a
+  // periodic resend of an unchanged state carries the same number.
+  const uint16_t next = !changed                    ? f.update_number
+                        : f.update_number == 0xFFFF ? 1
+                                                    : f.update_number + 1;
   Result<ObjectStatePdu> pdu =
       FeatureToDis(id, f.params, ground, next, frame_, Context(settings_.exercise_id));
   if (!pdu.ok()) {
@@ -143,16 +146,16 @@ void GatewayCore::Tick(const std::map<FeatureId, FeatureParams>& live, const Ter
     auto it = features_.find(id);
     if (it == features_.end()) {
       it = features_.emplace(id, OutFeature{params, 0, 0.0, {}, false}).first;
-      SendFeature(id, it->second, terrain, now_s);
+      SendFeature(id, it->second, terrain, now_s, true);
       continue;
     }
     OutFeature& f = it->second;
     if (f.params != params) {
       f.params = params;
       f.unmapped = false;
-      SendFeature(id, f, terrain, now_s);
+      SendFeature(id, f, terrain, now_s, true);
     } else if (!f.unmapped && now_s - f.sent_s >= settings_.feature_period_s) {
-      SendFeature(id, f, terrain, now_s);
+      SendFeature(id, f, terrain, now_s, false);
     }
   }
   for (auto it = features_.begin(); it != features_.end();) {
@@ -175,7 +178,6 @@ void GatewayCore::Tick(const std::map<FeatureId, FeatureParams>& live, const Ter
       ++it;
       continue;
     }
-    r.update_number = r.update_number == 0xFFFF ? 1 : r.update_number + 1;
     r.pdu = Deactivated(r.pdu, r.update_number, Context(settings_.exercise_id));
     if (SendObject(r.pdu)) ++counters_.object_removals_sent;
     r.next_s = now_s + settings_.feature_period_s;

@@ -109,7 +109,9 @@ class GatewayCore {
   bool Own(const EntityId& id) const { return settings_.members.count({id.site, id.application}); }
   void SendVehicle(OutVehicle& v, const VehicleStateFields& state, double now_s);
   bool SendObject(const ObjectStatePdu& pdu);
-  void SendFeature(const FeatureId& id, OutFeature& f, const Terrain& terrain, double now_s);
+  // changed: a new state (the update number goes up), else a periodic resend of the same.
+  void SendFeature(const FeatureId& id, OutFeature& f, const Terrain& terrain, double now_s,
+                   bool changed);
   void OnEntityState(const EntityStatePdu& pdu, double now_s);
   void OnPointObject(const PointObjectStatePdu& pdu);
 

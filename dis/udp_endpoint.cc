@@ -94,17 +94,12 @@ bool UdpEndpoint::Send(std::span<const uint8_t> datagram) {
   return true;
 }
 
-bool UdpEndpoint::Receive(std::vector<uint8_t>& buffer) {
+std::optional<std::span<const uint8_t>> UdpEndpoint::Receive() {
   // One more than a DIS PDU can be, so an oversized datagram is seen as such, not cut to fit.
-  buffer.resize(kMaxPduSize + 1);
-  const ssize_t n = ::recv(fd_, buffer.data(), buffer.size(), MSG_TRUNC);
-  if (n < 0) {
-    buffer.clear();
-    return false;
-  }
-  buffer.resize(std::min(static_cast<size_t>(n), buffer.size()));
-  if (static_cast<size_t>(n) > kMaxPduSize) buffer.resize(kMaxPduSize + 1);
-  return true;
+  if (buffer_.empty()) buffer_.resize(kMaxPduSize + 1);
+  const ssize_t n = ::recv(fd_, buffer_.data(), buffer_.size(), MSG_TRUNC);
+  if (n < 0) return std::nullopt;
+  return std::span<const uint8_t>(buffer_.data(), std::min(static_cast<size_t>(n), buffer_.size()));
 }
 
 }  // namespace dt::dis

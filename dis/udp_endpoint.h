@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -30,8 +31,10 @@ class UdpEndpoint {
 
   // One datagram to the destination; false (errno kept in last_error) when the kernel refuses it.
   bool Send(std::span<const uint8_t> datagram);
-  // The next waiting datagram into `buffer` (resized to its length); false when none is waiting.
-  bool Receive(std::vector<uint8_t>& buffer);
+  // The next waiting datagram, valid until the next call; nullopt when none is waiting. A
+  // datagram longer than a DIS PDU can be is given as kMaxPduSize + 1 bytes (the decoder
+  // refuses it as too long).
+  std::optional<std::span<const uint8_t>> Receive();
   int fd() const { return fd_; }
   int last_error() const { return last_error_; }
   bool multicast() const { return multicast_; }
@@ -41,6 +44,7 @@ class UdpEndpoint {
   bool multicast_ = false;
   int last_error_ = 0;
   std::vector<uint8_t> destination_;  // a sockaddr_in
+  std::vector<uint8_t> buffer_;       // one datagram, allocated once
 };
 
 }  // namespace dt::dis

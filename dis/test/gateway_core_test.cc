@@ -225,16 +225,16 @@ TEST(GatewayCoreTest, FeaturesGoOutWithUpdateNumbersPeriodsAndRemoval) {
 
   h.core->Tick(h.live, h.terrain, 4.9);
   EXPECT_TRUE(h.Take().empty());
-  h.core->Tick(h.live, h.terrain, 5.0);  // the period
+  h.core->Tick(h.live, h.terrain, 5.0);  // the period: the same state, the same number
   out = h.Take();
   ASSERT_EQ(out.size(), 2u);
-  EXPECT_EQ(std::get<PointObjectStatePdu>(out[0]).update_number, 2);
+  EXPECT_EQ(std::get<PointObjectStatePdu>(out[0]).update_number, 1);
 
   h.live[crater] = FeatureParams::Crater(100.0, 120.0, 8.0);  // changed: at once
   h.core->Tick(h.live, h.terrain, 5.5);
   out = h.Take();
   ASSERT_EQ(out.size(), 1u);
-  EXPECT_EQ(std::get<PointObjectStatePdu>(out[0]).update_number, 3);
+  EXPECT_EQ(std::get<PointObjectStatePdu>(out[0]).update_number, 2);
   EXPECT_EQ(
       UnpackCraterAppearance(std::get<PointObjectStatePdu>(out[0]).specific_appearance).diameter_m,
       16);
@@ -244,13 +244,14 @@ TEST(GatewayCoreTest, FeaturesGoOutWithUpdateNumbersPeriodsAndRemoval) {
   out = h.Take();
   ASSERT_EQ(out.size(), 1u);
   EXPECT_TRUE(IsDeactivated(ObjectStatePdu(std::get<PointObjectStatePdu>(out[0]))));
-  EXPECT_EQ(std::get<PointObjectStatePdu>(out[0]).update_number, 4);
+  EXPECT_EQ(std::get<PointObjectStatePdu>(out[0]).update_number, 3);
   int removals = 1;
   for (double t = 6.5; t < 30.0; t += 0.5) {
     h.core->Tick(h.live, h.terrain, t);
     for (const Pdu& p : h.Take()) {
       if (const auto* pt = std::get_if<PointObjectStatePdu>(&p)) {
         EXPECT_TRUE(IsDeactivated(ObjectStatePdu(*pt)));
+        EXPECT_EQ(pt->update_number, 3);  // resent, not a new transition
         ++removals;
       }
     }

@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
         gateway.Wait(control, static_cast<int>(left));
         control.Poll(0);
       }
+      gateway.Wait(control, 0);  // a tick that overran still hears the bus and the socket
     }
     DT_LOG_INFO("stopping: {} Entity States and {} Object States sent, {} entities imported",
                 gateway.core().counters().entity_state_sent,

@@ -55,6 +55,7 @@ GatewayApp::GatewayApp(const ExerciseConfig& exercise, const std::string& name)
   }
   replica_ = std::make_unique<Replica>(std::move(rc), MakeRandomTerrain(exercise.terrain),
                                        *transport_.bus);
+  if (!replica_->load_status()) throw std::runtime_error(replica_->load_status().error().message);
   socket_ = std::make_unique<UdpEndpoint>(
       UdpEndpointConfig{dis_.bind_address, dis_.udp_port, dis_.destination, dis_.interface_address,
                         dis_.multicast_ttl});

@@ -11,9 +11,14 @@ its READY line), then:
       remote vehicle owned by the gateway's address (dt_ctl vehicles);
   (c) bad DIS datagrams (short, foreign exercise, unknown PDU type) are counted in the
       gateway's status and change nothing.
+With --import (an exercise whose [dis] says import_craters = true) it checks instead that an
+outside Point Object State crater (dis_sample_tool's, sent as a DIS simulation's heartbeat would
+be) becomes a crater feature of the gateway's own address on both nodes, and that its
+deactivated state destroys it there.
 Exits 77 (skipped) when tshark or opendis is not installed. Run inside tests/run_in_netns.sh.
 
   gateway_test.py <dt_server> <dt_node> <dt_dis> <dt_ctl> <exercise.toml> <run_dir>
+                  [--import <dis_sample_tool>]
 """
 import math
 import os
@@ -129,7 +134,55 @@ def vehicle_line(text, kind, entity):
     return None
 
 
+def import_craters(tool):
+    start("server", "dt_server")
+    start("node-1", "dt_node")
+    start("node-2", "dt_node")
+    start("dis", "dt_dis")
+    path = os.path.join(run_dir, "crater.bin")
+    subprocess.run([tool, "crater", path], check=True, capture_output=True)
+    crater = bytearray(open(path, "rb").read())
+    crater[1] = DIS_EXERCISE  # the sample tool's exercise is another
+    gone = bytearray(crater)
+    gone[24:26] = (int.from_bytes(crater[24:26], "big") + 1).to_bytes(2, "big")  # update number
+    gone[72] |= 0x08  # general appearance bit 11: deactivated
+    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+
+    def features_after(datagram, name):
+        # Sent again each poll as the outside simulation's heartbeat would: the gateway can make
+        # features only once it has signed on.
+        sock.sendto(bytes(datagram), ("127.0.0.1", 3000))
+        return [f for f in ctl(name, "features").splitlines() if f.startswith(GATEWAY + ":")]
+
+    made = {n: poll(f"{n} holding the imported crater", lambda: features_after(crater, n))
+            for n in ("node-1", "node-2")}
+    print(f"imported crater: {made}")
+    failures = []
+    if made["node-1"] != made["node-2"] or len(made["node-1"]) != 1:
+        failures.append(f"the nodes hold {made}, want one and the same crater of {GATEWAY}")
+    s = status("dis")
+    if s.get("role") != "node" or s.get("dis_craters_imported") != "1":
+        failures.append(f"gateway role {s.get('role')}, craters imported "
+                        f"{s.get('dis_craters_imported')}; want node, 1")
+    for n in ("node-1", "node-2"):
+        poll(f"{n} dropping the deactivated crater", lambda: not features_after(gone, n))
+    if status("dis").get("dis_craters_removed") != "1":
+        failures.append("the gateway did not count the removal")
+    stop_all()
+    for name, p in procs.items():
+        if p.returncode != 0:
+            failures.append(f"{name} exited {p.returncode}")
+    for f in failures:
+        print("FAIL:", f)
+    if not failures:
+        print("an outside crater became the gateway's feature on both nodes, and went with its "
+              "deactivation")
+    return 1 if failures else 0
+
+
 def main():
+    if len(sys.argv) > 8 and sys.argv[7] == "--import":
+        return import_craters(sys.argv[8])
     start("server", "dt_server")
     start("node-1", "dt_node")
     start("node-2", "dt_node")

@@ -85,7 +85,8 @@ int main(int argc, char** argv) {
   if (wake_fd < 0) return 2;
 
   dt::DrillOptions options;
-  options.programs = {node_bin, server_bin, programs.view};
+  // Drills start the server, standby and nodes only: no view, no DIS gateway.
+  options.programs = {node_bin, server_bin, programs.view, {}};
   options.transport_override = transport;
   options.wake_fd = wake_fd;
   options.echo_output = verbose;

@@ -71,9 +71,10 @@ Status Replica::Modify(FeatureId id, const FeatureParams& params) {
   if (r == nullptr) return Error{fmt::format("no feature {}", id.ToString())};
   if (r->destroyed) return Error{fmt::format("feature {} is destroyed", id.ToString())};
   if (r->params.type == FeatureType::kEarthMove) {
-    return Error{fmt::format("earth_move {} cannot be updated: blade work is added once; make "
-                             "another earth move",
-                             id.ToString())};
+    return Error{
+        fmt::format("earth_move {} cannot be updated: blade work is added once; make "
+                    "another earth move",
+                    id.ToString())};
   }
   if (r->params.type != params.type) {
     return Error{fmt::format("feature {} is a {}, not a {}", id.ToString(),

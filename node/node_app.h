@@ -70,7 +70,7 @@ class NodeApp final : public NodeActions {
   std::unique_ptr<IdReservationFile> ids_;  // outlives the replica
   std::unique_ptr<Replica> replica_;
   std::vector<SimulatedVehicle> vehicles_;
-  std::unique_ptr<VehicleSharing> sharing_;  // over transport_.bus; its order is vehicles_'
+  std::unique_ptr<VehicleSharing> sharing_;   // over transport_.bus; its order is vehicles_'
   std::vector<std::optional<Blade>> blades_;  // one per vehicle, in vehicles_' order
   int64_t blade_post_changes_ = 0;
   int64_t now_ms_ = 0;

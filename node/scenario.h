@@ -37,9 +37,9 @@ struct ScenarioStep {
   FeatureEdit edit;          // update: the changed keys
   double gap_start_m = 0.0;  // breach: from the berm's first end along its axis
   double gap_width_m = 0.0;
-  int vehicle = 0;     // drive, remove, blade
+  int vehicle = 0;                      // drive, remove, blade
   std::optional<double> blade_depth_m;  // blade: lowered to this depth; nullopt: raised
-  SpawnRequest spawn;  // spawn
+  SpawnRequest spawn;                   // spawn
   double speed_mps = 0.0;
   double heading_rate_rad_s = 0.0;
   double duration_s = 0.0;  // drive: then the vehicle stops; wait: the pause

@@ -21,8 +21,8 @@ namespace dt {
 
 struct PduBusConfig {
   uint8_t exercise_id = 0;
-  NodeAddress local;            // this node: stamped as every PDU's sender
-  double terrain_size_m = 0.0;  // > 0; positions outside [0, size] are dropped
+  NodeAddress local;               // this node: stamped as every PDU's sender
+  double terrain_size_m = 0.0;     // > 0; positions outside [0, size] are dropped
   int terrain_posts_per_side = 0;  // EarthMove posts beyond it are dropped (0: not checked)
   // Transports echo a node's own PDUs back to it; by default the bus drops them (by the sender
   // field, first, before authentication and decoding).

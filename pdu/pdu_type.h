@@ -31,9 +31,8 @@ enum class PduType : uint8_t {
 };
 
 inline constexpr std::array<PduType, 8> kAllPduTypes = {
-    PduType::kConstruct,   PduType::kUpdate,    PduType::kDestruct,
-    PduType::kMaxFeature,  PduType::kPlayback,  PduType::kAntiEntropy,
-    PduType::kVehicleState, PduType::kEarthMove};
+    PduType::kConstruct, PduType::kUpdate,      PduType::kDestruct,     PduType::kMaxFeature,
+    PduType::kPlayback,  PduType::kAntiEntropy, PduType::kVehicleState, PduType::kEarthMove};
 
 // "CONSTRUCT", "UPDATE", "DESTRUCT", "MAXFEATURE", "PLAYBACK", "ANTIENTROPY", "VEHICLESTATE",
 // "EARTHMOVE".

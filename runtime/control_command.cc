@@ -314,8 +314,7 @@ Result<ControlCommand> ParseControlCommand(std::string_view line) {
     if (!down && !up) return Error{"blade takes <vehicle> down <depth_m> or <vehicle> up"};
     Result<double> index = Number("vehicle", w[1]);
     if (!index) return index.error();
-    if (index.value() < 0.0 || index.value() != std::floor(index.value()) ||
-        index.value() > 1e6) {
+    if (index.value() < 0.0 || index.value() != std::floor(index.value()) || index.value() > 1e6) {
       return Error{fmt::format("vehicle \"{}\" is not an index", w[1])};
     }
     c.verb = ControlVerb::kBlade;

@@ -48,10 +48,10 @@ struct ControlCommand {
   int vehicle = 0;
   double speed_mps = 0.0;
   double heading_rate_rad_s = 0.0;
-  std::string path;                // render, export, import
-  double drop_probability = 0.0;   // loss
-  std::vector<NodeAddress> nodes;  // partition
-  SpawnRequest spawn;              // spawn
+  std::string path;                     // render, export, import
+  double drop_probability = 0.0;        // loss
+  std::vector<NodeAddress> nodes;       // partition
+  SpawnRequest spawn;                   // spawn
   std::optional<double> blade_depth_m;  // blade: the depth when lowered, nullopt when raised
 };
 

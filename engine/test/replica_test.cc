@@ -121,8 +121,9 @@ TEST_F(ReplicaTest, EarthMovesTravelAsChangesAndArePlayedBack) {
   cluster_.net().faults().Isolate(kB);
   std::vector<FeatureId> ids;
   for (int i = 0; i < 20; ++i) {
-    auto id = A().Create(FeatureParams::EarthMove(
-        {{static_cast<uint16_t>(2 + i % 8), 5, -200 - i}, {static_cast<uint16_t>(2 + i % 8), 6, 200 + i}}));
+    auto id =
+        A().Create(FeatureParams::EarthMove({{static_cast<uint16_t>(2 + i % 8), 5, -200 - i},
+                                             {static_cast<uint16_t>(2 + i % 8), 6, 200 + i}}));
     ASSERT_TRUE(id.ok()) << id.error().message;
     ids.push_back(id.value());
   }

@@ -91,13 +91,16 @@ TEST(EarthMovePduTest, TheLargestEarthMoveFitsADatagramWithItsTrailer) {
   for (int k = 0; k < kMaxEarthMovePosts; ++k) {
     const int cell = k * (kMaxEarthMoveSpanPosts * kMaxEarthMoveSpanPosts) / kMaxEarthMovePosts;
     deltas.push_back({static_cast<uint16_t>(4000 + cell % kMaxEarthMoveSpanPosts),
-                      static_cast<uint16_t>(4000 + cell / kMaxEarthMoveSpanPosts), -kMaxPostDeltaMm});
+                      static_cast<uint16_t>(4000 + cell / kMaxEarthMoveSpanPosts),
+                      -kMaxPostDeltaMm});
   }
   deltas.back() = {static_cast<uint16_t>(4000 + kMaxEarthMoveSpanPosts - 1),
                    static_cast<uint16_t>(4000 + kMaxEarthMoveSpanPosts - 1), kMaxPostDeltaMm};
-  FeaturePdu f{{1, 2, 3}, FeatureParams::EarthMove(deltas), {{1, 2}, static_cast<uint32_t>(kMaxSerial), 1}};
+  FeaturePdu f{
+      {1, 2, 3}, FeatureParams::EarthMove(deltas), {{1, 2}, static_cast<uint32_t>(kMaxSerial), 1}};
   f.id.number = static_cast<uint32_t>(kMaxSerial);
-  ASSERT_TRUE(ValidateFeatureParams(f.params).ok()) << ValidateFeatureParams(f.params).error().message;
+  ASSERT_TRUE(ValidateFeatureParams(f.params).ok())
+      << ValidateFeatureParams(f.params).error().message;
   auto pdu = ToEarthMove(f);
   sample::StampHeader(pdu, kMaxSerial);
   EXPECT_EQ(pdu.columns, kMaxEarthMoveSpanPosts);

@@ -64,8 +64,12 @@ inline FeaturePdu EarthMove() {
   FeaturePdu f;
   f.id = {1, 2, 8};
   f.change = {{1, 2}, 9, 10};
-  f.params = FeatureParams::EarthMove(
-      {{40, 50, -120}, {41, 50, -150}, {42, 50, -110}, {40, 52, 130}, {41, 52, 140}, {42, 52, 110}});
+  f.params = FeatureParams::EarthMove({{40, 50, -120},
+                                       {41, 50, -150},
+                                       {42, 50, -110},
+                                       {40, 52, 130},
+                                       {41, 52, 140},
+                                       {42, 52, 110}});
   return f;
 }
 

@@ -266,9 +266,9 @@ FeatureParams SimRun::RandomParams(FeatureType type) {
       return FeatureParams::Bridge(x, z, Uniform(0, 6.28), 4, Uniform(3, 5), Uniform(8, 16),
                                    Uniform(3, 5), Uniform(2, 3), Uniform(2, 3));
     case FeatureType::kEarthMove:
-      return FeatureParams::EarthMove({{static_cast<uint16_t>(Next(17)),
-                                        static_cast<uint16_t>(Next(17)),
-                                        static_cast<int32_t>(Uniform(-800, 800)) | 1}});
+      return FeatureParams::EarthMove(
+          {{static_cast<uint16_t>(Next(17)), static_cast<uint16_t>(Next(17)),
+            static_cast<int32_t>(Uniform(-800, 800)) | 1}});
   }
   std::abort();
 }

@@ -124,8 +124,8 @@ TEST_F(ServerReplicaTest, ARestartedServerKeepsEveryEarthMove) {
   // A cut and the pile beside it, then more blade work over the same posts.
   for (int i = 0; i < 12; ++i) {
     const auto k = static_cast<uint16_t>(4 + i);
-    ASSERT_TRUE(node_->Create(FeatureParams::EarthMove({{k, 10, -300 - i}, {k, 12, 300 + i}}))
-                    .ok());
+    ASSERT_TRUE(
+        node_->Create(FeatureParams::EarthMove({{k, 10, -300 - i}, {k, 12, 300 + i}})).ok());
   }
   ASSERT_TRUE(node_->Create(FeatureParams::Crater(30, 40, 5)).ok());
   Run(500);
@@ -137,7 +137,8 @@ TEST_F(ServerReplicaTest, ARestartedServerKeepsEveryEarthMove) {
   EXPECT_EQ(server_->replica().Digest(), digest);
   EXPECT_EQ(server_->replica().terrain().BladeDeltaMm(9, 10), -305);
   EXPECT_EQ(server_->replica().terrain().BladeDeltaMm(15, 12), 311);
-  EXPECT_EQ(server_->replica().terrain().ground().post(9, 10), node_->terrain().ground().post(9, 10));
+  EXPECT_EQ(server_->replica().terrain().ground().post(9, 10),
+            node_->terrain().ground().post(9, 10));
   Run(1000);
   EXPECT_EQ(server_->replica().Digest(), node_->Digest());
 }

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/change_hash.h"
 #include "engine/memory_change_store.h"
 #include "engine/test/replica_test_config.h"
 #include "engine/test/sim_cluster.h"
@@ -147,6 +148,13 @@ TEST_F(ReplicaTest, EarthMovesTravelAsChangesAndArePlayedBack) {
   auto back = FromEarthMove(ToEarthMove(ToFeaturePdu(*logged)));
   ASSERT_TRUE(back.ok()) << back.error().message;
   EXPECT_EQ(ChangeFrom(back.value(), ChangeKind::kConstruct), *logged);
+  // Anti-entropy tells copies differing in one post's millimetre apart.
+  Change other = *logged;
+  other.params.post_deltas[1].delta_mm += 1;
+  EXPECT_NE(ChangeHash(other), ChangeHash(*logged));
+  other = *logged;
+  other.params.post_deltas[1].j += 1;
+  EXPECT_NE(ChangeHash(other), ChangeHash(*logged));
   // A destroyed earth move is taken off every ground.
   ASSERT_TRUE(B().Destroy(ids[0]).ok());
   cluster_.Run(300);

@@ -112,6 +112,10 @@ Result<FeaturePdu> FeatureFromPdu(const Pdu& pdu) {
   f.change = stamp.value();
   auto type = TypeFromPdu(pdu.feature_type);
   if (!type) return type.error();
+  if (type.value() == FeatureType::kEarthMove) {
+    return Error{fmt::format("feature type {} (earth_move) travels only in EarthMove PDUs",
+                             pdu.feature_type)};
+  }
   f.params.type = type.value();
   if (pdu.material < 0 || !IsValidMaterial(static_cast<uint16_t>(pdu.material))) {
     return Error{fmt::format("unknown material {}", pdu.material)};

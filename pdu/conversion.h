@@ -48,7 +48,8 @@ dtpdu::update_t ToUpdate(const FeaturePdu& feature);
 dtpdu::destruct_t ToDestruct(const DestructPdu& destruct);
 
 // The inverse. Fails (naming the field) only when a field cannot be represented: feature number
-// or change numbers out of range, an unknown feature type, material or status, or a
+// or change numbers out of range, an unknown feature type (or an earth move, which travels only
+// as EarthMove), material or status, or a
 // vertex-edit count that disagrees with the array. Value ranges are checked by validation.h.
 Result<FeaturePdu> FromConstruct(const dtpdu::construct_t& pdu);
 Result<FeaturePdu> FromUpdate(const dtpdu::update_t& pdu);

@@ -105,6 +105,7 @@ TEST(EarthMovePduTest, TheLargestEarthMoveFitsADatagramWithItsTrailer) {
   sample::StampHeader(pdu, kMaxSerial);
   EXPECT_EQ(pdu.columns, kMaxEarthMoveSpanPosts);
   EXPECT_EQ(pdu.rows, kMaxEarthMoveSpanPosts);
+  EXPECT_EQ(EncodePdu(pdu).size(), 1168u);  // docs/pdu.md "EarthMove"
   EXPECT_LE(EncodePdu(pdu).size() + kAuthTrailerBytes, kMaxPduBytes);
   EXPECT_FALSE(Validate(pdu, sample::Context()).has_value());
 }

@@ -63,6 +63,7 @@ std::vector<PostDelta> Blade::Step(const Terrain& terrain, const FrictionTable& 
   has_last_ = true;
   last_edge_x_ = edge_x;
   last_edge_z_ = edge_z;
+  last_window_posts_ = 0;
   if (!down_ && load_mm_ == 0) return {};
   if (!g.Contains(x_m, z_m)) return {};
 
@@ -86,6 +87,7 @@ std::vector<PostDelta> Blade::Step(const Terrain& terrain, const FrictionTable& 
   PostWindow w(terrain, i0, j0, std::min(i1 - i0 + 1, kMaxEarthMoveSpanPosts),
                std::min(j1 - j0 + 1, kMaxEarthMoveSpanPosts));
 
+  last_window_posts_ = w.columns() * w.rows();
   // Posts the edge passed over, and the posts just ahead of it, in (j, i) order.
   std::vector<std::pair<int, int>> swept, ahead;
   for (int j = w.j0(); j < w.j0() + w.rows(); ++j) {
@@ -118,7 +120,7 @@ std::vector<PostDelta> Blade::Step(const Terrain& terrain, const FrictionTable& 
   } else {
     load_mm_ = SetDown(w, ahead, load_mm_);
   }
-  if (w.VolumeChangeMm() == 0 && w.Deltas().empty()) return {};
+  if (w.Deltas().empty()) return {};  // nothing cut or set down this tick
   Slump(w, [&](Material m) {
     return soils.ReposeRad(m == Material::kFromGround ? Material::kDirt : m);
   });

@@ -55,6 +55,9 @@ class Blade {
     return static_cast<double>(load_mm_) * kPostDeltaUnitM * spacing_m * spacing_m;
   }
   const BladeSpec& spec() const { return spec_; }
+  // Posts of the window the last Step worked in (the blade, its reach and the slump's margin; 0
+  // when it had nothing to do): what the blade touched that tick.
+  int last_window_posts() const { return last_window_posts_; }
 
   // The tick's post changes, sorted by (j, i) (empty when nothing changed). (x, z) is the
   // vehicle's centre, heading_rad its heading, length_m its length (the blade's edge is at the
@@ -68,6 +71,7 @@ class Blade {
   double depth_m_ = 0.0;
   int64_t load_mm_ = 0;
   std::optional<int64_t> edge_mm_;  // the edge's elevation, set on the first tick down
+  int last_window_posts_ = 0;
   bool has_last_ = false;
   double last_edge_x_ = 0.0, last_edge_z_ = 0.0;
 };

@@ -2,8 +2,11 @@
 // its blade 0.2 m down, raised for 2 s every 12 s to set its load down, stepped at the node's
 // 30 Hz tick over 1 m and 0.5 m grids. Counters: post changes per second of simulated time, the
 // EarthMove bytes per second on the wire (LCM encoding plus the authentication trailer)
-// against sending each tick's changed rectangle whole (the same PDU with every post of the
-// rectangle as a 4-byte float instead of the mask and the deltas), and on a receiver the cost of
+// against sending each touched region whole, as a PDU of the same header holding a 4-byte float
+// per post instead of the mask and the deltas: the region is either the rectangle of the tick's
+// changed posts (`whole`, per earth move) or the window the blade worked in that tick
+// (`window`: the blade, its reach and the slump's margin, on ticks that changed a post); on a
+// receiver the cost of
 // adding the earth moves to its terrain, per post change. BM_BladeTick's time is the author's
 // blade step per tick; BM_ApplyEarthMoves' is a receiver's apply of one tick's earth moves.
 #include <cmath>
@@ -17,6 +20,7 @@
 #include "terrain/random_terrain.h"
 #include "terrain/slump.h"
 #include "terrain/terrain.h"
+#include "terrain/vehicle_type.h"
 #include "vehicle/blade.h"
 #include "vehicle/shipped_friction.h"
 
@@ -38,11 +42,12 @@ HeightGrid Ground(double spacing_m) {
 
 struct Tick {
   std::vector<std::vector<PostDelta>> moves;
+  int window_posts = 0;  // the posts the blade worked in this tick
 };
 
 // Drives the dozer for kSeconds across a fresh terrain, adding its work as it goes; returns the
 // earth moves of every tick.
-std::vector<Tick> Drive(double spacing_m, Terrain& t) {
+std::vector<Tick> Drive(Terrain& t) {
   Blade blade(BladeOf("bulldozer").value());
   std::vector<Tick> ticks;
   double x = 20.0;
@@ -56,14 +61,15 @@ std::vector<Tick> Drive(double spacing_m, Terrain& t) {
     if (!down && blade.down()) blade.Raise();
     x += kSpeedMps * kTickS;
     Tick tick;
-    for (auto& piece : SplitEarthMove(
-             blade.Step(t, ShippedFrictionTable(), x, z, 0.0, BulldozerType().length_m))) {
+    const auto deltas =
+        blade.Step(t, ShippedFrictionTable(), x, z, 0.0, BulldozerType().length_m);
+    tick.window_posts = blade.last_window_posts();
+    for (auto& piece : SplitEarthMove(deltas)) {
       if (!t.Add({1, 1, ++number}, FeatureParams::EarthMove(piece)).ok()) std::abort();
       tick.moves.push_back(std::move(piece));
     }
     ticks.push_back(std::move(tick));
   }
-  (void)spacing_m;
   return ticks;
 }
 
@@ -86,15 +92,20 @@ size_t WholeRegionBytes(const std::vector<PostDelta>& move) {
 void BM_BladeTick(benchmark::State& state) {
   const double spacing_m = static_cast<double>(state.range(0)) / 10.0;
   int64_t changes = 0, ticks = 0, pdus = 0;
-  size_t wire = 0, whole = 0;
+  size_t wire = 0, whole = 0, window = 0;
   for (auto _ : state) {
     state.PauseTiming();
     Terrain t(Ground(spacing_m));
     state.ResumeTiming();
-    const auto driven = Drive(spacing_m, t);
+    const auto driven = Drive(t);
     state.PauseTiming();
     for (const Tick& tick : driven) {
       ++ticks;
+      // The blade's window whole, in a PDU of the same header, on every tick that changed a post.
+      if (!tick.moves.empty()) {
+        window += WholeRegionBytes({tick.moves.front().front()}) - 4 +
+                  4 * static_cast<size_t>(tick.window_posts);
+      }
       for (const auto& move : tick.moves) {
         changes += static_cast<int64_t>(move.size());
         ++pdus;
@@ -110,6 +121,8 @@ void BM_BladeTick(benchmark::State& state) {
   state.counters["wire_bytes_per_s"] = static_cast<double>(wire) / sim_s;
   state.counters["whole_bytes_per_s"] = static_cast<double>(whole) / sim_s;
   state.counters["wire_over_whole"] = static_cast<double>(wire) / static_cast<double>(whole);
+  state.counters["window_bytes_per_s"] = static_cast<double>(window) / sim_s;
+  state.counters["wire_over_window"] = static_cast<double>(wire) / static_cast<double>(window);
   state.counters["us_per_tick"] = benchmark::Counter(
       static_cast<double>(ticks) * 1e-6, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
@@ -118,7 +131,7 @@ BENCHMARK(BM_BladeTick)->Arg(10)->Arg(5)->Unit(benchmark::kMillisecond);
 void BM_ApplyEarthMoves(benchmark::State& state) {
   const double spacing_m = static_cast<double>(state.range(0)) / 10.0;
   Terrain author(Ground(spacing_m));
-  const auto driven = Drive(spacing_m, author);
+  const auto driven = Drive(author);
   std::vector<FeatureParams> moves;
   int64_t posts = 0;
   for (const Tick& tick : driven) {

@@ -61,8 +61,7 @@ std::vector<Tick> Drive(Terrain& t) {
     if (!down && blade.down()) blade.Raise();
     x += kSpeedMps * kTickS;
     Tick tick;
-    const auto deltas =
-        blade.Step(t, ShippedFrictionTable(), x, z, 0.0, BulldozerType().length_m);
+    const auto deltas = blade.Step(t, ShippedFrictionTable(), x, z, 0.0, BulldozerType().length_m);
     tick.window_posts = blade.last_window_posts();
     for (auto& piece : SplitEarthMove(deltas)) {
       if (!t.Add({1, 1, ++number}, FeatureParams::EarthMove(piece)).ok()) std::abort();

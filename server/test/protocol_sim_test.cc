@@ -342,14 +342,14 @@ std::string SimRun::Command(NodeAddress who) {
   };
   if (pick < 45 || ids_.empty()) {
     const uint64_t t = Next(100);
-    if (t >= 88) {
+    if (t >= 70) {
       (void)BladeOp(r);  // blade work, as a bulldozer's tick makes it
     } else {
-      const FeatureType type = t < 40   ? FeatureType::kCrater
-                               : t < 58 ? FeatureType::kBerm
-                               : t < 69 ? FeatureType::kBridge
-                               : t < 78 ? FeatureType::kDitch
-                               : t < 84 ? FeatureType::kBermLine
+      const FeatureType type = t < 30   ? FeatureType::kCrater
+                               : t < 44 ? FeatureType::kBerm
+                               : t < 53 ? FeatureType::kBridge
+                               : t < 60 ? FeatureType::kDitch
+                               : t < 65 ? FeatureType::kBermLine
                                         : FeatureType::kArea;
       (void)r.Create(RandomParams(type));
     }

@@ -22,6 +22,11 @@ Result<Change> ChangeOf(const dtpdu::update_t& pdu) {
   if (!f) return f.error();
   return ChangeFrom(f.value(), ChangeKind::kUpdate);
 }
+Result<Change> ChangeOf(const dtpdu::earth_move_t& pdu) {
+  auto f = FromEarthMove(pdu);
+  if (!f) return f.error();
+  return ChangeFrom(f.value(), ChangeKind::kConstruct);
+}
 Result<Change> ChangeOf(const dtpdu::destruct_t& pdu) {
   auto d = FromDestruct(pdu);
   if (!d) return d.error();
@@ -31,6 +36,7 @@ Result<Change> ChangeOf(const dtpdu::destruct_t& pdu) {
 // The author of the change a PDU carries (a Construct names it created_by: the fingerprints of
 // Construct and Update must differ).
 NodeAddress AuthorOf(const dtpdu::construct_t& pdu) { return FromPdu(pdu.created_by); }
+NodeAddress AuthorOf(const dtpdu::earth_move_t& pdu) { return FromPdu(pdu.moved_by); }
 template <typename ChangePdu>
 NodeAddress AuthorOf(const ChangePdu& pdu) {
   return FromPdu(pdu.changed_by);
@@ -65,6 +71,7 @@ AntiEntropy::AntiEntropy(AntiEntropyConfig config, Logs& logs, RecordStore& reco
   bus_.Subscribe<dtpdu::construct_t>([this](const dtpdu::construct_t& p) { OnCopy(p); });
   bus_.Subscribe<dtpdu::update_t>([this](const dtpdu::update_t& p) { OnCopy(p); });
   bus_.Subscribe<dtpdu::destruct_t>([this](const dtpdu::destruct_t& p) { OnCopy(p); });
+  bus_.Subscribe<dtpdu::earth_move_t>([this](const dtpdu::earth_move_t& p) { OnCopy(p); });
 }
 
 // ---- queries ----

@@ -23,9 +23,12 @@ class Bytes {
   const uint8_t* data() const { return buf_.data(); }
   size_t size() const { return n_; }
   // Encode checks the sizes once: a change is at most 107 bytes plus 10 per vertex edit, plus a
-  // point count and 32 bytes per point for the types with points (never both).
+  // point count and 32 bytes per point for the types with points, or a post count and 8 bytes
+  // per post for an earth move (never more than one of the three).
   static constexpr size_t kCapacity =
-      107 + 10 * kCraterSpokes * kCraterRings + 2 + 32 * kMaxFeaturePoints;
+      107 + 10 * kCraterSpokes * kCraterRings + 2 +
+      (32 * kMaxFeaturePoints > 8 * kMaxEarthMovePosts ? 32 * kMaxFeaturePoints
+                                                       : 8 * kMaxEarthMovePosts);
 
  private:
   template <typename T>
@@ -45,6 +48,11 @@ void Encode(const Change& c, Bytes& w) {
   // Validated parameters hold at most one edit per vertex; more is a broken invariant.
   if (c.params.vertex_edits.size() > size_t{kCraterSpokes * kCraterRings}) std::abort();
   if (c.params.points.size() > size_t{kMaxFeaturePoints}) std::abort();
+  if (c.params.post_deltas.size() > size_t{kMaxEarthMovePosts}) std::abort();
+  if (!c.params.vertex_edits.empty() + !c.params.points.empty() + !c.params.post_deltas.empty() >
+      1) {
+    std::abort();  // validation allows one list per type
+  }
   w.U8(static_cast<uint8_t>(c.kind));
   w.U16(c.id.site);
   w.U16(c.id.host);
@@ -69,6 +77,15 @@ void Encode(const Change& c, Bytes& w) {
     w.U8(e.spoke);
     w.U8(e.ring);
     w.F64(e.offset_m);
+  }
+  if (p.type == FeatureType::kEarthMove) {
+    w.U16(static_cast<uint16_t>(p.post_deltas.size()));
+    for (const auto& d : p.post_deltas) {
+      w.U16(d.i);
+      w.U16(d.j);
+      w.U32(static_cast<uint32_t>(d.delta_mm));
+    }
+    return;
   }
   if (!HasFeaturePoints(p.type)) return;
   w.U16(static_cast<uint16_t>(p.points.size()));

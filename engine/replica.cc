@@ -58,6 +58,7 @@ Replica::Replica(ReplicaConfig config, HeightGrid ground, PduBus& bus)
   bus_.Subscribe<dtpdu::construct_t>([this](const dtpdu::construct_t& p) { OnConstruct(p); });
   bus_.Subscribe<dtpdu::update_t>([this](const dtpdu::update_t& p) { OnUpdate(p); });
   bus_.Subscribe<dtpdu::destruct_t>([this](const dtpdu::destruct_t& p) { OnDestruct(p); });
+  bus_.Subscribe<dtpdu::earth_move_t>([this](const dtpdu::earth_move_t& p) { OnEarthMove(p); });
   bus_.Subscribe<dtpdu::max_feature_t>([this](const dtpdu::max_feature_t& p) { OnMaxFeature(p); });
   bus_.Subscribe<dtpdu::playback_t>([this](const dtpdu::playback_t& p) { OnPlayback(p); });
   if (config_.store != nullptr) {
@@ -151,6 +152,15 @@ void Replica::Publish(const Change& change, std::optional<NodeAddress> playback_
   Result<int64_t> sent = Error{""};
   switch (change.kind) {
     case ChangeKind::kConstruct: {
+      if (change.params.type == FeatureType::kEarthMove) {
+        auto pdu = ToEarthMove(ToFeaturePdu(change));
+        if (playback_for) {
+          pdu.is_playback = true;
+          pdu.playback_for = ToPdu(*playback_for);
+        }
+        sent = bus_.Publish(pdu);
+        break;
+      }
       auto pdu = ToConstruct(ToFeaturePdu(change));
       if (playback_for) {
         pdu.is_playback = true;
@@ -264,6 +274,21 @@ void Replica::OnConstruct(const dtpdu::construct_t& pdu) {
     ++counters_.rejected;
     return;
   }
+  const Change c = ChangeFrom(f.value(), ChangeKind::kConstruct);
+  if (Admits(sender, c.author(), c.stamp.lamport)) Accept(c, false);
+}
+
+void Replica::OnEarthMove(const dtpdu::earth_move_t& pdu) {
+  ++counters_.received;
+  const NodeAddress sender = FromPdu(pdu.sender);
+  if (!AdmitsSender(sender)) return;
+  HeardFrom(sender, std::nullopt);
+  auto f = FromEarthMove(pdu);
+  if (!f) {
+    ++counters_.rejected;
+    return;
+  }
+  // An earth move is a Construct of its own feature: logged, played back and stored as one.
   const Change c = ChangeFrom(f.value(), ChangeKind::kConstruct);
   if (Admits(sender, c.author(), c.stamp.lamport)) Accept(c, false);
 }

@@ -197,6 +197,7 @@ class Replica {
   void ObserveLamport(uint64_t lamport);
 
   void OnConstruct(const dtpdu::construct_t& pdu);
+  void OnEarthMove(const dtpdu::earth_move_t& pdu);
   void OnUpdate(const dtpdu::update_t& pdu);
   void OnDestruct(const dtpdu::destruct_t& pdu);
   void OnMaxFeature(const dtpdu::max_feature_t& pdu);

@@ -70,6 +70,12 @@ Status Replica::Modify(FeatureId id, const FeatureParams& params) {
   const Record* r = records_.Find(id);
   if (r == nullptr) return Error{fmt::format("no feature {}", id.ToString())};
   if (r->destroyed) return Error{fmt::format("feature {} is destroyed", id.ToString())};
+  if (r->params.type == FeatureType::kEarthMove) {
+    return Error{
+        fmt::format("earth_move {} cannot be updated: blade work is added once; make "
+                    "another earth move",
+                    id.ToString())};
+  }
   if (r->params.type != params.type) {
     return Error{fmt::format("feature {} is a {}, not a {}", id.ToString(),
                              FeatureTypeName(r->params.type), FeatureTypeName(params.type))};

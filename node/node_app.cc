@@ -8,6 +8,7 @@
 #include "log/log.h"
 #include "runtime/control_command.h"
 #include "terrain/random_terrain.h"
+#include "terrain/slump.h"
 #include "vehicle/physical_type.h"
 
 namespace dt {
@@ -71,6 +72,7 @@ void NodeApp::Tick(int64_t now_ms, double dt_s) {
       DT_LOG_WARN("vehicle {} ({}) destroyed: {}", i, v.type_name(), e.cause);
     else if (!e.cause.empty())
       DT_LOG_WARN("vehicle {} ({}) {}", i, v.type_name(), e.cause);
+    if (blades_[i]) StepBlade(i);
   }
   sharing_->Tick(vehicles_, replica_->terrain(), static_cast<double>(now_ms) / 1000.0);
   if (!was_ready_) {
@@ -92,6 +94,24 @@ void NodeApp::Tick(int64_t now_ms, double dt_s) {
     if (scenario_->done()) {
       DT_LOG_INFO("scenario finished ({} step(s) failed)", scenario_->failed());
     }
+  }
+}
+
+void NodeApp::StepBlade(size_t i) {
+  const VehiclePose pose = vehicles_[i].pose();
+  const std::vector<PostDelta> deltas =
+      blades_[i]->Step(replica_->terrain(), *exercise_.friction, pose.x_m, pose.z_m,
+                       pose.heading_rad, vehicles_[i].type().base.length_m);
+  // The tick's work as earth moves (docs/terrain.md "Blade work"): each one a change every node
+  // adds to its ground.
+  for (const auto& piece : SplitEarthMove(deltas)) {
+    Result<FeatureId> id = replica_->Create(FeatureParams::EarthMove(piece));
+    if (!id) {
+      DT_LOG_WARN("vehicle {} ({}): blade work of {} posts not sent: {}", i,
+                  vehicles_[i].type_name(), piece.size(), id.error().message);
+      continue;
+    }
+    blade_post_changes_ += static_cast<int64_t>(piece.size());
   }
 }
 
@@ -172,6 +192,11 @@ Result<int> NodeApp::Spawn(const SpawnRequest& request) {
       type.value(), replica_->terrain(), request.x_m, request.z_m, request.heading_rad, *model);
   if (!v) return v.error();
   vehicles_.push_back(std::move(v).value());
+  if (Result<BladeSpec> blade = BladeOf(request.type); blade) {
+    blades_.emplace_back(Blade(blade.value()));
+  } else {
+    blades_.emplace_back(std::nullopt);
+  }
   const EntityId id = sharing_->AddLocal(vehicles_.back());
   const int index = vehicle_count() - 1;
   DT_LOG_INFO("vehicle {} ({}): a {} at ({:.1f}, {:.1f}) moved by the {} model", index,
@@ -187,7 +212,25 @@ Status NodeApp::Remove(int index) {
   const auto i = static_cast<size_t>(index);
   sharing_->RemoveLocal(i, vehicles_[i], static_cast<double>(now_ms_) / 1000.0);
   vehicles_.erase(vehicles_.begin() + index);
+  blades_.erase(blades_.begin() + index);
   return {};
+}
+
+Status NodeApp::SetBlade(int index, std::optional<double> depth_m) {
+  if (index < 0 || index >= vehicle_count()) {
+    return Error{
+        fmt::format("vehicle {} does not exist (this node has {})", index, vehicle_count())};
+  }
+  std::optional<Blade>& blade = blades_[static_cast<size_t>(index)];
+  if (!blade) {
+    return Error{fmt::format("vehicle {} is a {}, which has no blade (types with one: bulldozer)",
+                             index, vehicles_[static_cast<size_t>(index)].type_name())};
+  }
+  if (!depth_m) {
+    blade->Raise();
+    return Status::Ok();
+  }
+  return blade->Lower(*depth_m);
 }
 
 }  // namespace dt

@@ -14,6 +14,7 @@
 #include "runtime/id_reservation_file.h"
 #include "runtime/node_actions.h"
 #include "runtime/process_runtime.h"
+#include "vehicle/blade.h"
 #include "vehicle/simulated_vehicle.h"
 
 namespace dt {
@@ -54,8 +55,14 @@ class NodeApp final : public NodeActions {
   Result<AppliedDrive> Drive(int index, double speed_mps, double heading_rate_rad_s) override;
   Result<int> Spawn(const SpawnRequest& request) override;
   Status Remove(int index) override;
+  Status SetBlade(int index, std::optional<double> depth_m) override;
+  // Posts changed by the blades since start (the earth moves this node made).
+  int64_t blade_post_changes() const { return blade_post_changes_; }
 
  private:
+  // One tick of vehicle i's blade: its post changes issued as earth moves.
+  void StepBlade(size_t i);
+
   const ExerciseConfig& exercise_;
   const ProcessConfig& process_;
   std::optional<ScenarioRunner> scenario_;
@@ -63,7 +70,9 @@ class NodeApp final : public NodeActions {
   std::unique_ptr<IdReservationFile> ids_;  // outlives the replica
   std::unique_ptr<Replica> replica_;
   std::vector<SimulatedVehicle> vehicles_;
-  std::unique_ptr<VehicleSharing> sharing_;  // over transport_.bus; its order is vehicles_'
+  std::unique_ptr<VehicleSharing> sharing_;   // over transport_.bus; its order is vehicles_'
+  std::vector<std::optional<Blade>> blades_;  // one per vehicle, in vehicles_' order
+  int64_t blade_post_changes_ = 0;
   int64_t now_ms_ = 0;
   CatchUpProgress progress_;
   int64_t sign_on_ms_ = 0;

@@ -181,6 +181,18 @@ Scenario ParseScenario(std::string_view toml_text, std::string_view source_name,
         r.Fail("model", "expected physical or light");
       }
       ++vehicle_count;
+    } else if (action == "blade") {
+      s.action = ScenarioAction::kBlade;
+      s.vehicle = static_cast<int>(r.Int("vehicle", 0, 1 << 20));
+      if (s.vehicle >= vehicle_count) {
+        r.Fail("vehicle", fmt::format("the node has {} vehicle(s) at this step", vehicle_count));
+      }
+      const std::string position = r.String("position", "down");
+      if (position == "down") {
+        s.blade_depth_m = r.Double("depth_m", 0.0, 10.0);
+      } else if (position != "up") {
+        r.Fail("position", "expected down or up");
+      }
     } else if (action == "remove") {
       s.action = ScenarioAction::kRemove;
       s.vehicle = static_cast<int>(r.Int("vehicle", 0, 1 << 20));
@@ -196,7 +208,8 @@ Scenario ParseScenario(std::string_view toml_text, std::string_view source_name,
     } else {
       r.Fail(
           "action",
-          "expected crater, berm, bridge, update, destroy, breach, drive, spawn, remove or wait");
+          "expected crater, berm, bridge, update, destroy, breach, drive, spawn, remove, blade or "
+          "wait");
     }
     r.Finish();
     steps.push_back(std::move(s));

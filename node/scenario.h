@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -12,7 +13,17 @@
 
 namespace dt {
 
-enum class ScenarioAction { kCreate, kUpdate, kDestroy, kBreach, kDrive, kWait, kSpawn, kRemove };
+enum class ScenarioAction {
+  kCreate,
+  kUpdate,
+  kDestroy,
+  kBreach,
+  kDrive,
+  kWait,
+  kSpawn,
+  kRemove,
+  kBlade
+};
 
 // One step (docs/node.md "Scenario files"). Feature steps name features locally: a create gives
 // `name`, later steps refer to it by `target`; a breach names its pieces `<target>.1`,
@@ -26,8 +37,9 @@ struct ScenarioStep {
   FeatureEdit edit;          // update: the changed keys
   double gap_start_m = 0.0;  // breach: from the berm's first end along its axis
   double gap_width_m = 0.0;
-  int vehicle = 0;     // drive, remove
-  SpawnRequest spawn;  // spawn
+  int vehicle = 0;                      // drive, remove, blade
+  std::optional<double> blade_depth_m;  // blade: lowered to this depth; nullopt: raised
+  SpawnRequest spawn;                   // spawn
   double speed_mps = 0.0;
   double heading_rate_rad_s = 0.0;
   double duration_s = 0.0;  // drive: then the vehicle stops; wait: the pause

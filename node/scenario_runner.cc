@@ -72,6 +72,8 @@ Status ScenarioRunner::Run(const ScenarioStep& step, NodeActions& actions) {
     }
     case ScenarioAction::kRemove:
       return actions.Remove(step.vehicle);
+    case ScenarioAction::kBlade:
+      return actions.SetBlade(step.vehicle, step.blade_depth_m);
     case ScenarioAction::kWait:
       return Status::Ok();
   }

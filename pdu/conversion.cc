@@ -1,10 +1,14 @@
 #include "pdu/conversion.h"
 
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
 #include <type_traits>
 
 #include <fmt/format.h>
 
 #include "pdu/pdu_type.h"
+#include "terrain/height_grid.h"
 
 namespace dt {
 namespace {
@@ -16,6 +20,8 @@ template <typename Pdu>
 auto& AuthorOf(Pdu& pdu) {
   if constexpr (std::is_same_v<std::remove_const_t<Pdu>, dtpdu::construct_t>) {
     return pdu.created_by;
+  } else if constexpr (std::is_same_v<std::remove_const_t<Pdu>, dtpdu::earth_move_t>) {
+    return pdu.moved_by;
   } else {
     return pdu.changed_by;
   }
@@ -106,6 +112,10 @@ Result<FeaturePdu> FeatureFromPdu(const Pdu& pdu) {
   f.change = stamp.value();
   auto type = TypeFromPdu(pdu.feature_type);
   if (!type) return type.error();
+  if (type.value() == FeatureType::kEarthMove) {
+    return Error{fmt::format("feature type {} (earth_move) travels only in EarthMove PDUs",
+                             pdu.feature_type)};
+  }
   f.params.type = type.value();
   if (pdu.material < 0 || !IsValidMaterial(static_cast<uint16_t>(pdu.material))) {
     return Error{fmt::format("unknown material {}", pdu.material)};
@@ -175,6 +185,93 @@ dtpdu::destruct_t ToDestruct(const DestructPdu& d) {
 
 Result<FeaturePdu> FromConstruct(const dtpdu::construct_t& pdu) { return FeatureFromPdu(pdu); }
 Result<FeaturePdu> FromUpdate(const dtpdu::update_t& pdu) { return FeatureFromPdu(pdu); }
+
+dtpdu::earth_move_t ToEarthMove(const FeaturePdu& f) {
+  dtpdu::earth_move_t pdu{};
+  pdu.origin = ToPdu(OriginOf(f.id));
+  pdu.feature_number = f.id.number;
+  pdu.moved_by = ToPdu(f.change.changed_by);
+  pdu.change_seq = f.change.change_seq;
+  pdu.lamport = static_cast<int64_t>(f.change.lamport);
+  const auto& deltas = f.params.post_deltas;
+  if (deltas.empty()) return pdu;  // no rectangle; FromEarthMove refuses it
+  int min_i = deltas.front().i, max_i = min_i;
+  const int min_j = deltas.front().j, max_j = deltas.back().j;  // sorted by (j, i)
+  for (const PostDelta& d : deltas) {
+    min_i = std::min<int>(min_i, d.i);
+    max_i = std::max<int>(max_i, d.i);
+  }
+  pdu.first_post_i = min_i;
+  pdu.first_post_j = min_j;
+  pdu.columns = static_cast<int16_t>(max_i - min_i + 1);
+  pdu.rows = static_cast<int16_t>(max_j - min_j + 1);
+  const int cells = pdu.columns * pdu.rows;
+  pdu.num_mask_bytes = static_cast<int16_t>((cells + 7) / 8);
+  pdu.changed_mask.assign(static_cast<size_t>(pdu.num_mask_bytes), 0);
+  pdu.num_posts = static_cast<int16_t>(deltas.size());
+  pdu.delta_mm.reserve(deltas.size());
+  for (const PostDelta& d : deltas) {
+    const int k = (d.j - min_j) * pdu.columns + (d.i - min_i);
+    pdu.changed_mask[static_cast<size_t>(k / 8)] |= static_cast<uint8_t>(1u << (k % 8));
+    if (d.delta_mm > INT16_MAX || d.delta_mm < INT16_MIN) std::abort();  // validated: +-10 000
+    pdu.delta_mm.push_back(static_cast<int16_t>(d.delta_mm));
+  }
+  return pdu;
+}
+
+Result<FeaturePdu> FromEarthMove(const dtpdu::earth_move_t& pdu) {
+  FeaturePdu f;
+  auto id = IdFromPdu(pdu);
+  if (!id) return id.error();
+  f.id = id.value();
+  auto stamp = StampFromPdu(pdu);
+  if (!stamp) return stamp.error();
+  f.change = stamp.value();
+  f.params.type = FeatureType::kEarthMove;
+  if (pdu.first_post_i < 0 || pdu.first_post_i >= kMaxPostsPerSide || pdu.first_post_j < 0 ||
+      pdu.first_post_j >= kMaxPostsPerSide) {
+    return Error{fmt::format("first post ({}, {}) is outside [0, {})", pdu.first_post_i,
+                             pdu.first_post_j, kMaxPostsPerSide)};
+  }
+  if (pdu.columns < 1 || pdu.columns > kMaxEarthMoveSpanPosts || pdu.rows < 1 ||
+      pdu.rows > kMaxEarthMoveSpanPosts) {
+    return Error{fmt::format("rectangle {} x {} posts is outside 1 .. {} each way", pdu.columns,
+                             pdu.rows, kMaxEarthMoveSpanPosts)};
+  }
+  const int cells = pdu.columns * pdu.rows;
+  if (pdu.num_mask_bytes != (cells + 7) / 8 ||
+      static_cast<size_t>(pdu.num_mask_bytes) != pdu.changed_mask.size()) {
+    return Error{fmt::format("num_mask_bytes = {} with {} bytes: a {} x {} rectangle needs {}",
+                             pdu.num_mask_bytes, pdu.changed_mask.size(), pdu.columns, pdu.rows,
+                             (cells + 7) / 8)};
+  }
+  if (pdu.num_posts < 1 || pdu.num_posts > kMaxEarthMovePosts ||
+      static_cast<size_t>(pdu.num_posts) != pdu.delta_mm.size()) {
+    return Error{fmt::format("num_posts = {} is outside [1, {}] or disagrees with {} deltas",
+                             pdu.num_posts, kMaxEarthMovePosts, pdu.delta_mm.size())};
+  }
+  if (cells % 8 != 0 && (pdu.changed_mask.back() >> (cells % 8)) != 0) {
+    return Error{fmt::format("changed_mask has bits past the {} posts of the rectangle", cells)};
+  }
+  f.params.post_deltas.reserve(pdu.delta_mm.size());
+  size_t next = 0;
+  for (int k = 0; k < cells; ++k) {
+    if (!((pdu.changed_mask[static_cast<size_t>(k / 8)] >> (k % 8)) & 1u)) continue;
+    if (next == pdu.delta_mm.size()) {
+      return Error{fmt::format("changed_mask sets more posts than num_posts = {}", pdu.num_posts)};
+    }
+    const int i = pdu.first_post_i + k % pdu.columns, j = pdu.first_post_j + k / pdu.columns;
+    if (i >= kMaxPostsPerSide || j >= kMaxPostsPerSide) {
+      return Error{fmt::format("post ({}, {}) is outside [0, {})", i, j, kMaxPostsPerSide)};
+    }
+    f.params.post_deltas.push_back(
+        {static_cast<uint16_t>(i), static_cast<uint16_t>(j), pdu.delta_mm[next++]});
+  }
+  if (next != pdu.delta_mm.size()) {
+    return Error{fmt::format("changed_mask sets {} posts but num_posts = {}", next, pdu.num_posts)};
+  }
+  return f;
+}
 
 Result<DestructPdu> FromDestruct(const dtpdu::destruct_t& pdu) {
   DestructPdu d;

@@ -54,7 +54,8 @@ dds_qos_t* MakeQos(bool durable_feature, Role role) {
 }
 
 bool IsFeatureType(PduType type) {
-  return type == PduType::kConstruct || type == PduType::kUpdate || type == PduType::kDestruct;
+  return type == PduType::kConstruct || type == PduType::kUpdate || type == PduType::kDestruct ||
+         type == PduType::kEarthMove;
 }
 
 }  // namespace

@@ -21,8 +21,9 @@ namespace dt {
 
 struct PduBusConfig {
   uint8_t exercise_id = 0;
-  NodeAddress local;            // this node: stamped as every PDU's sender
-  double terrain_size_m = 0.0;  // > 0; positions outside [0, size] are dropped
+  NodeAddress local;               // this node: stamped as every PDU's sender
+  double terrain_size_m = 0.0;     // > 0; positions outside [0, size] are dropped
+  int terrain_posts_per_side = 0;  // EarthMove posts beyond it are dropped (0: not checked)
   // Transports echo a node's own PDUs back to it; by default the bus drops them (by the sender
   // field, first, before authentication and decoding).
   bool deliver_own = false;
@@ -67,7 +68,7 @@ class PduBus {
   // The authenticator; null when the bus runs without a key.
   const PduAuthenticator* authenticator() const { return auth_ ? &*auth_ : nullptr; }
   ValidationContext validation_context() const {
-    return {config_.exercise_id, config_.terrain_size_m};
+    return {config_.exercise_id, config_.terrain_size_m, config_.terrain_posts_per_side};
   }
 
  private:
@@ -88,7 +89,8 @@ class PduBus {
   uint64_t own_echoes_ = 0;
   std::tuple<Handlers<dtpdu::construct_t>, Handlers<dtpdu::update_t>, Handlers<dtpdu::destruct_t>,
              Handlers<dtpdu::max_feature_t>, Handlers<dtpdu::playback_t>,
-             Handlers<dtpdu::anti_entropy_t>, Handlers<dtpdu::vehicle_state_t>>
+             Handlers<dtpdu::anti_entropy_t>, Handlers<dtpdu::vehicle_state_t>,
+             Handlers<dtpdu::earth_move_t>>
       handlers_;
 };
 

@@ -9,6 +9,7 @@
 #include "dtpdu/anti_entropy_t.hpp"
 #include "dtpdu/construct_t.hpp"
 #include "dtpdu/destruct_t.hpp"
+#include "dtpdu/earth_move_t.hpp"
 #include "dtpdu/max_feature_t.hpp"
 #include "dtpdu/playback_t.hpp"
 #include "dtpdu/update_t.hpp"
@@ -43,6 +44,10 @@ struct PduTraits<dtpdu::playback_t> {
 template <>
 struct PduTraits<dtpdu::anti_entropy_t> {
   static constexpr PduType kType = PduType::kAntiEntropy;
+};
+template <>
+struct PduTraits<dtpdu::earth_move_t> {
+  static constexpr PduType kType = PduType::kEarthMove;
 };
 template <>
 struct PduTraits<dtpdu::vehicle_state_t> {

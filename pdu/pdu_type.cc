@@ -20,6 +20,8 @@ std::string_view PduTypeName(PduType type) {
       return "ANTIENTROPY";
     case PduType::kVehicleState:
       return "VEHICLESTATE";
+    case PduType::kEarthMove:
+      return "EARTHMOVE";
   }
   return "UNKNOWN";
 }

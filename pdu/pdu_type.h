@@ -12,10 +12,12 @@
 namespace dt {
 
 // Version of the PDU layout carried in every header; a receiver drops any other version.
-inline constexpr uint8_t kProtocolVersion = 1;
+// 2: the EarthMove PDU (226); a node of version 1 would miss blade work and stall on the change
+// numbers it takes, so the versions do not mix.
+inline constexpr uint8_t kProtocolVersion = 2;
 
 // Wire values of header.pdu_type. DIS reserves 129..255 for experimental PDUs; 220..225 keep
-// clear of standard DIS traffic. Append, never renumber.
+// clear of standard DIS traffic, and 226 follows them. Append, never renumber.
 enum class PduType : uint8_t {
   kConstruct = 220,
   kUpdate = 221,
@@ -23,15 +25,17 @@ enum class PduType : uint8_t {
   kMaxFeature = 223,
   kPlayback = 224,
   kAntiEntropy = 225,
+  kEarthMove = 226,  // blade work: additive post height changes (docs/pdu.md "EarthMove")
   // Shared vehicles (docs/pdu.md "VehicleState"); 226..229 are left to terrain PDUs.
   kVehicleState = 230,
 };
 
-inline constexpr std::array<PduType, 7> kAllPduTypes = {
-    PduType::kConstruct, PduType::kUpdate,      PduType::kDestruct,    PduType::kMaxFeature,
-    PduType::kPlayback,  PduType::kAntiEntropy, PduType::kVehicleState};
+inline constexpr std::array<PduType, 8> kAllPduTypes = {
+    PduType::kConstruct, PduType::kUpdate,      PduType::kDestruct,     PduType::kMaxFeature,
+    PduType::kPlayback,  PduType::kAntiEntropy, PduType::kVehicleState, PduType::kEarthMove};
 
-// "CONSTRUCT", "UPDATE", "DESTRUCT", "MAXFEATURE", "PLAYBACK", "ANTIENTROPY", "VEHICLESTATE".
+// "CONSTRUCT", "UPDATE", "DESTRUCT", "MAXFEATURE", "PLAYBACK", "ANTIENTROPY", "VEHICLESTATE",
+// "EARTHMOVE".
 std::string_view PduTypeName(PduType type);
 // The PduType with this wire value; nullopt if it names none.
 std::optional<PduType> PduTypeFromRaw(uint8_t raw);

@@ -52,6 +52,11 @@ template <typename Pdu>
 std::optional<Rejection> ValidateFeature(const Pdu& pdu, const ValidationContext& ctx) {
   if (auto r = CheckHeader(pdu.header, PduTraits<Pdu>::kType, pdu.sender_seq, ctx)) return r;
   if (auto r = CheckFeatureType(pdu.feature_type)) return r;
+  if (pdu.feature_type == static_cast<int16_t>(FeatureType::kEarthMove)) {
+    return Reject(RejectReason::kBadField,
+                  fmt::format("feature_type {} (earth_move) travels only in EarthMove PDUs",
+                              pdu.feature_type));
+  }
   if (pdu.material < 0 || !IsValidMaterial(static_cast<uint16_t>(pdu.material))) {
     return Reject(RejectReason::kUnknownMaterial, fmt::format("material {}", pdu.material));
   }
@@ -143,6 +148,32 @@ std::optional<Rejection> Validate(const dtpdu::destruct_t& pdu, const Validation
   if (auto r = CheckHeader(pdu.header, PduType::kDestruct, pdu.sender_seq, ctx)) return r;
   if (auto r = CheckFeatureType(pdu.feature_type)) return r;
   if (auto d = FromDestruct(pdu); !d) return Reject(RejectReason::kBadField, d.error().message);
+  return std::nullopt;
+}
+
+std::optional<Rejection> Validate(const dtpdu::earth_move_t& pdu, const ValidationContext& ctx) {
+  if (auto r = CheckHeader(pdu.header, PduType::kEarthMove, pdu.sender_seq, ctx)) return r;
+  auto move = FromEarthMove(pdu);
+  if (!move) return Reject(RejectReason::kBadField, move.error().message);
+  const FeaturePdu& f = move.value();
+  if (f.change.changed_by != OriginOf(f.id)) {
+    return Reject(RejectReason::kBadField,
+                  fmt::format("EarthMove {} moved_by {}: only the origin makes an earth move",
+                              f.id.ToString(), f.change.changed_by.ToString()));
+  }
+  if (ctx.terrain_posts_per_side > 0) {
+    const int last_i = pdu.first_post_i + pdu.columns - 1;
+    const int last_j = pdu.first_post_j + pdu.rows - 1;
+    if (last_i >= ctx.terrain_posts_per_side || last_j >= ctx.terrain_posts_per_side) {
+      return Reject(RejectReason::kOffTerrain,
+                    fmt::format("posts ({}, {}) .. ({}, {}) leave the {} x {} grid",
+                                pdu.first_post_i, pdu.first_post_j, last_i, last_j,
+                                ctx.terrain_posts_per_side, ctx.terrain_posts_per_side));
+    }
+  }
+  if (auto s = ValidateFeatureParams(f.params); !s) {
+    return Reject(RejectReason::kOutOfRange, s.error().message);
+  }
   return std::nullopt;
 }
 
@@ -410,6 +441,7 @@ template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::max
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::playback_t&);
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::anti_entropy_t&);
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::vehicle_state_t&);
+template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::earth_move_t&);
 
 uint64_t RejectCounters::total() const {
   uint64_t sum = 0;

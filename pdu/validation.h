@@ -55,6 +55,9 @@ struct Rejection {
 struct ValidationContext {
   uint8_t exercise_id = 0;
   double terrain_size_m = 0.0;  // the terrain covers [0, size] x [0, size]
+  // Posts per side of the grid: an EarthMove's posts must lie on it (0: only checked against the
+  // largest grid, kMaxPostsPerSide; Terrain::Add checks the rest).
+  int terrain_posts_per_side = 0;
 };
 
 // Checks a decoded PDU; nullopt if it may be used.
@@ -65,6 +68,7 @@ std::optional<Rejection> Validate(const dtpdu::max_feature_t& pdu, const Validat
 std::optional<Rejection> Validate(const dtpdu::playback_t& pdu, const ValidationContext& ctx);
 std::optional<Rejection> Validate(const dtpdu::anti_entropy_t& pdu, const ValidationContext& ctx);
 std::optional<Rejection> Validate(const dtpdu::vehicle_state_t& pdu, const ValidationContext& ctx);
+std::optional<Rejection> Validate(const dtpdu::earth_move_t& pdu, const ValidationContext& ctx);
 
 // VehicleState limits beyond which a value is absurd for every vehicle type (out_of_range).
 inline constexpr double kMaxVehicleAccelerationMps2 = 200.0;

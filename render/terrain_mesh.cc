@@ -44,6 +44,7 @@ double DetailLengthM(const Feature& f) {
     case FeatureType::kArea:
       return 1.0;  // outlines drawn to a metre
     case FeatureType::kBridge:
+    case FeatureType::kEarthMove:  // its work is in the ground posts, drawn with them
       break;
   }
   return std::numeric_limits<double>::infinity();

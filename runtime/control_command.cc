@@ -151,6 +151,7 @@ std::string ControlUsage() {
          "breach <site:host:number> <gap_start_m> <gap_width_m>\n"
          "drive <vehicle> <speed_mps> <heading_rate_deg_s>\n"
          "spawn <type> <x_m> <z_m> <heading_deg> [physical|light] | remove <vehicle> | vehicles\n"
+         "blade <vehicle> down <depth_m> | blade <vehicle> up\n"
          "status | digest | features | ping | quit\n"
          "render <file.png>\n"
          "export <file.dtt> | import <file.dtt> (server)\n"
@@ -307,6 +308,24 @@ Result<ControlCommand> ParseControlCommand(std::string_view line) {
     }
     return c;
   }
+  if (verb == "blade") {
+    const bool down = w.size() == 4 && w.size() > 2 && w[2] == "down";
+    const bool up = w.size() == 3 && w[2] == "up";
+    if (!down && !up) return Error{"blade takes <vehicle> down <depth_m> or <vehicle> up"};
+    Result<double> index = Number("vehicle", w[1]);
+    if (!index) return index.error();
+    if (index.value() < 0.0 || index.value() != std::floor(index.value()) || index.value() > 1e6) {
+      return Error{fmt::format("vehicle \"{}\" is not an index", w[1])};
+    }
+    c.verb = ControlVerb::kBlade;
+    c.vehicle = static_cast<int>(index.value());
+    if (down) {
+      Result<double> depth = Number("depth_m", w[3]);
+      if (!depth) return depth.error();
+      c.blade_depth_m = depth.value();
+    }
+    return c;
+  }
   if (verb == "remove") {
     Result<std::vector<double>> v = Numbers(w, {"vehicle"});
     if (!v) return v.error();
@@ -397,6 +416,16 @@ ControlReply RunFeatureCommand(const ControlCommand& c, NodeActions& actions) {
     case ControlVerb::kRemove:
       if (Status s = actions.Remove(c.vehicle); !s) return ControlReply::Fail(s.error().message);
       return ControlReply::Ok();
+    case ControlVerb::kBlade:
+      if (c.vehicle >= actions.vehicle_count()) {
+        return ControlReply::Fail(fmt::format("vehicle {} does not exist (this node has {})",
+                                              c.vehicle, actions.vehicle_count()));
+      }
+      if (Status s = actions.SetBlade(c.vehicle, c.blade_depth_m); !s) {
+        return ControlReply::Fail(s.error().message);
+      }
+      return ControlReply::Ok(c.blade_depth_m ? fmt::format("blade down {} m", *c.blade_depth_m)
+                                              : std::string("blade up"));
     default:
       return ControlReply::Fail("not a feature command");
   }

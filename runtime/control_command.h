@@ -35,6 +35,7 @@ enum class ControlVerb {
   kVehicles,   // vehicles: local and remote vehicles, one a line (nodes)
   kSpawn,      // spawn <type> <x_m> <z_m> <heading_deg> [physical|light]
   kRemove,     // remove <vehicle>
+  kBlade,      // blade <vehicle> down <depth_m> | blade <vehicle> up
 };
 
 struct ControlCommand {
@@ -47,10 +48,11 @@ struct ControlCommand {
   int vehicle = 0;
   double speed_mps = 0.0;
   double heading_rate_rad_s = 0.0;
-  std::string path;                // render, export, import
-  double drop_probability = 0.0;   // loss
-  std::vector<NodeAddress> nodes;  // partition
-  SpawnRequest spawn;              // spawn
+  std::string path;                     // render, export, import
+  double drop_probability = 0.0;        // loss
+  std::vector<NodeAddress> nodes;       // partition
+  SpawnRequest spawn;                   // spawn
+  std::optional<double> blade_depth_m;  // blade: the depth when lowered, nullopt when raised
 };
 
 // The usage text listing every command (docs/node.md "Control socket").

@@ -111,6 +111,8 @@ bool SetKey(FeatureParams& p, std::string_view key, double v) {
     case FeatureType::kBermLine:
     case FeatureType::kArea:
       break;  // handled above
+    case FeatureType::kEarthMove:
+      break;  // blade work has no keys: it is added once and never updated
   }
   return false;
 }
@@ -142,6 +144,8 @@ std::vector<std::string_view> FeatureKeys(FeatureType type) {
       return {"points[i].x_m", "points[i].z_m", "points[i].height_m", "points[i].width_m"};
     case FeatureType::kArea:
       return {"level_m", "points[i].x_m", "points[i].z_m"};
+    case FeatureType::kEarthMove:
+      return {};  // made by a blade (docs/vehicles.md "Bulldozer"), never by keys
   }
   return {};
 }

@@ -48,6 +48,12 @@ class NodeActions {
   virtual Result<int> Spawn(const SpawnRequest& request) {
     return Error{fmt::format("cannot spawn a {}: this process has no vehicles", request.type)};
   }
+  // Lowers vehicle `index`'s blade to cut depth_m below its tracks, or raises it (nullopt: the
+  // load is set down). Refused for a vehicle without a blade or a depth outside the blade's.
+  virtual Status SetBlade(int index, std::optional<double> depth_m) {
+    (void)depth_m;
+    return Error{fmt::format("vehicle {} has no blade: this process has no vehicles", index)};
+  }
   // Removes vehicle `index` from the exercise; later vehicles move down one index.
   virtual Status Remove(int index) {
     return Error{fmt::format("cannot remove vehicle {}: this process has no vehicles", index)};

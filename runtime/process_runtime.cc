@@ -50,6 +50,7 @@ ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise,
   bus.exercise_id = exercise.exercise_id;
   bus.local = process.address;
   bus.terrain_size_m = exercise.terrain_size_m();
+  bus.terrain_posts_per_side = exercise.terrain.posts_per_side;
   bus.auth.key = exercise.auth.key;
   bus.auth.clock_tolerance = std::chrono::milliseconds(exercise.auth.clock_tolerance_ms);
   ProcessTransport t = StackTransport(MakeTransport(exercise.transport_url, exercise.exercise_id),

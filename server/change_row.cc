@@ -123,6 +123,11 @@ Result<Change> FromRow(const ChangeRow& row, double terrain_size_m) {
   const char* as = "";
   switch (c.kind) {
     case ChangeKind::kConstruct:
+      if (c.params.type == FeatureType::kEarthMove) {
+        refused = ValidateAsPdu(ToEarthMove(ToFeaturePdu(c)), c, terrain_size_m);
+        as = "EarthMove";
+        break;
+      }
       refused = ValidateAsPdu(ToConstruct(ToFeaturePdu(c)), c, terrain_size_m);
       as = "Construct";
       break;

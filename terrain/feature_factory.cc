@@ -5,6 +5,7 @@
 #include "terrain/berm.h"
 #include "terrain/bridge.h"
 #include "terrain/crater.h"
+#include "terrain/earth_move.h"
 #include "terrain/feature.h"
 #include "terrain/polyline_earthwork.h"
 
@@ -35,6 +36,8 @@ Result<std::unique_ptr<Feature>> MakeFeature(FeatureId id, const FeatureParams& 
       return MakePolylineEarthwork(id, params, ground);
     case FeatureType::kArea:
       return MakeAreaFeature(id, params, ground);
+    case FeatureType::kEarthMove:
+      return MakeEarthMove(id, params, ground);
   }
   std::abort();  // ValidateFeatureParams accepted an unknown type
 }

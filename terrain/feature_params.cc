@@ -1,5 +1,7 @@
 #include "terrain/feature_params.h"
 
+#include "terrain/height_grid.h"
+
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
@@ -46,6 +48,8 @@ std::string_view FeatureTypeName(FeatureType type) {
       return "berm_line";
     case FeatureType::kArea:
       return "area";
+    case FeatureType::kEarthMove:
+      return "earth_move";
   }
   return "unknown";
 }
@@ -286,6 +290,80 @@ Status ValidateArea(const FeatureParams& p) {
 
 }  // namespace
 
+FeatureParams FeatureParams::EarthMove(std::vector<PostDelta> post_deltas) {
+  FeatureParams p;
+  p.type = FeatureType::kEarthMove;
+  std::sort(post_deltas.begin(), post_deltas.end(), [](const PostDelta& a, const PostDelta& b) {
+    return std::pair(a.j, a.i) < std::pair(b.j, b.i);
+  });
+  p.post_deltas = std::move(post_deltas);
+  return p;
+}
+
+namespace {
+
+// Post indices of an earth move are below the largest grid's side.
+constexpr int kMaxEarthMovePostIndex = kMaxPostsPerSide;
+
+Status ValidateEarthMove(const FeatureParams& p) {
+  if (auto s = CheckZero(FeatureType::kEarthMove, {{"x_m", p.x_m},
+                                                   {"z_m", p.z_m},
+                                                   {"direction_rad", p.direction_rad},
+                                                   {"height_m[0]", p.height_m[0]},
+                                                   {"height_m[1]", p.height_m[1]},
+                                                   {"length_m[0]", p.length_m[0]},
+                                                   {"length_m[1]", p.length_m[1]},
+                                                   {"length_m[2]", p.length_m[2]},
+                                                   {"width_m", p.width_m}});
+      !s) {
+    return s;
+  }
+  if (p.material != Material::kFromGround) {
+    return Error{fmt::format("earth_move material {} must be from_ground (0)",
+                             static_cast<uint16_t>(p.material))};
+  }
+  if (p.post_deltas.empty() || p.post_deltas.size() > kMaxEarthMovePosts) {
+    return Error{fmt::format("earth_move post_deltas: {} given, needs 1 to {}",
+                             p.post_deltas.size(), kMaxEarthMovePosts)};
+  }
+  int min_i = kMaxEarthMovePostIndex, max_i = -1;
+  int min_j = kMaxEarthMovePostIndex, max_j = -1;
+  for (size_t k = 0; k < p.post_deltas.size(); ++k) {
+    const PostDelta& d = p.post_deltas[k];
+    if (d.i >= kMaxEarthMovePostIndex || d.j >= kMaxEarthMovePostIndex) {
+      return Error{
+          fmt::format("earth_move post_deltas[{}] post ({}, {}) is beyond any grid ({} posts "
+                      "a side)",
+                      k, d.i, d.j, kMaxEarthMovePostIndex)};
+    }
+    if (d.delta_mm == 0 || d.delta_mm > kMaxPostDeltaMm || d.delta_mm < -kMaxPostDeltaMm) {
+      return Error{fmt::format("earth_move post_deltas[{}].delta_mm = {} is 0 or outside [-{}, {}]",
+                               k, d.delta_mm, kMaxPostDeltaMm, kMaxPostDeltaMm)};
+    }
+    if (k > 0) {
+      const PostDelta& prev = p.post_deltas[k - 1];
+      if (std::pair(prev.j, prev.i) >= std::pair(d.j, d.i)) {
+        return Error{
+            fmt::format("earth_move post_deltas[{}] post ({}, {}) is not after post ({}, "
+                        "{}): posts must be sorted by (j, i) without repeats",
+                        k, d.i, d.j, prev.i, prev.j)};
+      }
+    }
+    min_i = std::min<int>(min_i, d.i);
+    max_i = std::max<int>(max_i, d.i);
+    min_j = std::min<int>(min_j, d.j);
+    max_j = std::max<int>(max_j, d.j);
+  }
+  if (max_i - min_i + 1 > kMaxEarthMoveSpanPosts || max_j - min_j + 1 > kMaxEarthMoveSpanPosts) {
+    return Error{fmt::format("earth_move post_deltas span {} x {} posts, more than {} x {}",
+                             max_i - min_i + 1, max_j - min_j + 1, kMaxEarthMoveSpanPosts,
+                             kMaxEarthMoveSpanPosts)};
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
 Status ValidateFeatureParams(const FeatureParams& p) {
   if (!IsValidFeatureType(static_cast<uint16_t>(p.type))) {
     return Error{fmt::format("unknown feature type {}", static_cast<uint16_t>(p.type))};
@@ -318,6 +396,9 @@ Status ValidateFeatureParams(const FeatureParams& p) {
   }
   if (!HasFeaturePoints(p.type) && !p.points.empty()) {
     return Error{fmt::format("{} cannot carry points", FeatureTypeName(p.type))};
+  }
+  if (p.type != FeatureType::kEarthMove && !p.post_deltas.empty()) {
+    return Error{fmt::format("{} cannot carry post deltas", FeatureTypeName(p.type))};
   }
   if (p.type != FeatureType::kBridge && p.status != BridgeStatus::kIntact) {
     return Error{fmt::format("{} cannot have status {}", FeatureTypeName(p.type),
@@ -373,6 +454,8 @@ Status ValidateFeatureParams(const FeatureParams& p) {
       return ValidateBermLine(p);
     case FeatureType::kArea:
       return ValidateArea(p);
+    case FeatureType::kEarthMove:
+      return ValidateEarthMove(p);
   }
   return Status::Ok();
 }
@@ -392,6 +475,15 @@ void EncodeFeatureParams(const FeatureParams& p, ByteWriter& out) {
     out.U8(e.spoke);
     out.U8(e.ring);
     out.F64(e.offset_m);
+  }
+  if (p.type == FeatureType::kEarthMove) {
+    out.U16(static_cast<uint16_t>(p.post_deltas.size()));
+    for (const auto& d : p.post_deltas) {
+      out.U16(d.i);
+      out.U16(d.j);
+      out.I32(d.delta_mm);
+    }
+    return;
   }
   if (!HasFeaturePoints(p.type)) return;
   out.U16(static_cast<uint16_t>(p.points.size()));
@@ -451,6 +543,22 @@ Result<FeatureParams> DecodeFeatureParams(ByteReader& in) {
         if (!v) return truncated();
         *field = *v;
       }
+    }
+  }
+  if (p.type == FeatureType::kEarthMove) {
+    auto count = in.U16();
+    if (!count) return truncated();
+    if (*count > kMaxEarthMovePosts) {
+      return Error{fmt::format("feature record at byte {} claims {} post deltas (max {})", start,
+                               *count, kMaxEarthMovePosts)};
+    }
+    p.post_deltas.resize(*count);
+    for (auto& d : p.post_deltas) {
+      auto i = in.U16();
+      auto j = in.U16();
+      auto delta = in.I32();
+      if (!i || !j || !delta) return truncated();
+      d = {*i, *j, *delta};
     }
   }
   if (auto s = ValidateFeatureParams(p); !s) {

@@ -19,14 +19,15 @@ enum class FeatureType : uint16_t {
   kCrater = 1,
   kBerm = 2,
   kBridge = 3,
-  kDitch = 4,     // a polyline cut below the ground, optional spoil berm (polyline_earthwork.h)
-  kBermLine = 5,  // a multi-segment berm (polyline_earthwork.h)
-  kArea = 6,      // an areal feature: a polygon of other soil or water (area_feature.h)
+  kDitch = 4,      // a polyline cut below the ground, optional spoil berm (polyline_earthwork.h)
+  kBermLine = 5,   // a multi-segment berm (polyline_earthwork.h)
+  kArea = 6,       // an areal feature: a polygon of other soil or water (area_feature.h)
+  kEarthMove = 7,  // blade work: additive height changes of grid posts (earth_move.h)
 };
 
-// "crater", "berm", "bridge", "ditch", "berm_line", "area"
+// "crater", "berm", "bridge", "ditch", "berm_line", "area", "earth_move"
 std::string_view FeatureTypeName(FeatureType type);
-inline bool IsValidFeatureType(uint16_t raw) { return raw >= 1 && raw <= 6; }
+inline bool IsValidFeatureType(uint16_t raw) { return raw >= 1 && raw <= 7; }
 // True for the types whose parameters carry a list of points (FeatureParams::points).
 inline bool HasFeaturePoints(FeatureType type) {
   return type == FeatureType::kDitch || type == FeatureType::kBermLine ||
@@ -55,6 +56,25 @@ struct FeaturePoint {
   double width_m = 0.0;
   bool operator==(const FeaturePoint&) const = default;
 };
+
+// One post's height change in an earth move: post (i, j) of the grid rises by delta_mm
+// millimetres (negative: lowered). Integer millimetres, so the sum of any set of earth moves over
+// a post is exact and the same in every order of arrival (docs/terrain.md "Blade work").
+struct PostDelta {
+  uint16_t i = 0;  // post column, along x
+  uint16_t j = 0;  // post row, along z
+  int32_t delta_mm = 0;
+  auto operator<=>(const PostDelta&) const = default;
+};
+// Metres per unit of PostDelta::delta_mm.
+inline constexpr double kPostDeltaUnitM = 0.001;
+// Largest change of one post in one earth move (10 m): a blade moves far less in a tick.
+inline constexpr int32_t kMaxPostDeltaMm = 10000;
+// Most posts one earth move changes, and the largest side of the rectangle they lie in (posts):
+// with its bit mask and two bytes per post, an earth move of a full 48 x 48 rectangle would not
+// fit a datagram, so the author splits its work into pieces that do (pdu/conversion.h).
+inline constexpr int kMaxEarthMovePosts = 400;
+inline constexpr int kMaxEarthMoveSpanPosts = 48;
 
 // Documented ranges (docs/terrain.md "Parameter ranges"); values outside are refused as bad
 // input. Every size (radius, lengths, widths, heights) is at least kMinFeatureSizeM, the finest
@@ -105,6 +125,9 @@ inline constexpr int kCraterRings = 4;
 //   berm_line: points (2..32, per point crest height and base width). (x_m, z_m) = points[0].
 //   area:   points (3..32, a polygon), material = the soil inside (water: flooded), height_m[0] =
 //           the water level (absolute elevation) for water, else 0. (x_m, z_m) = points[0].
+//   earth_move: post_deltas (1..400, sorted by (j, i), unique, each nonzero and within
+//           +-10 000 mm, all inside a 48 x 48 post rectangle); every other field 0 and material
+//           from_ground. Whether the posts are on the grid is Terrain::Add's check.
 struct FeatureParams {
   FeatureType type = FeatureType::kCrater;
   double x_m = 0.0;
@@ -117,6 +140,7 @@ struct FeatureParams {
   BridgeStatus status = BridgeStatus::kIntact;
   std::vector<CraterVertexEdit> vertex_edits;  // crater only; sorted by (spoke, ring), unique
   std::vector<FeaturePoint> points;            // ditch, berm_line, area only
+  std::vector<PostDelta> post_deltas;          // earth_move only
 
   bool operator==(const FeatureParams&) const = default;
 
@@ -140,6 +164,8 @@ struct FeatureParams {
   // water_level_m is used only for Material::kWater.
   static FeatureParams Area(std::vector<FeaturePoint> points, Material material,
                             double water_level_m = 0.0);
+  // Sorts the deltas by (j, i); does not merge repeats (validation refuses them).
+  static FeatureParams EarthMove(std::vector<PostDelta> post_deltas);
 };
 
 // Checks types, finiteness and the documented ranges above; the error names the field and its
@@ -147,8 +173,8 @@ struct FeatureParams {
 Status ValidateFeatureParams(const FeatureParams& params);
 
 // Canonical little-endian encoding: equal params give equal bytes on every machine. The point
-// list is written only for the types that have one (HasFeaturePoints), so the bytes of craters,
-// berms and bridges are those of the first encoding.
+// list is written only for the types that have one (HasFeaturePoints), and the post deltas only
+// for earth moves, so the bytes of craters, berms and bridges are those of the first encoding.
 void EncodeFeatureParams(const FeatureParams& params, ByteWriter& out);
 // Decodes what EncodeFeatureParams wrote and validates it.
 Result<FeatureParams> DecodeFeatureParams(ByteReader& in);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 
@@ -72,8 +73,9 @@ FrictionTable FrictionTable::Parse(std::string_view toml_text, std::string_view 
                                             e.description()));
   }
   for (auto&& [key, node] : root) {
-    if (key.str() != "classes" && key.str() != "vehicles" && key.str() != "friction") {
-      errors.Bad(key.str(), node, "unknown key (expected classes, vehicles, friction)");
+    if (key.str() != "classes" && key.str() != "vehicles" && key.str() != "friction" &&
+        key.str() != "repose") {
+      errors.Bad(key.str(), node, "unknown key (expected classes, vehicles, friction, repose)");
     }
   }
 
@@ -154,6 +156,30 @@ FrictionTable FrictionTable::Parse(std::string_view toml_text, std::string_view 
       table.table_[m * class_count + c] = f;
     }
   }
+
+  table.repose_rad_.assign(kMaterialCount, kDefaultReposeDeg * std::numbers::pi / 180.0);
+  if (const toml::node* repose = root.get("repose")) {
+    const toml::table& angles = RequireTable(*repose, "repose", errors);
+    for (auto&& [key, node] : angles) {
+      const auto material = ParseMaterial(key.str());
+      if (!material || *material == Material::kFromGround) {
+        errors.Bad(fmt::format("repose.{}", key.str()), node,
+                   "is not a material (see terrain/material.h; from_ground has no soil)");
+      }
+    }
+    for (uint16_t m = 1; m < kMaterialCount; ++m) {
+      const std::string key = fmt::format("repose.{}", MaterialName(static_cast<Material>(m)));
+      const toml::node* node = angles.get(MaterialName(static_cast<Material>(m)));
+      if (!node) errors.Missing(key);
+      const auto v = node->value<double>();
+      if (!v || !node->is_number()) errors.Bad(key, *node, "must be a number of degrees");
+      if (!std::isfinite(*v) || !(*v > kMinReposeDeg) || !(*v < kMaxReposeDeg)) {
+        errors.Bad(key, *node,
+                   fmt::format("must be in ({}, {}) degrees", kMinReposeDeg, kMaxReposeDeg));
+      }
+      table.repose_rad_[m] = *v * std::numbers::pi / 180.0;
+    }
+  }
   return table;
 }
 
@@ -180,6 +206,16 @@ Friction FrictionTable::Lookup(Material material, std::string_view traction_clas
                                             traction_class, fmt::join(classes_, ", ")));
   }
   return table_[m * classes_.size() + static_cast<size_t>(it - classes_.begin())];
+}
+
+double FrictionTable::ReposeRad(Material material) const {
+  const auto m = static_cast<uint16_t>(material);
+  if (!IsValidMaterial(m) || material == Material::kFromGround) {
+    throw std::invalid_argument(fmt::format(
+        "no angle of repose for material {} ({}): resolve from_ground to the ground's soil first",
+        m, MaterialName(material)));
+  }
+  return repose_rad_[m];
 }
 
 const std::string& FrictionTable::ClassOf(std::string_view vehicle_type_name) const {

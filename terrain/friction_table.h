@@ -20,10 +20,18 @@ struct Friction {
 
 // Largest coefficient a config may give (rubber on dry concrete is about 1).
 inline constexpr double kMaxFrictionCoefficient = 2.0;
+// Angle of repose of every material when a table has no [repose] section (degrees): loose dirt.
+inline constexpr double kDefaultReposeDeg = 35.0;
+// Angles of repose a [repose] section may give (degrees), exclusive: flat soil does not stand and
+// a vertical face is no slope.
+inline constexpr double kMinReposeDeg = 0.0;
+inline constexpr double kMaxReposeDeg = 90.0;
 
 // Loaded from a TOML file like configs/friction.toml: a list of traction classes, a map from
 // vehicle type name to class, and one {static, dynamic} pair per material and class. Every
-// material but from_ground must be present for every class; unknown keys are refused.
+// material but from_ground must be present for every class; unknown keys are refused. An optional
+// [repose] section gives each material's angle of repose in degrees (blade work slumps to it,
+// terrain/slump.h); when present it must name every material but from_ground.
 class FrictionTable {
  public:
   // Throws std::invalid_argument naming the source, the key and the value at fault.
@@ -39,6 +47,10 @@ class FrictionTable {
     return Lookup(material, ClassOf(vehicle_type_name));
   }
 
+  // The angle of repose of a material, radians. Throws std::invalid_argument for from_ground or
+  // an unknown material.
+  double ReposeRad(Material material) const;
+
   const std::vector<std::string>& classes() const { return classes_; }
   const std::map<std::string, std::string, std::less<>>& vehicle_classes() const {
     return vehicle_classes_;
@@ -49,7 +61,8 @@ class FrictionTable {
 
   std::vector<std::string> classes_;
   std::map<std::string, std::string, std::less<>> vehicle_classes_;
-  std::vector<Friction> table_;  // [material * classes_.size() + class]
+  std::vector<Friction> table_;     // [material * classes_.size() + class]
+  std::vector<double> repose_rad_;  // [material]
 };
 
 }  // namespace dt

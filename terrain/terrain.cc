@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "terrain/area_feature.h"
+#include "terrain/earth_move.h"
 
 namespace dt {
 
@@ -133,9 +134,74 @@ Status Terrain::Add(FeatureId id, const FeatureParams& params) {
   }
   auto made = MakeFeature(id, params, ground_);
   if (!made) return made.error();
+  if (params.type == FeatureType::kEarthMove) {
+    // Not indexed: it covers no point; its work is in the ground posts.
+    features_.Insert(id, std::move(made).value());
+    ApplyEarthMove(params.post_deltas, +1);
+    return Status::Ok();
+  }
   if (auto s = CheckPlacement(*made.value(), nullptr); !s) return s;
   Index(features_.Insert(id, std::move(made).value()));
   return Status::Ok();
+}
+
+namespace {
+float ComposedPost(float bare_m, int64_t sum_mm) {
+  return static_cast<float>(static_cast<double>(bare_m) +
+                            static_cast<double>(sum_mm) * kPostDeltaUnitM);
+}
+}  // namespace
+
+void Terrain::ApplyEarthMove(const std::vector<PostDelta>& deltas, int sign) {
+  const int n = ground_.posts_per_side();
+  std::vector<std::pair<int, int>> posts;
+  posts.reserve(deltas.size());
+  for (const PostDelta& d : deltas) {
+    const uint32_t index = static_cast<uint32_t>(d.j) * static_cast<uint32_t>(n) + d.i;
+    auto [it, inserted] = blade_.try_emplace(index);
+    if (inserted) it->second.bare_m = ground_.post(d.i, d.j);
+    it->second.sum_mm += sign * static_cast<int64_t>(d.delta_mm);
+    const float post = it->second.sum_mm == 0 ? it->second.bare_m
+                                              : ComposedPost(it->second.bare_m, it->second.sum_mm);
+    if (!std::isfinite(post)) std::abort();  // millimetre sums stay far inside a float's range
+    ground_.set_post(d.i, d.j, post);
+    posts.emplace_back(d.i, d.j);
+  }
+  Changed();
+  GroundChangedAround(posts);
+}
+
+int64_t Terrain::BladeDeltaMm(int i, int j) const {
+  const int n = ground_.posts_per_side();
+  if (i < 0 || j < 0 || i >= n || j >= n) return 0;
+  const auto it = blade_.find(static_cast<uint32_t>(j) * static_cast<uint32_t>(n) + i);
+  return it == blade_.end() ? 0 : it->second.sum_mm;
+}
+
+std::vector<float> Terrain::BarePosts() const {
+  std::vector<float> posts = ground_.posts();
+  for (const auto& [index, post] : blade_) posts[index] = post.bare_m;
+  return posts;
+}
+
+void Terrain::GroundChangedAround(const std::vector<std::pair<int, int>>& posts) {
+  const int n = ground_.posts_per_side();
+  // A post is a corner of up to four squares; every feature touching them recomputes once.
+  std::vector<Feature*> touched;
+  for (auto [i, j] : posts) {
+    for (int dj = -1; dj <= 0; ++dj) {
+      for (int di = -1; di <= 0; ++di) {
+        const int si = i + di, sj = j + dj;
+        if (si < 0 || sj < 0 || si >= n - 1 || sj >= n - 1) continue;
+        for (const Feature* f : squares_[SquareSlot({si, sj})]) {
+          touched.push_back(const_cast<Feature*>(f));
+        }
+      }
+    }
+  }
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  for (Feature* f : touched) f->OnGroundChanged(ground_);
 }
 
 Status Terrain::Update(FeatureId id, const FeatureParams& params) {
@@ -146,6 +212,10 @@ Status Terrain::Update(FeatureId id, const FeatureParams& params) {
   if (old->type() != params.type) {
     return Error{fmt::format("feature {} is a {}; an update cannot make it a {}", id.ToString(),
                              FeatureTypeName(old->type()), FeatureTypeName(params.type))};
+  }
+  if (old->type() == FeatureType::kEarthMove) {
+    return Error{
+        fmt::format("earth_move {} cannot be updated: blade work is added once", id.ToString())};
   }
   auto made = MakeFeature(id, params, ground_);
   if (!made) return made.error();
@@ -159,6 +229,12 @@ Status Terrain::Remove(FeatureId id) {
   const Feature* f = features_.Find(id);
   if (f == nullptr) {
     return Error{fmt::format("feature {} does not exist", id.ToString())};
+  }
+  if (f->type() == FeatureType::kEarthMove) {
+    const std::vector<PostDelta> deltas = static_cast<const EarthMoveFeature*>(f)->post_deltas();
+    features_.Erase(id);
+    ApplyEarthMove(deltas, -1);
+    return Status::Ok();
   }
   Unindex(f);
   features_.Erase(id);
@@ -180,6 +256,11 @@ std::vector<FeatureId> Terrain::RemoveAt(double x_m, double z_m) {
 
 void Terrain::RemoveAll() {
   features_.Clear();
+  for (const auto& [index, post] : blade_) {
+    const int n = ground_.posts_per_side();
+    ground_.set_post(static_cast<int>(index % n), static_cast<int>(index / n), post.bare_m);
+  }
+  blade_.clear();
   for (auto& list : squares_) std::vector<const Feature*>().swap(list);
   std::fill(bits_.begin(), bits_.end(), uint16_t{0});
   Changed();
@@ -193,22 +274,19 @@ Status Terrain::SetPostElevation(int i, int j, float elevation_m) {
   if (!std::isfinite(elevation_m)) {
     return Error{fmt::format("post ({}, {}) elevation {} is not finite", i, j, elevation_m)};
   }
-  ground_.set_post(i, j, elevation_m);
-  Changed();
-  // The post is a corner of up to four squares; every feature touching them recomputes once.
-  std::vector<Feature*> touched;
-  for (int dj = -1; dj <= 0; ++dj) {
-    for (int di = -1; di <= 0; ++di) {
-      const int si = i + di, sj = j + dj;
-      if (si < 0 || sj < 0 || si >= n - 1 || sj >= n - 1) continue;
-      for (const Feature* f : squares_[SquareSlot({si, sj})]) {
-        touched.push_back(const_cast<Feature*>(f));
-      }
+  float post = elevation_m;
+  if (auto it = blade_.find(static_cast<uint32_t>(j) * static_cast<uint32_t>(n) + i);
+      it != blade_.end()) {
+    it->second.bare_m = elevation_m;
+    if (it->second.sum_mm != 0) post = ComposedPost(elevation_m, it->second.sum_mm);
+    if (!std::isfinite(post)) {
+      return Error{fmt::format("post ({}, {}) elevation {} plus its blade work {} mm is not finite",
+                               i, j, elevation_m, it->second.sum_mm)};
     }
   }
-  std::sort(touched.begin(), touched.end());
-  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  for (Feature* f : touched) f->OnGroundChanged(ground_);
+  ground_.set_post(i, j, post);
+  Changed();
+  GroundChangedAround({{i, j}});
   return Status::Ok();
 }
 

@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <unordered_map>
 #include <vector>
 
 #include "terrain/feature.h"
@@ -34,17 +35,28 @@ class Terrain {
   uint64_t stamp() const { return stamp_; }
 
   // Adds a feature. Refused if the ID exists, the parameters are invalid, the feature leaves the
-  // terrain, or it conflicts with another (overlapping bridges).
+  // terrain, or it conflicts with another (overlapping bridges). An earth move adds its post
+  // deltas to the ground (docs/terrain.md "Blade work").
   Status Add(FeatureId id, const FeatureParams& params);
-  // Replaces a feature's parameters (same type). Refused like Add, or if the ID is unknown.
+  // Replaces a feature's parameters (same type). Refused like Add, or if the ID is unknown, and
+  // for an earth move: blade work is added once and never replaced.
   Status Update(FeatureId id, const FeatureParams& params);
+  // Removes a feature; an earth move's deltas are taken off the ground again.
   Status Remove(FeatureId id);
   // Removes every feature covering (x, z); returns their IDs, sorted.
   std::vector<FeatureId> RemoveAt(double x_m, double z_m);
   void RemoveAll();
 
-  // Sets one post; every feature touching the squares around it recomputes.
+  // Sets one post as it stands without blade work (earth moves over it stay added); every feature
+  // touching the squares around it recomputes.
   Status SetPostElevation(int i, int j, float elevation_m);
+  // The sum of every earth move's change of post (i, j), in millimetres (0 off the grid).
+  int64_t BladeDeltaMm(int i, int j) const;
+  // The posts as they stand without blade work, row by row (ground().posts() with every earth
+  // move taken off): a terrain built on them plus the same features is this terrain.
+  std::vector<float> BarePosts() const;
+  // Posts some earth move has changed (their sum may have come back to 0).
+  size_t blade_post_count() const { return blade_.size(); }
   Status SetSoil(SquareIndex square, TriangleHalf half, Material soil);
 
   const Feature* Find(FeatureId id) const;
@@ -93,12 +105,26 @@ class Terrain {
   uint16_t CellsMaybeCovered(const Feature& feature, SquareIndex square) const;
   void RecomputeBits(SquareIndex square);
   void Changed();  // draws a new stamp
+  // Adds (sign +1) or takes off (-1) an earth move's deltas and recomputes the features on the
+  // squares around the posts it changed.
+  void ApplyEarthMove(const std::vector<PostDelta>& deltas, int sign);
+  // Tells every feature on the squares around the posts that the ground changed.
+  void GroundChangedAround(const std::vector<std::pair<int, int>>& posts);
 
   HeightGrid ground_;
   FeatureTable features_;
   std::vector<std::vector<const Feature*>> squares_;  // features touching each square
   std::vector<uint16_t> bits_;                        // 4 x 4 presence bits per square
   uint64_t stamp_ = 0;
+  // Blade work, per post an earth move touched (index j * n + i): the post as set without blade
+  // work and the sum of the earth moves' millimetres. The ground post is always
+  // float(bare_m + sum_mm * kPostDeltaUnitM), a function of the sum alone, so the ground is the
+  // same in every order the earth moves arrived in.
+  struct BladePost {
+    float bare_m = 0.0f;
+    int64_t sum_mm = 0;
+  };
+  std::unordered_map<uint32_t, BladePost> blade_;
 };
 
 }  // namespace dt

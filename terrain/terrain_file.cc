@@ -42,7 +42,8 @@ std::vector<uint8_t> EncodeTerrainFile(const Terrain& terrain) {
   ground.bytes().reserve(GroundSectionBytes(static_cast<uint64_t>(g.posts_per_side())));
   ground.U32(static_cast<uint32_t>(g.posts_per_side()));
   ground.F64(g.spacing_m());
-  for (float y : g.posts()) ground.F32(y);
+  // The posts without blade work: the earth moves among the features add it back on loading.
+  for (float y : terrain.BarePosts()) ground.F32(y);
   for (Material soil : g.soils()) ground.U16(static_cast<uint16_t>(soil));
 
   ByteWriter features;
@@ -198,9 +199,16 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
     if (!record) {
       return truncated(fmt::format("feature {} ({} bytes declared)", id.ToString(), *length));
     }
-    // Version 1 knew craters, berms and bridges only.
+    // Version 1 knew craters, berms and bridges only, version 2 no earth moves.
+    const auto record_type =
+        static_cast<FeatureType>(record->size() >= 2 ? (*record)[0] | (*record)[1] << 8 : 0);
+    if (version == 2 && record_type == FeatureType::kEarthMove) {
+      return fail(record_at + 12, fmt::format("feature {}: a version 2 file cannot hold an "
+                                              "earth_move",
+                                              id.ToString()));
+    }
     if (version == 1 && record->size() >= 2 &&
-        HasFeaturePoints(static_cast<FeatureType>((*record)[0] | (*record)[1] << 8))) {
+        (HasFeaturePoints(record_type) || record_type == FeatureType::kEarthMove)) {
       return fail(
           record_at + 12,
           fmt::format("feature {}: a version 1 file cannot hold a {}", id.ToString(),

@@ -14,7 +14,7 @@
 namespace dt {
 
 // docs/terrain-file-format.md describes every byte.
-inline constexpr uint32_t kTerrainFileVersion = 2;
+inline constexpr uint32_t kTerrainFileVersion = 3;
 // The oldest version LoadTerrain still reads (docs/terrain-file-format.md "Versions").
 inline constexpr uint32_t kOldestTerrainFileVersion = 1;
 inline constexpr size_t kTerrainFileHeaderBytes = 28;

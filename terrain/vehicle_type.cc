@@ -39,14 +39,17 @@ Status CheckRange(std::string_view type, std::string_view field, double value, d
 
 // Hull sizes and road speeds of an M1 tank, an M35 truck and an M998 utility vehicle, rounded.
 VehicleType TankType() { return Make("tank", 7.9, 3.7, 18.0, 9.0, 0.7); }
+// A D7-class tracked dozer with its blade, rounded: 5.9 x 3.7 m, 3 m/s either way.
+VehicleType BulldozerType() { return Make("bulldozer", 5.9, 3.7, 3.0, 3.0, 0.6); }
 VehicleType TruckType() { return Make("truck", 6.7, 2.4, 25.0, 5.0, 0.35); }
 VehicleType JeepType() { return Make("jeep", 4.6, 2.2, 30.0, 6.0, 0.8); }
 
 Result<VehicleType> BuiltInVehicleType(std::string_view name) {
-  for (VehicleType t : {TankType(), TruckType(), JeepType()}) {
+  for (VehicleType t : {TankType(), TruckType(), JeepType(), BulldozerType()}) {
     if (t.name == name) return t;
   }
-  return Error{fmt::format("unknown vehicle type '{}' (built-in: tank, truck, jeep)", name)};
+  return Error{
+      fmt::format("unknown vehicle type '{}' (built-in: tank, truck, jeep, bulldozer)", name)};
 }
 
 Status ValidateVehicleType(const VehicleType& t) {

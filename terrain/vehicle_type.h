@@ -37,6 +37,8 @@ inline constexpr double kDefaultMaxRollDeg = 30.0;
 VehicleType TankType();   // "tank": 7.9 x 3.7 m, 18 m/s, 0.7 rad/s
 VehicleType TruckType();  // "truck": 6.7 x 2.4 m, 25 m/s, 0.35 rad/s
 VehicleType JeepType();   // "jeep": 4.6 x 2.2 m, 30 m/s, 0.8 rad/s
+// "bulldozer": 5.9 x 3.7 m (blade included), 3 m/s, 0.6 rad/s; its blade is vehicle/blade.h's.
+VehicleType BulldozerType();
 
 // A built-in type by name; the error lists the known names.
 Result<VehicleType> BuiltInVehicleType(std::string_view name);

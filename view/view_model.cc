@@ -60,6 +60,10 @@ nlohmann::json FeatureJson(FeatureId id, const Record& record) {
       }
       break;
     }
+    case FeatureType::kEarthMove:
+      // Blade work is in the ground the view draws; the feature only counts its posts.
+      j["posts"] = p.post_deltas.size();
+      break;
   }
   return j;
 }

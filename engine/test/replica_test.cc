@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/change_hash.h"
 #include "engine/memory_change_store.h"
 #include "engine/test/replica_test_config.h"
 #include "engine/test/sim_cluster.h"
@@ -113,6 +114,52 @@ TEST_F(ReplicaTest, AGapIsDetectedAndPlayedBackByTheAuthor) {
   EXPECT_EQ(B().Digest(), A().Digest());
   EXPECT_TRUE(B().caught_up());
   EXPECT_GE(A().counters().played_back, 40u);
+}
+
+TEST_F(ReplicaTest, EarthMovesTravelAsChangesAndArePlayedBack) {
+  const int n = A().terrain().ground().posts_per_side();
+  ASSERT_GT(n, 12);
+  cluster_.net().faults().Isolate(kB);
+  std::vector<FeatureId> ids;
+  for (int i = 0; i < 20; ++i) {
+    auto id =
+        A().Create(FeatureParams::EarthMove({{static_cast<uint16_t>(2 + i % 8), 5, -200 - i},
+                                             {static_cast<uint16_t>(2 + i % 8), 6, 200 + i}}));
+    ASSERT_TRUE(id.ok()) << id.error().message;
+    ids.push_back(id.value());
+  }
+  // Blade work is added once: no update of it.
+  const Status update = A().Modify(ids[0], FeatureParams::EarthMove({{2, 5, 7}}));
+  ASSERT_FALSE(update.ok());
+  EXPECT_NE(update.error().message.find("cannot be updated"), std::string::npos);
+  cluster_.Run(100);
+  EXPECT_EQ(B().terrain().BladeDeltaMm(2, 5), 0);
+  cluster_.net().faults().Heal();
+  cluster_.Run(1500);
+  EXPECT_EQ(B().Digest(), A().Digest());
+  EXPECT_EQ(S().Digest(), A().Digest());
+  EXPECT_EQ(B().terrain().BladeDeltaMm(2, 5), A().terrain().BladeDeltaMm(2, 5));
+  EXPECT_EQ(A().terrain().BladeDeltaMm(2, 5), -200 - 208 - 216);
+  EXPECT_GE(A().counters().played_back, 20u);
+  // The logged change, through its PDU and back, is the same change.
+  const Change* logged = A().log(kA)->Find(1);
+  ASSERT_NE(logged, nullptr);
+  ASSERT_EQ(logged->params.type, FeatureType::kEarthMove);
+  auto back = FromEarthMove(ToEarthMove(ToFeaturePdu(*logged)));
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_EQ(ChangeFrom(back.value(), ChangeKind::kConstruct), *logged);
+  // Anti-entropy tells copies differing in one post's millimetre apart.
+  Change other = *logged;
+  other.params.post_deltas[1].delta_mm += 1;
+  EXPECT_NE(ChangeHash(other), ChangeHash(*logged));
+  other = *logged;
+  other.params.post_deltas[1].j += 1;
+  EXPECT_NE(ChangeHash(other), ChangeHash(*logged));
+  // A destroyed earth move is taken off every ground.
+  ASSERT_TRUE(B().Destroy(ids[0]).ok());
+  cluster_.Run(300);
+  EXPECT_EQ(A().terrain().BladeDeltaMm(2, 5), -208 - 216);
+  EXPECT_EQ(B().Digest(), A().Digest());
 }
 
 TEST_F(ReplicaTest, ACatchUpAsksForTheNextWindowWhenAnAnswerCompletesOneNotAtTheNextTick) {

@@ -18,6 +18,7 @@ Replica& SimCluster::Start(NodeAddress address, NodeRole role, ChangeStore* stor
   bc.exercise_id = 1;
   bc.local = address;
   bc.terrain_size_m = ground_.size_m();
+  bc.terrain_posts_per_side = ground_.posts_per_side();
   bc.clock = [] { return 0u; };  // relative time 0: deterministic
   m->bus = std::make_unique<PduBus>(*m->transport, bc);
   ReplicaConfig rc = defaults_;

@@ -211,6 +211,62 @@ TEST_F(NodeAppTest, SpawnsListsAndRemovesVehiclesAtRunTime) {
   EXPECT_GE(node.sharing().sent(), 3u);
 }
 
+TEST_F(NodeAppTest, ABulldozerCutsCarriesAndSetsDownThroughEarthMoves) {
+  // A 64 m square at 1 m spacing: blade work wants posts closer than the blade is wide.
+  const std::string text = fmt::format(
+      "[exercise]\nname = \"node-app\"\ntransport = \"memq://\"\nrun_dir = \"{}\"\n"
+      "[auth]\nmode = \"none\"\n"
+      "[terrain]\nposts_per_side = 65\nspacing_m = 1\nrelief_m = 0\n"
+      "[protocol]\nrequire_server = false\nmax_feature_period_ms = 50\nsilence_ms = 200\n"
+      "[[node]]\nname = \"node-1\"\nsite = 1\nhost = 1\n",
+      dir_.string());
+  const ExerciseConfig exercise = ParseExerciseConfig(text, "ex.toml", dir_);
+  NodeApp node(exercise, exercise.nodes[0]);
+  node.Start(0);
+  int64_t t = 0;
+  auto run = [&](double seconds) {
+    for (int k = 0; k < static_cast<int>(seconds * 30); ++k) node.Tick(t += 33, 0.033);
+  };
+  run(1.0);
+  ASSERT_TRUE(node.ready());
+  ASSERT_TRUE(node.Handle("spawn bulldozer 10 32 0 light").ok);
+  ASSERT_TRUE(node.Handle("spawn tank 10 10 0 light").ok);
+  // Refused, naming the value: too deep, no blade, no such vehicle, a bad position.
+  ControlReply r = node.Handle("blade 0 down 0.8");
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("blade depth_m = 0.8 is outside [0, 0.5]"), std::string::npos) << r.error;
+  r = node.Handle("blade 1 down 0.2");
+  EXPECT_NE(r.error.find("vehicle 1 is a tank, which has no blade"), std::string::npos) << r.error;
+  r = node.Handle("blade 2 up");
+  EXPECT_NE(r.error.find("vehicle 2 does not exist"), std::string::npos) << r.error;
+  r = node.Handle("blade 0 sideways");
+  EXPECT_NE(r.error.find("blade takes <vehicle> down <depth_m> or <vehicle> up"), std::string::npos)
+      << r.error;
+  r = node.Handle("blade 0 down deep");
+  EXPECT_NE(r.error.find("depth_m"), std::string::npos) << r.error;
+  EXPECT_EQ(node.blade_post_changes(), 0);
+  const std::string bare = node.replica().Digest();
+  r = node.Handle("blade 0 down 0.2");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.body, "blade down 0.2 m");
+  ASSERT_TRUE(node.Handle("drive 0 1.5 0").ok);
+  run(8.0);
+  ASSERT_TRUE(node.Handle("blade 0 up").ok);
+  run(1.0);
+  ASSERT_TRUE(node.Handle("drive 0 0 0").ok);
+  run(0.5);
+  EXPECT_GT(node.blade_post_changes(), 50);
+  EXPECT_NE(node.replica().Digest(), bare);
+  const Terrain& terrain = node.replica().terrain();
+  // A cut 0.2 m deep behind the blade, and every millimetre of it set down again.
+  EXPECT_NEAR(terrain.ElevationAt(16.0, 32.0), -0.2, 0.03);
+  int64_t sum = 0;
+  for (int j = 0; j < 65; ++j) {
+    for (int i = 0; i < 65; ++i) sum += terrain.BladeDeltaMm(i, j);
+  }
+  EXPECT_EQ(sum, 0);
+}
+
 TEST_F(NodeAppTest, RefusesADriveThatIsNotFiniteAndClampsOneOutOfRange) {
   const ExerciseConfig exercise =
       Exercise("[[node.vehicle]]\ntype = \"jeep\"\nx_m = 50\nz_m = 50\n", false);

@@ -1,5 +1,6 @@
 #include "node/scenario.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -258,6 +259,35 @@ TEST(ScenarioTest, SpawnAndRemoveChangeWhichVehicleIndicesExist) {
   ScenarioRunner runner(sc);
   runner.Advance(0.0, fleet);
   EXPECT_EQ(fleet.calls, (std::vector<std::string>{"spawn jeep", "remove 0"}));
+  EXPECT_EQ(runner.failed(), 0);
+}
+
+TEST(ScenarioTest, BladeStepsLowerAndRaiseABlade) {
+  const std::string down = "[[step]]\naction = \"blade\"\nvehicle = 0\ndepth_m = 0.25\n";
+  const std::string up = "[[step]]\naction = \"blade\"\nvehicle = 0\nposition = \"up\"\n";
+  EXPECT_NE(ErrorOf(down, 0).find("0 vehicle(s) at this step"), std::string::npos);
+  EXPECT_NE(ErrorOf("[[step]]\naction = \"blade\"\nvehicle = 0\nposition = \"left\"\n")
+                .find("step[0].position"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("[[step]]\naction = \"blade\"\nvehicle = 0\n").find("depth_m"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("[[step]]\naction = \"blade\"\nvehicle = 0\ndepth_m = -1\n").find("depth_m"),
+            std::string::npos);
+  const Scenario sc = ParseScenario(down + up, "s.toml", 1);
+  ASSERT_EQ(sc.steps.size(), 2u);
+  EXPECT_EQ(sc.steps[0].action, ScenarioAction::kBlade);
+  EXPECT_EQ(sc.steps[0].blade_depth_m, 0.25);
+  EXPECT_FALSE(sc.steps[1].blade_depth_m.has_value());
+  struct Dozer : MapActions {
+    std::vector<std::string> calls;
+    Status SetBlade(int index, std::optional<double> depth_m) override {
+      calls.push_back(fmt::format("blade {} {}", index, depth_m ? *depth_m : -1.0));
+      return Status::Ok();
+    }
+  } dozer;
+  ScenarioRunner runner(sc);
+  runner.Advance(0.0, dozer);
+  EXPECT_EQ(dozer.calls, (std::vector<std::string>{"blade 0 0.25", "blade 0 -1"}));
   EXPECT_EQ(runner.failed(), 0);
 }
 

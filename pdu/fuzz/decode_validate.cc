@@ -24,6 +24,11 @@ bool One(std::span<const uint8_t> bytes) {
   } else if constexpr (PduTraits<Pdu>::kType == PduType::kUpdate) {
     auto f = FromUpdate(pdu);
     if (!f || !ValidateFeatureParams(f.value().params)) std::abort();
+  } else if constexpr (PduTraits<Pdu>::kType == PduType::kEarthMove) {
+    // What passes is a valid earth move, and its PDU again is one of the same posts.
+    auto f = FromEarthMove(pdu);
+    if (!f || !ValidateFeatureParams(f.value().params)) std::abort();
+    if (FromEarthMove(ToEarthMove(f.value())).value() != f.value()) std::abort();
   } else if constexpr (PduTraits<Pdu>::kType == PduType::kVehicleState) {
     // What a handler sees converts to fields and back to the very same PDU.
     auto again = ToVehicleState(FromVehicleState(pdu));
@@ -49,8 +54,10 @@ bool DecodeAs(uint8_t selector, std::span<const uint8_t> bytes) {
       return One<dtpdu::playback_t>(bytes);
     case 5:
       return One<dtpdu::anti_entropy_t>(bytes);
-    default:
+    case 6:
       return One<dtpdu::vehicle_state_t>(bytes);
+    default:
+      return One<dtpdu::earth_move_t>(bytes);
   }
 }
 

@@ -178,6 +178,23 @@ int main(int argc, char** argv) {
   v = sample::VehicleState();
   v.appearance = static_cast<int32_t>(1u << 31);
   Write(dir, "vehiclestate_bad_appearance", 6, EncodePdu(v));
+  Family(dir, "earthmove", 7, sample::EarthMovePdu());
+  Write(dir, "signed_earthmove_valid", kSigned + 7, signed_pdu(EncodePdu(sample::EarthMovePdu())));
+  auto em = sample::EarthMovePdu();
+  em.delta_mm[2] = 0;
+  Write(dir, "earthmove_zero_delta", 7, EncodePdu(em));
+  em = sample::EarthMovePdu();
+  em.changed_mask[0] ^= 0x02;  // one more post set than deltas sent
+  Write(dir, "earthmove_mask_disagrees", 7, EncodePdu(em));
+  em = sample::EarthMovePdu();
+  em.columns = 49;
+  Write(dir, "earthmove_wide", 7, EncodePdu(em));
+  em = sample::EarthMovePdu();
+  em.first_post_i = -1;
+  Write(dir, "earthmove_negative_post", 7, EncodePdu(em));
+  em = sample::EarthMovePdu();
+  em.moved_by.host = 9;
+  Write(dir, "earthmove_not_origin", 7, EncodePdu(em));
   Write(dir, "empty", 0, {});
   std::printf("wrote %d inputs to %s\n", written, dir.c_str());
   return 0;

@@ -27,6 +27,7 @@ TOP_LEVEL = {
     "playback_t": ("kPlayback", []),
     "anti_entropy_t": ("kAntiEntropy", []),
     "vehicle_state_t": ("kVehicleState", ["entity_id"]),
+    "earth_move_t": ("kEarthMove", ["origin", "feature_number"]),
 }
 MAX_AUTH_BYTES = 128  # dt::dds_codec::kMaxAuthBytes
 

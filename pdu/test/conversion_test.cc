@@ -156,7 +156,8 @@ TEST(Conversion, RefusesUnrepresentableFields) {
   expect_refused([](auto& p) { p.feature_number = kMaxSerial + 1; }, "feature_number");
   expect_refused([](auto& p) { p.change_seq = -1; }, "change_seq");
   expect_refused([](auto& p) { p.lamport = 0; }, "lamport");
-  expect_refused([](auto& p) { p.feature_type = 7; }, "feature type");
+  expect_refused([](auto& p) { p.feature_type = 8; }, "feature type");
+  expect_refused([](auto& p) { p.feature_type = 7; }, "travels only in EarthMove PDUs");
   expect_refused([](auto& p) { p.material = kMaterialCount; }, "material");
   expect_refused([](auto& p) { p.status = 2; }, "status");
   expect_refused([](auto& p) { p.num_vertex_edits = 1; }, "num_vertex_edits");

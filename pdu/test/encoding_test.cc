@@ -151,6 +151,7 @@ TEST(Encoding, EveryLcmTypeHasItsOwnFingerprint) {
       {"entity_id_t", dtpdu::entity_id_t::getHash()},
       {"entity_type_t", dtpdu::entity_type_t::getHash()},
       {"vehicle_state_t", dtpdu::vehicle_state_t::getHash()},
+      {"earth_move_t", dtpdu::earth_move_t::getHash()},
   };
   // Every type of pdu/lcm is in the list, so a new one cannot escape the check.
   std::set<std::string> files;

@@ -62,7 +62,7 @@ def main():
             pdu = bool(members) and members[0] == "header"  # a PDU type opens with its header
             want = members + (["auth"] if pdu else [])
             check(got == want, f"{name}: IDL members {got} != LCM members {want}")
-            if name in ("construct_t", "update_t", "destruct_t"):
+            if name in ("construct_t", "update_t", "destruct_t", "earth_move_t"):
                 check(keys == ["origin", "feature_number"], f"{name}: keys {keys}")
             elif name == "vehicle_state_t":  # one DDS instance per vehicle
                 check(keys == ["entity_id"], f"{name}: keys {keys}")

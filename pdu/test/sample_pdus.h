@@ -59,6 +59,26 @@ inline FeaturePdu Flood() {
   return f;
 }
 
+// Blade work: a cut of three posts and the pile they went to, a row ahead.
+inline FeaturePdu EarthMove() {
+  FeaturePdu f;
+  f.id = {1, 2, 8};
+  f.change = {{1, 2}, 9, 10};
+  f.params = FeatureParams::EarthMove({{40, 50, -120},
+                                       {41, 50, -150},
+                                       {42, 50, -110},
+                                       {40, 52, 130},
+                                       {41, 52, 140},
+                                       {42, 52, 110}});
+  return f;
+}
+
+inline dtpdu::earth_move_t EarthMovePdu() {
+  auto pdu = ToEarthMove(EarthMove());
+  StampHeader(pdu);
+  return pdu;
+}
+
 inline dtpdu::construct_t DitchConstruct() {
   auto pdu = ToConstruct(Ditch());
   StampHeader(pdu);

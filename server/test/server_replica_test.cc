@@ -119,6 +119,30 @@ TEST_F(ServerReplicaTest, ARestartedServerHasEverythingItAcknowledged) {
   EXPECT_EQ(server_->replica().Digest(), node_->Digest());
 }
 
+TEST_F(ServerReplicaTest, ARestartedServerKeepsEveryEarthMove) {
+  ASSERT_TRUE(node_->signed_on());
+  // A cut and the pile beside it, then more blade work over the same posts.
+  for (int i = 0; i < 12; ++i) {
+    const auto k = static_cast<uint16_t>(4 + i);
+    ASSERT_TRUE(
+        node_->Create(FeatureParams::EarthMove({{k, 10, -300 - i}, {k, 12, 300 + i}})).ok());
+  }
+  ASSERT_TRUE(node_->Create(FeatureParams::Crater(30, 40, 5)).ok());
+  Run(500);
+  ASSERT_EQ(node_->acknowledged_change_seq(), 13);
+  const std::string digest = node_->Digest();
+  CrashServer();
+  OpenServer();
+  // Before any message, from the database: every post's sum and the digest.
+  EXPECT_EQ(server_->replica().Digest(), digest);
+  EXPECT_EQ(server_->replica().terrain().BladeDeltaMm(9, 10), -305);
+  EXPECT_EQ(server_->replica().terrain().BladeDeltaMm(15, 12), 311);
+  EXPECT_EQ(server_->replica().terrain().ground().post(9, 10),
+            node_->terrain().ground().post(9, 10));
+  Run(1000);
+  EXPECT_EQ(server_->replica().Digest(), node_->Digest());
+}
+
 TEST_F(ServerReplicaTest, ExportThenImportMovesTheExercise) {
   ASSERT_TRUE(node_->Create(FeatureParams::Crater(30, 30, 4)).ok());
   ASSERT_TRUE(node_->Create(FeatureParams::Berm(60, 60, 0.3, 20, 4, 2)).ok());

@@ -209,11 +209,11 @@ TEST(TerrainFileTest, HeaderErrorsNameWhatFailed) {
   magic[1] = 'X';
   ExpectRefused(magic, "byte 0: not a dynterrain terrain file");
   auto version = bytes;
-  PutU32(version, 8, 3);
+  PutU32(version, 8, 4);
   Reseal(version);
   ExpectRefused(version,
-                "byte 8: format version 3 is not supported (this build reads versions 1 "
-                "to 2)");
+                "byte 8: format version 4 is not supported (this build reads versions 1 "
+                "to 3)");
   PutU32(version, 8, 0);
   Reseal(version);
   ExpectRefused(version, "byte 8: format version 0 is not supported");
@@ -274,9 +274,9 @@ TEST(TerrainFileTest, VersionOneFilesStillLoad) {
   ASSERT_TRUE(expected.Add({1, 2, 1}, FeatureParams::Crater(10, 10, 4)).ok());
   ASSERT_TRUE(expected.Add({1, 2, 2}, FeatureParams::Berm(2, 5, 0, 15, 3, 1.5)).ok());
   EXPECT_EQ(ComputeDigest(*loaded.value()), ComputeDigest(expected));
-  // Saved again, it is a version 2 file of the same state.
+  // Saved again, it is a version 3 file of the same state.
   const auto again = EncodeTerrainFile(*loaded.value());
-  EXPECT_EQ(again[8], 2);
+  EXPECT_EQ(again[8], 3);
   EXPECT_EQ(ComputeDigest(*DecodeTerrainFile(again, "new.dtt").value()), ComputeDigest(expected));
 }
 

@@ -1,0 +1,87 @@
+// Blade: cutting at a depth, carrying up to the capacity, setting down when raised, conserving
+// soil.
+#include "vehicle/blade.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "terrain/slump.h"
+#include "vehicle/shipped_friction.h"
+
+namespace dt {
+namespace {
+
+// Drives a blade along +x at speed_mps for `ticks` 100 ms ticks, adding each tick's earth moves
+// to the terrain as a node would; returns the posts changed in all.
+int64_t Drive(Terrain& t, Blade& blade, double& x, double z, double speed_mps, int ticks,
+              uint32_t& number) {
+  int64_t changes = 0;
+  for (int k = 0; k < ticks; ++k) {
+    x += speed_mps * 0.1;
+    const auto deltas = blade.Step(t, ShippedFrictionTable(), x, z, 0.0, 5.9);
+    for (const auto& piece : SplitEarthMove(deltas)) {
+      const Status s = t.Add({1, 1, ++number}, FeatureParams::EarthMove(piece));
+      EXPECT_TRUE(s.ok()) << s.error().message;
+      changes += static_cast<int64_t>(piece.size());
+    }
+  }
+  return changes;
+}
+
+int64_t TotalMm(const Terrain& t) {
+  int64_t sum = 0;
+  const int n = t.ground().posts_per_side();
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) sum += t.BladeDeltaMm(i, j);
+  }
+  return sum;
+}
+
+TEST(BladeTest, CutsCarriesAndSetsDownWithoutLosingSoil) {
+  Terrain t(HeightGrid(81, 0.5, 0.0f, Material::kDirt));
+  Blade blade(BladeOf("bulldozer").value());
+  ASSERT_TRUE(blade.Lower(0.2).ok());
+  double x = 5.0;
+  uint32_t number = 0;
+  EXPECT_GT(Drive(t, blade, x, 20.0, 1.5, 30, number), 0);
+  // A cut 0.2 m deep along the track behind the blade, soil in the blade or set down ahead.
+  EXPECT_NEAR(t.ElevationAt(12.0, 20.0), -0.2, 0.02);
+  EXPECT_GT(blade.load_mm(), 0);
+  EXPECT_EQ(TotalMm(t) + blade.load_mm(), 0) << "soil made or lost";
+  blade.Raise();
+  Drive(t, blade, x, 20.0, 1.5, 3, number);
+  EXPECT_EQ(blade.load_mm(), 0);
+  EXPECT_EQ(TotalMm(t), 0) << "soil made or lost";
+  // The pile ahead of where the blade rose stands above the ground.
+  double highest = -1.0;
+  for (double px = x; px < x + 5.0; px += 0.5) highest = std::max(highest, t.ElevationAt(px, 20.0));
+  EXPECT_GT(highest, 0.1);
+}
+
+TEST(BladeTest, BeyondTheCapacityTheBladeSpills) {
+  Terrain t(HeightGrid(161, 0.5, 0.0f, Material::kDirt));
+  Blade blade(BladeOf("bulldozer").value());
+  ASSERT_TRUE(blade.Lower(0.5).ok());
+  double x = 5.0;
+  uint32_t number = 0;
+  Drive(t, blade, x, 40.0, 2.0, 150, number);
+  const double capacity_mm = blade.spec().capacity_m3 / (0.5 * 0.5) / kPostDeltaUnitM;
+  EXPECT_LE(blade.load_mm(), static_cast<int64_t>(capacity_mm));
+  EXPECT_GT(blade.LoadM3(0.5), 0.9 * blade.spec().capacity_m3);
+  EXPECT_EQ(TotalMm(t) + blade.load_mm(), 0);
+}
+
+TEST(BladeTest, BadDepthIsRefusedNamingTheValue) {
+  Blade blade(BladeOf("bulldozer").value());
+  const Status deep = blade.Lower(0.8);
+  ASSERT_FALSE(deep.ok());
+  EXPECT_NE(deep.error().message.find("blade depth_m = 0.8 is outside [0, 0.5]"), std::string::npos)
+      << deep.error().message;
+  EXPECT_FALSE(blade.Lower(std::nan("")).ok());
+  EXPECT_FALSE(blade.down());
+  EXPECT_FALSE(BladeOf("tank").ok());
+}
+
+}  // namespace
+}  // namespace dt

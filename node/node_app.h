@@ -15,6 +15,7 @@
 #include "runtime/node_actions.h"
 #include "runtime/process_runtime.h"
 #include "vehicle/simulated_vehicle.h"
+#include "vehicle/wander.h"
 
 namespace dt {
 
@@ -42,6 +43,10 @@ class NodeApp final : public NodeActions {
   const Replica& replica() const { return *replica_; }
   const std::vector<SimulatedVehicle>& vehicles() const { return vehicles_; }
   const VehicleSharing& sharing() const { return *sharing_; }
+  // Vehicles still wandering (docs/vehicles.md "Autonomous groups"): a group's, until a drive
+  // command hands one to its operator.
+  int autonomous_count() const;
+  bool autonomous(int index) const { return autonomy_[static_cast<size_t>(index)].has_value(); }
 
   // NodeActions.
   Result<FeatureId> Create(const FeatureParams& params) override;
@@ -56,6 +61,10 @@ class NodeApp final : public NodeActions {
   Status Remove(int index) override;
 
  private:
+  // Places group `g` (its vehicles appended to vehicles_, each wandering); throws
+  // std::invalid_argument naming the group when no place is found for one.
+  void SpawnGroup(size_t g, const VehicleGroupConfig& group);
+
   const ExerciseConfig& exercise_;
   const ProcessConfig& process_;
   std::optional<ScenarioRunner> scenario_;
@@ -63,7 +72,8 @@ class NodeApp final : public NodeActions {
   std::unique_ptr<IdReservationFile> ids_;  // outlives the replica
   std::unique_ptr<Replica> replica_;
   std::vector<SimulatedVehicle> vehicles_;
-  std::unique_ptr<VehicleSharing> sharing_;  // over transport_.bus; its order is vehicles_'
+  std::vector<std::optional<Wanderer>> autonomy_;  // one per vehicle: set while it wanders
+  std::unique_ptr<VehicleSharing> sharing_;        // over transport_.bus; its order is vehicles_'
   int64_t now_ms_ = 0;
   CatchUpProgress progress_;
   int64_t sign_on_ms_ = 0;

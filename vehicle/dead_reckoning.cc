@@ -19,11 +19,14 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& w) {
 
 Eigen::Vector3d ToVector(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
-// Scales v down to at most `limit` in length.
+// Scales v down to at most `limit` in length. A hair under it: scaled to exactly `limit`, the
+// length recomputed from the rounded components came out 200.00000000000003 for an acceleration
+// limit of 200, and validation refused to send the state.
 void Clamp(std::array<double, 3>& v, double limit) {
   const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   if (n > limit) {
-    for (double& x : v) x *= limit / n;
+    const double scale = limit / n * (1.0 - 1e-12);
+    for (double& x : v) x *= scale;
   }
 }
 

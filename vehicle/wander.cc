@@ -14,6 +14,10 @@ constexpr double kTurnBackSpeed = 0.3;                     // of the type's top 
 constexpr double kReactionS = 1.0;  // leg speed held while slowing down (the physical model brakes)
 constexpr double kFacingInRad = std::numbers::pi / 3;  // a turn back ends this close to the centre
 constexpr double kSteerTimeS = 0.5;  // the turn rate that closes a heading error in this time
+// The commanded speed changes by at most this much a second. The light model takes a command at
+// once: a step from 5 to 15 m/s in one tick is 300 m/s^2 to dead reckoning, sent in a state that,
+// if the next one is lost, a receiver extrapolates for seconds (docs/performance.md).
+constexpr double kSpeedRampMps2 = 2.0;
 
 double WrapPi(double a) { return std::remainder(a, 2 * std::numbers::pi); }
 
@@ -93,14 +97,21 @@ WanderCommand Wanderer::Next(const VehiclePose& pose, double dt_s) {
     // hesitate between the two.
     turn_sign_ = error_rad >= 0.0 ? 1.0 : -1.0;
   }
+  WanderCommand wanted = leg_;
   if (turning_back_) {
     const double rate =
         turn_sign_ * error_rad > 0.0 ? error_rad / kSteerTimeS : turn_sign_ * max_rate_rad_s_;
-    return {kTurnBackSpeed * max_speed_mps_, std::clamp(rate, -max_rate_rad_s_, max_rate_rad_s_)};
+    wanted = {kTurnBackSpeed * max_speed_mps_, std::clamp(rate, -max_rate_rad_s_, max_rate_rad_s_)};
+  } else {
+    leg_left_s_ -= dt_s;
+    if (leg_left_s_ <= 0.0) NewLeg();
+    wanted = leg_;
   }
-  leg_left_s_ -= dt_s;
-  if (leg_left_s_ <= 0.0) NewLeg();
-  return leg_;
+  // Slowing for a turn back may take longer than the ramp allows: it is not ramped down.
+  const double step = kSpeedRampMps2 * dt_s;
+  speed_mps_ = turning_back_ ? std::min(wanted.speed_mps, speed_mps_ + step)
+                             : std::clamp(wanted.speed_mps, speed_mps_ - step, speed_mps_ + step);
+  return {speed_mps_, wanted.heading_rate_rad_s};
 }
 
 }  // namespace dt

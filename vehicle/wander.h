@@ -45,7 +45,9 @@ struct WanderCommand {
 };
 
 // Drives in legs of 3-10 s, each a speed of 25-60 % of the type's top speed and, one leg in two,
-// a turn of up to half its turn rate either way. Every tick it looks ahead along its heading
+// a turn of up to half its turn rate either way; the commanded speed moves towards the leg's by
+// 2 m/s^2 (the light model would otherwise jump to it in one tick). Every tick it looks ahead along
+// its heading
 // (`lookahead_m()`: room to turn round at the turning-back speed plus the vehicle's length); if
 // that point leaves the area, or comes within `edge_margin_m()` (a turning circle and a length) of
 // the terrain's edge, it turns towards the area's centre, on the side it first turned to, at the
@@ -78,7 +80,9 @@ class Wanderer {
   WanderCommand leg_;
   double leg_left_s_ = 0.0;
   bool turning_back_ = false;
-  double turn_sign_ = 1.0;  // of the turn back: +1 counter-clockwise
+  double turn_sign_ = 1.0;
+  double speed_mps_ = 0.0;  // commanded last, ramped at 2 m/s^2 except when slowing to turn back //
+                            // of the turn back: +1 counter-clockwise
 };
 
 }  // namespace dt

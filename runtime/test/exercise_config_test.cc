@@ -523,6 +523,8 @@ TEST(ExerciseConfigTest, ShippedDemoParses) {
   const ExerciseConfig c =
       LoadExerciseConfig(std::filesystem::path(DT_SOURCE_DIR) / "configs/exercises/demo.toml");
   EXPECT_EQ(c.nodes.size(), 3u);
+  ASSERT_EQ(c.nodes[1].groups.size(), 1u);
+  EXPECT_EQ(c.nodes[1].start_vehicle_count(), 21);
   EXPECT_FALSE(c.auth.keyless);
   EXPECT_EQ(c.auth.key_file.filename(), "demo.key");
   for (const ProcessConfig& n : c.nodes) {

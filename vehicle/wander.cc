@@ -99,8 +99,10 @@ WanderCommand Wanderer::Next(const VehiclePose& pose, double dt_s) {
   }
   WanderCommand wanted = leg_;
   if (turning_back_) {
+    // Steered onto the centre once facing it (either side of it, so an overshoot is no turn
+    // round), at the full rate on the side chosen until then.
     const double rate =
-        turn_sign_ * error_rad > 0.0 ? error_rad / kSteerTimeS : turn_sign_ * max_rate_rad_s_;
+        std::abs(error_rad) < kFacingInRad ? error_rad / kSteerTimeS : turn_sign_ * max_rate_rad_s_;
     wanted = {kTurnBackSpeed * max_speed_mps_, std::clamp(rate, -max_rate_rad_s_, max_rate_rad_s_)};
   } else {
     leg_left_s_ -= dt_s;

@@ -77,9 +77,35 @@ DrillConfig ParseDrillConfig(std::string_view toml_text, std::string_view source
     } else if (kind == "command") {
       a.kind = DrillActionKind::kCommand;
       a.line = r.String("line");
+    } else if (kind == "vehicles_seen") {
+      a.kind = DrillActionKind::kVehiclesSeen;
+      a.owner = r.String("owner");
+      a.seen = r.Bool("seen", true);
+      a.within_s = r.Double("within_s", 15.0, 0.1, 3600.0);
+      a.not_before_s = r.Double("not_before_s", 0.0, 0.0, 3600.0);
+      if (a.not_before_s >= a.within_s) {
+        r.Fail("not_before_s",
+               fmt::format("not_before_s {} is not below within_s {}", a.not_before_s, a.within_s));
+      }
+    } else if (kind == "sample_vehicles") {
+      a.kind = DrillActionKind::kSampleVehicles;
+      a.owner = r.String("owner", "");
+      a.duration_s = r.Double("duration_s", 0.1, 3600.0);
+      a.period_s = r.Double("period_s", 0.25, 0.01, 60.0);
+      a.min_tilt_deg = r.Has("min_tilt_deg") ? r.Double("min_tilt_deg", 0.0, 90.0) : -1.0;
+      a.error_m = r.Double("error_m", 1.0, 0.001, 1000.0);
+      a.min_fraction = r.Has("min_fraction") ? r.Double("min_fraction", 0.0, 1.0) : -1.0;
+      if (a.min_tilt_deg < 0.0 && a.min_fraction < 0.0) {
+        r.Fail("do", "sample_vehicles needs min_tilt_deg or min_fraction (what it checks)");
+      }
+      if (a.at_s + a.duration_s > d.deadline_s) {
+        r.Fail("duration_s", fmt::format("sampling from {} s for {} s ends after deadline_s {}",
+                                         a.at_s, a.duration_s, d.deadline_s));
+      }
     } else {
       r.Fail("do",
-             "expected random_ops, chaos, kill, stop, restart, loss, partition, heal or command");
+             "expected random_ops, chaos, kill, stop, restart, loss, partition, heal, command, "
+             "vehicles_seen or sample_vehicles");
     }
     r.Finish();
     d.actions.push_back(std::move(a));

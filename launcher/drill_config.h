@@ -11,15 +11,17 @@
 namespace dt {
 
 enum class DrillActionKind {
-  kRandomOps,  // a burst of random creates, updates and destroys on some nodes
-  kKill,       // SIGKILL a process
-  kStop,       // SIGTERM a process and wait for it to end
-  kRestart,    // start a process again (a node with no local state; a server on its database)
-  kLoss,       // receive drop probability on some processes
-  kPartition,  // cut `targets` off from `from`, both ways
-  kHeal,       // end every partition
-  kCommand,    // one control command on some processes (must succeed)
-  kChaos,      // rounds of SIGKILL on random processes, each restarted after a random downtime
+  kRandomOps,       // a burst of random creates, updates and destroys on some nodes
+  kKill,            // SIGKILL a process
+  kStop,            // SIGTERM a process and wait for it to end
+  kRestart,         // start a process again (a node with no local state; a server on its database)
+  kLoss,            // receive drop probability on some processes
+  kPartition,       // cut `targets` off from `from`, both ways
+  kHeal,            // end every partition
+  kCommand,         // one control command on some processes (must succeed)
+  kChaos,           // rounds of SIGKILL on random processes, each restarted after a random downtime
+  kVehiclesSeen,    // wait until some nodes hold (or no longer hold) a node's vehicles
+  kSampleVehicles,  // sample nodes' remote vehicles: their tilt, their error against the owner
 };
 
 struct DrillAction {
@@ -36,7 +38,14 @@ struct DrillAction {
   double down_max_s = 5.0;
   double drop_probability = 0.0;  // loss
   std::string line;               // command
-  std::string where;              // "<file> action <n>"
+  std::string owner;              // vehicle actions: the node whose vehicles are watched
+  bool seen = true;               // vehicles_seen: held (true) or gone (false)
+  double within_s = 15.0;         // vehicles_seen: the time allowed
+  double not_before_s = 0.0;      // vehicles_seen: and not sooner than this
+  double min_tilt_deg = -1.0;  // sample_vehicles: the largest |pitch| or |roll| seen; <0 unchecked
+  double error_m = 1.0;        // sample_vehicles: a sample is within when its error is <= this
+  double min_fraction = -1.0;  // sample_vehicles: of samples within error_m; <0 unchecked
+  std::string where;           // "<file> action <n>"
 };
 
 struct DrillConfig {

@@ -1,4 +1,5 @@
 // dt_drill: runs a recovery drill (configs/drills/*.toml) and exits non-zero if a check fails.
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <optional>
@@ -52,6 +53,22 @@ int main(int argc, char** argv) {
           }
         }
       }
+      const auto is_node = [&](const std::string& n) {
+        return std::any_of(exercise.nodes.begin(), exercise.nodes.end(),
+                           [&](const dt::ProcessConfig& p) { return p.name == n; });
+      };
+      if (!a.owner.empty() && !is_node(a.owner)) {
+        throw std::invalid_argument(fmt::format("{}: {} has no node named \"{}\" (owner)", a.where,
+                                                exercise.source.string(), a.owner));
+      }
+      const bool vehicle_action = a.kind == dt::DrillActionKind::kVehiclesSeen ||
+                                  a.kind == dt::DrillActionKind::kSampleVehicles;
+      for (const std::string& n : vehicle_action ? a.targets : std::vector<std::string>{}) {
+        if (!is_node(n)) {
+          throw std::invalid_argument(
+              fmt::format("{}: \"{}\" is not a node (vehicle actions watch nodes)", a.where, n));
+        }
+      }
       if (a.kind == dt::DrillActionKind::kChaos) {
         const size_t targets = a.targets.empty() ? exercise.Processes().size() : a.targets.size();
         if (static_cast<size_t>(a.max_down) > targets) {
@@ -68,7 +85,8 @@ int main(int argc, char** argv) {
   if (wake_fd < 0) return 2;
 
   dt::DrillOptions options;
-  options.programs = {node_bin, server_bin, programs.view};
+  // Drills start the server, standby and nodes only: no view, no DIS gateway.
+  options.programs = {node_bin, server_bin, programs.view, {}};
   options.transport_override = transport;
   options.wake_fd = wake_fd;
   options.echo_output = verbose;

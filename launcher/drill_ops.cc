@@ -109,6 +109,10 @@ void DrillRunner::RecordAccepted(const std::string& node, const std::string& lin
   Result<ControlCommand> parsed = ParseControlCommand(line);
   if (!parsed) return;  // the node accepted it, so it is no feature command the drill knows
   const ControlCommand& c = parsed.value();
+  if (c.verb != ControlVerb::kCreate && c.verb != ControlVerb::kUpdate &&
+      c.verb != ControlVerb::kDestroy && c.verb != ControlVerb::kBreach) {
+    return;  // not a change of a feature (drive, spawn: its reply is a vehicle index)
+  }
   std::vector<FeatureId> replied;
   std::istringstream in(reply.body);
   for (std::string l; std::getline(in, l);) {

@@ -237,6 +237,16 @@ void DrillRunner::RunAction(const DrillAction& a) {
         if (!r) RecordUnanswered(n, a.line, r.error().message);
       }
       return;
+    case DrillActionKind::kVehiclesSeen:
+      VehiclesSeen(a);
+      return;
+    case DrillActionKind::kSampleVehicles: {
+      Sampling v;
+      v.action = &a;
+      v.start_s = v.next_s = ElapsedS();
+      samplings_.push_back(std::move(v));
+      return;
+    }
   }
 }
 
@@ -455,6 +465,7 @@ int DrillRunner::Run() {
         }
       }
       for (Chaos& c : chaos_) busy |= ChaosStep(c, next_due_s);
+      for (Sampling& v : samplings_) busy |= SampleStep(v, next_due_s);
       if (next >= drill_.actions.size() && !busy) break;
       if (Expired()) {
         Check("timeline within the deadline", false,
@@ -508,6 +519,10 @@ int DrillRunner::Run() {
         sanitizer_reports_.empty() ? ""
                                    : fmt::format("{} reports, first {}", sanitizer_reports_.size(),
                                                  sanitizer_reports_.front()));
+  for (Sampling& v : samplings_) {
+    if (v.csv != nullptr) std::fclose(v.csv);  // a drill cut short
+    v.csv = nullptr;
+  }
   for (auto& [n, f] : logs_) {
     if (f != nullptr) std::fclose(f);
   }

@@ -2,6 +2,7 @@
 // the protocol's guarantee at the end (docs/launcher.md "Drills").
 #pragma once
 
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -13,6 +14,7 @@
 #include "launcher/drill_config.h"
 #include "launcher/exercise_commands.h"
 #include "launcher/supervisor.h"
+#include "launcher/vehicle_listing.h"
 #include "runtime/control_protocol.h"
 #include "runtime/exercise_config.h"
 #include "terrain/feature_id.h"
@@ -60,6 +62,19 @@ class DrillRunner {
     std::map<std::string, double> down;     // killed by it: name -> restart time (elapsed s)
     std::map<std::string, double> waiting;  // restarted, not READY yet: name -> restart time
   };
+  // A running sample_vehicles action (drill_vehicles.cc).
+  struct Sampling {
+    const DrillAction* action = nullptr;
+    double start_s = 0.0;
+    double next_s = 0.0;  // the next round
+    int rounds = 0;
+    std::map<std::string, std::pair<int, int>> error_samples;  // target -> (within, all)
+    double worst_error_m = 0.0;
+    double max_tilt_deg = -1.0;  // of the owner's remote vehicles on the targets; -1 none seen
+    std::string max_tilt_where;
+    std::vector<std::string> errors;  // replies that failed or did not parse (the first few)
+    std::FILE* csv = nullptr;         // <run_dir>/vehicle-samples-<k>.csv: the error samples
+  };
   using Incarnation = std::pair<std::string, int>;
   // Long enough that a node held up for seconds still answers: an unanswered command's outcome
   // is unknown and weakens the checks.
@@ -99,6 +114,16 @@ class DrillRunner {
   bool ChaosStep(Chaos& c, double& next_due_s);
   void KillRound(Chaos& c, size_t index);
 
+  // drill_vehicles.cc: the vehicle actions (docs/launcher.md "Vehicle actions").
+  std::vector<std::string> VehicleTargets(const DrillAction& a) const;
+  Result<std::vector<ListedVehicle>> Vehicles(const std::string& node);
+  // Blocks (like a restart) until the targets hold the owner's vehicles, or none of them.
+  void VehiclesSeen(const DrillAction& a);
+  // One round when due; lowers next_due_s to the next. False once finished (checked).
+  bool SampleStep(Sampling& s, double& next_due_s);
+  void SampleRound(Sampling& s);
+  void FinishSampling(Sampling& s);
+
   bool Converge(std::string& detail);
   // Checks 2-4 (docs/launcher.md "Checks") against the features a live process holds.
   void CheckFeatures();
@@ -130,6 +155,7 @@ class DrillRunner {
   std::vector<std::string> sanitizer_reports_;  // "name: line" of every ASan/UBSan/LSan report
   std::vector<Burst> bursts_;
   std::vector<Chaos> chaos_;
+  std::vector<Sampling> samplings_;
   int kills_ = 0;               // SIGKILLs sent by the drill (kill actions and chaos)
   int restarts_ = 0;            // starts after the first
   bool digests_equal_ = false;  // at the last convergence poll

@@ -9,7 +9,7 @@ ProgramPaths ProgramPaths::BesideSelf() {
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
   const std::filesystem::path dir = ec ? std::filesystem::path(".") : self.parent_path();
   return {dir / ".." / "node" / "dt_node", dir / ".." / "server" / "dt_server",
-          dir / ".." / "view" / "dt_view"};
+          dir / ".." / "view" / "dt_view", dir / ".." / "dis" / "dt_dis"};
 }
 
 std::vector<std::string> ProcessCommand(const ExerciseConfig& exercise,
@@ -18,8 +18,10 @@ std::vector<std::string> ProcessCommand(const ExerciseConfig& exercise,
   const bool is_server = (exercise.server && &process == &*exercise.server) ||
                          (exercise.standby && &process == &*exercise.standby);
   const bool is_view = exercise.view && &process == &exercise.view->process;
-  const std::filesystem::path& program =
-      is_view ? programs.view : (is_server ? programs.server : programs.node);
+  const bool is_dis = exercise.dis && &process == &exercise.dis->process;
+  const std::filesystem::path& program = is_view  ? programs.view
+                                         : is_dis ? programs.dis
+                                                  : (is_server ? programs.server : programs.node);
   std::vector<std::string> argv = {program.string(), "--config",
                                    std::filesystem::absolute(exercise.source).string(), "--name",
                                    process.name};

@@ -29,12 +29,15 @@ int main(int argc, char** argv) {
   std::string node_bin = programs.node.string();
   std::string server_bin = programs.server.string();
   std::string view_bin = programs.view.string();
+  std::string dis_bin = programs.dis.string();
   int ready_timeout_s = 120;
   int grace_ms = 10000;
   flags.AddTo(app);
   app.add_option("--node-bin", node_bin, "the dt_node program")->capture_default_str();
   app.add_option("--server-bin", server_bin, "the dt_server program")->capture_default_str();
   app.add_option("--view-bin", view_bin, "the dt_view program (started when the file has a [view])")
+      ->capture_default_str();
+  app.add_option("--dis-bin", dis_bin, "the dt_dis program (started when the file has a [dis])")
       ->capture_default_str();
   app.add_option("--ready-timeout-s", ready_timeout_s, "give up if not all READY by then")
       ->check(CLI::Range(1, 3600))
@@ -43,7 +46,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 600000))
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  programs = {node_bin, server_bin, view_bin};
+  programs = {node_bin, server_bin, view_bin, dis_bin};
 
   dt::ExerciseConfig exercise;
   try {
@@ -85,11 +88,13 @@ int main(int argc, char** argv) {
       }
       s = sup.WaitReady(all, ready_timeout_s * 1000);
     }
-    // The view last: it observes, and nothing waits for it (docs/view.md).
-    if (s && exercise.view) {
-      sup.Start(exercise.view->process.name,
-                dt::ProcessCommand(exercise, exercise.view->process, programs, extra));
-      all.push_back(exercise.view->process.name);
+    // The view and the DIS gateway last: they observe, and nothing waits for them (docs/view.md,
+    // docs/dis.md).
+    for (const dt::ProcessConfig* p : {exercise.view ? &exercise.view->process : nullptr,
+                                       exercise.dis ? &exercise.dis->process : nullptr}) {
+      if (!s || p == nullptr) continue;
+      sup.Start(p->name, dt::ProcessCommand(exercise, *p, programs, extra));
+      all.push_back(p->name);
       s = sup.WaitReady(all, ready_timeout_s * 1000);
     }
     if (!s) {

@@ -111,9 +111,9 @@ void VehicleSharing::Tick(const std::vector<SimulatedVehicle>& local, const Terr
   for (size_t i = 0; i < owned_.size() && i < local.size(); ++i) {
     Owned& o = owned_[i];
     if (!o.shared) continue;
-    const VehiclePose p = local[i].pose();
-    o.motion.Update({{p.x_m, p.elevation_m, p.z_m}, p.heading_rad, p.pitch_rad, p.roll_rad}, now_s);
-    o.last_truth = Truth(o, local[i], p);
+    // The physical model's own velocities, not differences of its poses (docs/vehicles.md).
+    ObserveVehicle(o.motion, local[i], now_s);
+    o.last_truth = Truth(o, local[i], local[i].pose());
     if (o.owner.Due(o.last_truth, now_s)) Send(o, o.last_truth, now_s);
   }
   remote_.Tick(terrain, now_s);

@@ -1,5 +1,7 @@
 #include "runtime/exercise_config.h"
 
+#include <arpa/inet.h>
+
 #include <fstream>
 #include <numbers>
 #include <set>
@@ -139,7 +141,39 @@ bool KnownTransport(std::string_view url) {
          url.rfind("memq://", 0) == 0;
 }
 
+uint32_t Ipv4(const TomlReader& r, std::string_view key, const std::string& text) {
+  in_addr a{};
+  if (inet_pton(AF_INET, text.c_str(), &a) != 1) r.Fail(key, "expected a dotted IPv4 address");
+  return ntohl(a.s_addr);
+}
+
+DisConfig ReadDis(const TomlReader& r, const std::filesystem::path& base) {
+  DisConfig d;
+  d.bind_address = r.String("bind_address", d.bind_address);
+  (void)Ipv4(r, "bind_address", d.bind_address);
+  d.udp_port = static_cast<int>(r.Int("udp_port", 3000, 1, 65535));
+  d.destination = r.String("destination", d.destination);
+  const uint32_t dest = Ipv4(r, "destination", d.destination);
+  if (dest == 0) r.Fail("destination", "0.0.0.0 is no destination");
+  d.interface_address = r.String("interface_address", d.interface_address);
+  (void)Ipv4(r, "interface_address", d.interface_address);
+  d.multicast_ttl = static_cast<int>(r.Int("multicast_ttl", 1, 0, 255));
+  d.dis_exercise_id = static_cast<uint8_t>(r.Int("dis_exercise_id", 1, 1, 255));
+  d.import_craters = r.Bool("import_craters", false);
+  d.latitude_deg = r.Double("latitude_deg", 0.0, -90.0, 90.0);
+  d.longitude_deg = r.Double("longitude_deg", 0.0, -180.0, 180.0);
+  d.height_m = r.Double("height_m", 0.0, -12000.0, 100000.0);
+  d.feature_period_ms = static_cast<int>(r.Int("feature_period_ms", 5000, 100, 3600000));
+  d.process = ReadProcess(r, base, false, 0.0);
+  return d;
+}
+
 }  // namespace
+
+bool DisConfig::multicast() const {
+  in_addr a{};
+  return inet_pton(AF_INET, destination.c_str(), &a) == 1 && (ntohl(a.s_addr) >> 28) == 0xE;
+}
 
 void ApplyOverrides(ExerciseConfig& exercise, const std::string& transport_url,
                     const std::string& run_dir) {
@@ -172,6 +206,7 @@ const ProcessConfig* ExerciseConfig::FindProcess(std::string_view process_name) 
     if (p->name == process_name) return p;
   }
   if (view && view->process.name == process_name) return &view->process;
+  if (dis && dis->process.name == process_name) return &dis->process;
   return nullptr;
 }
 
@@ -184,7 +219,7 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   const toml::table root = TomlReader::ParseText(toml_text, source_name);
   const TomlReader top(root, std::string(source_name), "",
                        {"exercise", "terrain", "protocol", "faults", "server", "standby", "node",
-                        "auth", "view", "vehicles"});
+                        "auth", "view", "dis", "vehicles"});
   ExerciseConfig c;
   c.source = std::string(source_name);
 
@@ -309,12 +344,19 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     view.process = ReadProcess(*v, base, false, 0.0);
     c.view = std::move(view);
   }
+  if (auto d = top.OptionalTable(
+          "dis", {"name", "site", "host", "bind_address", "udp_port", "destination",
+                  "interface_address", "multicast_ttl", "dis_exercise_id", "import_craters",
+                  "latitude_deg", "longitude_deg", "height_m", "feature_period_ms"})) {
+    c.dis = ReadDis(*d, base);
+  }
   top.Finish();
 
   std::set<std::string> names;
   std::set<NodeAddress> addresses;
   std::vector<const ProcessConfig*> everyone = c.Processes();
   if (c.view) everyone.push_back(&c.view->process);
+  if (c.dis) everyone.push_back(&c.dis->process);
   for (const ProcessConfig* p : everyone) {
     if (!names.insert(p->name).second) {
       throw std::invalid_argument(

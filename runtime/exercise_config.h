@@ -60,6 +60,25 @@ struct ViewConfig {
   int http_port = 8480;
 };
 
+// The DIS gateway (docs/dis.md "The gateway"): an observer replica (a node member when it imports
+// craters) that speaks DIS 7 on UDP. The geodetic origin of the terrain lives here: only the
+// gateway places the terrain on the Earth.
+struct DisConfig {
+  ProcessConfig process;                        // name, address
+  std::string bind_address = "0.0.0.0";         // the UDP socket's local address
+  int udp_port = 3000;                          // DIS's customary port, sent to and received on
+  std::string destination = "127.255.255.255";  // a broadcast address or a multicast group
+  std::string interface_address = "127.0.0.1";  // multicast: the interface joined and sent on
+  int multicast_ttl = 1;
+  uint8_t dis_exercise_id = 1;  // the DIS header's exercise ID (not [exercise] id)
+  bool import_craters = false;  // outside Point Object State craters become features
+  double latitude_deg = 0.0;    // where terrain (0, 0, 0) lies on WGS-84
+  double longitude_deg = 0.0;
+  double height_m = 0.0;
+  int feature_period_ms = 5000;  // every live feature's Object State is sent again this often
+  bool multicast() const;        // destination is in 224.0.0.0/4
+};
+
 // Protocol timing (docs/protocol.md); the values map onto ReplicaConfig.
 struct ProtocolTiming {
   int max_feature_period_ms = 500;
@@ -103,13 +122,14 @@ struct ExerciseConfig {
   std::optional<ProcessConfig> standby;
   std::vector<ProcessConfig> nodes;
   std::optional<ViewConfig> view;  // [view]: the live view, started by the launcher last
+  std::optional<DisConfig> dis;    // [dis]: the DIS gateway, started with the view
 
   double terrain_size_m() const { return (terrain.posts_per_side - 1) * terrain.spacing_m; }
   // ReplicaConfig::require_server: nodes wait for a server's answer to sign on.
   bool require_server() const { return server.has_value(); }
   // The server and the standby (each if any), then every node, in that order.
   std::vector<const ProcessConfig*> Processes() const;
-  // nullptr if no process has this name (the view's included).
+  // nullptr if no process has this name (the view's and the gateway's included).
   const ProcessConfig* FindProcess(std::string_view name) const;
   // The control socket of a process: <run_dir>/<name>.sock.
   std::filesystem::path SocketPath(std::string_view name) const;

@@ -83,6 +83,11 @@ ReplicaConfig MakeReplicaConfig(const ExerciseConfig& exercise, const ProcessCon
   if (exercise.standby) rc.members[exercise.standby->address] = NodeRole::kStandby;
   for (const ProcessConfig& n : exercise.nodes) rc.members[n.address] = NodeRole::kNode;
   if (exercise.view) rc.members[exercise.view->process.address] = NodeRole::kObserver;
+  // The DIS gateway observes, unless it imports outside craters: then it authors them as a node.
+  if (exercise.dis) {
+    rc.members[exercise.dis->process.address] =
+        exercise.dis->import_craters ? NodeRole::kNode : NodeRole::kObserver;
+  }
   return rc;
 }
 

@@ -6,12 +6,14 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 cmake --preset release
 cmake --build --preset release -j "$(nproc)" --target dt_node dt_server dt_ctl dt_launch dt_drill \
-  dt_view
+  dt_view dt_dis
 # The demo exercise (configs/drills/demo.toml): server + 3 nodes whose scenarios create, edit,
 # breach and destroy features while vehicles drive; node-1 is killed and restarted; the report
 # ends with every process's digest. Runs in a private network namespace: nothing leaves the host.
 # The live view (docs/view.md) runs beside the drill in that namespace; scripts/netns_relay.py
 # brings its port to this host's 127.0.0.1, so the printed URL opens in any local browser.
+# The DIS gateway (docs/dis.md) runs there too; tshark, when installed, records its UDP/3000
+# traffic to run/demo/dis.pcap (open it in Wireshark: every vehicle and feature as DIS PDUs).
 port=8480
 tests/run_in_netns.sh bash -c '
   set -euo pipefail
@@ -22,10 +24,19 @@ tests/run_in_netns.sh bash -c '
   ./build/release/view/dt_view --config configs/exercises/demo.toml --run-dir run/demo \
     > run/demo-view.log 2>&1 &
   view=$!
+  ./build/release/dis/dt_dis --config configs/exercises/demo.toml --run-dir run/demo \
+    > run/demo-dis.log 2>&1 &
+  dis=$!
+  capture=
+  if command -v tshark > /dev/null; then
+    tshark -i lo -f "udp port 3000" -w run/demo/dis.pcap -q > run/demo-tshark.log 2>&1 &
+    capture=$!
+  fi
   rc=0
   wait $drill || rc=$?
-  kill -TERM $view 2>/dev/null || true
-  wait $view || true
+  for p in $view $dis $capture; do kill -TERM $p 2>/dev/null || true; done
+  for p in $view $dis $capture; do wait $p || true; done
+  [[ -z $capture ]] || echo "demo: the DIS traffic is in run/demo/dis.pcap (docs/dis.md)"
   exit $rc
 ' demo "$@" &
 netns=$!

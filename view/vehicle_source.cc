@@ -3,8 +3,8 @@
 namespace dt {
 
 nlohmann::json VehicleView::ToJson() const {
-  return {{"id", id}, {"owner", owner},         {"type", type},       {"x", x_m},
-          {"z", z_m}, {"heading", heading_rad}, {"speed", speed_mps}, {"alive", alive}};
+  // An array, not an object: a page may receive thousands a tick (docs/view.md "Messages").
+  return nlohmann::json::array({id, owner, type, x_m, z_m, heading_rad, speed_mps, alive});
 }
 
 }  // namespace dt

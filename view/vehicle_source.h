@@ -17,6 +17,7 @@ struct VehicleView {
   double x_m = 0.0, z_m = 0.0, heading_rad = 0.0, speed_mps = 0.0;
   bool alive = true;
   bool operator==(const VehicleView&) const = default;
+  // [id, owner, type, x, z, heading, speed, alive]: an array, the page's vehicle message.
   nlohmann::json ToJson() const;
 };
 

@@ -51,6 +51,8 @@ ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOp
     polled.push_back({p->name, role, p->address.ToString(), exercise.SocketPath(p->name)});
   }
   names[view_.process.address] = view_.process.name;
+  // The DIS gateway owns the outside entities it brings in (docs/dis.md "The gateway").
+  if (exercise.dis) names[exercise.dis->process.address] = exercise.dis->process.name;
   vehicles_ =
       std::make_unique<SharedVehicleSource>(*transport_.bus, names, exercise.dead_reckoning);
   model_ = std::make_unique<ViewModel>(*replica_, names);

@@ -110,9 +110,11 @@ void ViewModel::Refresh(const std::set<FeatureId>& ids, nlohmann::json& changed,
     auto it = all.find(id);
     if (it == all.end() || it->second.destroyed) {
       if (features_.erase(id) != 0) removed.push_back(id.ToString());
+      bridges_.erase(id);
       continue;
     }
     nlohmann::json j = FeatureJson(id, it->second);
+    if (it->second.params.type == FeatureType::kBridge) bridges_.insert(id);
     auto& held = features_[id];
     if (held != j) {
       held = j;
@@ -169,12 +171,14 @@ nlohmann::json ViewModel::Update(int64_t now_ms, const std::vector<ProcessRow>& 
   const uint64_t repairs = replica_.anti_entropy().stats().slots_repaired;
   const bool everything = repairs != repairs_seen_;
   repairs_seen_ = repairs;
-  if (everything || bridge) {
-    // A bridge change re-places every bridge (docs/protocol.md "Materialisation").
-    for (const auto& [id, r] : replica_.records().all()) {
-      if (everything || r.params.type == FeatureType::kBridge) touched.insert(id);
-    }
+  if (everything) {
+    for (const auto& [id, r] : replica_.records().all()) touched.insert(id);
     for (const auto& [id, j] : features_) touched.insert(id);
+  } else if (bridge) {
+    // A bridge change re-places every bridge (docs/protocol.md "Materialisation"), and nothing
+    // else: every other feature changes only by its own changes, noted above. A bridge the
+    // records hold is noted (so held) or repaired (everything, above).
+    touched.insert(bridges_.begin(), bridges_.end());
   }
   NoteProcesses(now_ms, processes, events);
 
@@ -199,12 +203,27 @@ nlohmann::json ViewModel::Update(int64_t now_ms, const std::vector<ProcessRow>& 
     delta["processes"] = std::move(rows);
     processes_ = processes;
   }
-  if (vehicles != vehicles_) {
-    nlohmann::json vs = nlohmann::json::array();
-    for (const VehicleView& v : vehicles) vs.push_back(v.ToJson());
-    delta["vehicles"] = std::move(vs);
-    vehicles_ = vehicles;
+  // Only the vehicles that moved or changed, and the IDs of those no longer listed.
+  nlohmann::json moved = nlohmann::json::array(), gone = nlohmann::json::array();
+  const uint64_t listing = ++listings_;
+  for (const VehicleView& v : vehicles) {
+    auto [it, fresh] = vehicles_.try_emplace(v.id);
+    it->second.listed_at = listing;
+    if (fresh || !(it->second.view == v)) {
+      it->second.view = v;
+      moved.push_back(v.ToJson());
+    }
   }
+  for (auto it = vehicles_.begin(); it != vehicles_.end();) {
+    if (it->second.listed_at == listing) {
+      ++it;
+      continue;
+    }
+    gone.push_back(it->first);
+    it = vehicles_.erase(it);
+  }
+  if (!moved.empty()) delta["vehicles"] = std::move(moved);
+  if (!gone.empty()) delta["vehicles_removed"] = std::move(gone);
   if (relief_version != relief_version_) {
     delta["relief"] = relief_version;
     relief_version_ = relief_version;
@@ -231,7 +250,7 @@ nlohmann::json ViewModel::Snapshot(int64_t now_ms) const {
   nlohmann::json rows = nlohmann::json::array();
   for (const ProcessRow& r : processes_) rows.push_back(r.ToJson());
   nlohmann::json vs = nlohmann::json::array();
-  for (const VehicleView& v : vehicles_) vs.push_back(v.ToJson());
+  for (const auto& [id, v] : vehicles_) vs.push_back(v.view.ToJson());
   return {{"type", "snapshot"}, {"seq", seq_},       {"t_ms", now_ms}, {"features", features},
           {"events", events},   {"processes", rows}, {"vehicles", vs}, {"relief", relief_version_}};
 }

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -29,7 +30,8 @@ class ViewModel {
   ViewModel(const Replica& replica, MemberNames names, size_t events_kept = 500);
 
   // Looks at what changed since the last call (new changes in any log, repaired slots, process
-  // rows, vehicles). Returns the delta message for the pages, or null when nothing changed.
+  // rows, vehicles). Returns the delta message for the pages, or null when nothing changed: the
+  // features, processes and vehicles that changed, the feature and vehicle IDs gone.
   // `now_ms` is wall-clock (epoch) milliseconds: the page measures its latency against it.
   nlohmann::json Update(int64_t now_ms, const std::vector<ProcessRow>& processes,
                         const std::vector<VehicleView>& vehicles, int relief_version);
@@ -70,7 +72,15 @@ class ViewModel {
   std::vector<Event> events_;  // the last events_kept_
   std::vector<ProcessRow> processes_;
   std::set<std::string> seen_live_;  // processes seen live once: the next time they are "back"
-  std::vector<VehicleView> vehicles_;
+  // Vehicles as last sent, and the Update (counted by listings_) each was last listed in.
+  struct HeldVehicle {
+    VehicleView view;
+    uint64_t listed_at = 0;
+  };
+  std::unordered_map<std::string, HeldVehicle> vehicles_;
+  uint64_t listings_ = 0;
+  // Held features that are bridges: a bridge change re-places every bridge, and only bridges.
+  std::set<FeatureId> bridges_;
   int relief_version_ = -1;
   // A Destruct of a berm by an author, so that author's next Constructs are its breach pieces.
   std::map<NodeAddress, std::pair<int64_t, FeatureId>> last_berm_destruct_;

@@ -116,6 +116,56 @@ TEST(DrillConfigTest, OneSeedReseedsEveryRandomAction) {
   EXPECT_EQ(d.actions[2].seed, 41u);
 }
 
+TEST(DrillConfigTest, ReadsVehicleActions) {
+  const DrillConfig d = ParseDrillConfig(
+      kHead +
+          "[[action]]\nat_s = 3\ndo = \"vehicles_seen\"\nowner = \"node-1\"\nseen = false\n"
+          "within_s = 8\nnot_before_s = 2\n"
+          "[[action]]\nat_s = 4\ndo = \"sample_vehicles\"\nowner = \"node-1\"\n"
+          "targets = \"node-3\"\nduration_s = 6\nmin_tilt_deg = 10\n"
+          "[[action]]\nat_s = 5\ndo = \"sample_vehicles\"\nduration_s = 6\nperiod_s = 0.5\n"
+          "error_m = 2\nmin_fraction = 0.8\n",
+      "d.toml", "/base");
+  ASSERT_EQ(d.actions.size(), 3u);
+  EXPECT_EQ(d.actions[0].kind, DrillActionKind::kVehiclesSeen);
+  EXPECT_EQ(d.actions[0].owner, "node-1");
+  EXPECT_FALSE(d.actions[0].seen);
+  EXPECT_DOUBLE_EQ(d.actions[0].within_s, 8.0);
+  EXPECT_DOUBLE_EQ(d.actions[0].not_before_s, 2.0);
+  EXPECT_EQ(d.actions[1].kind, DrillActionKind::kSampleVehicles);
+  EXPECT_DOUBLE_EQ(d.actions[1].min_tilt_deg, 10.0);
+  EXPECT_LT(d.actions[1].min_fraction, 0.0);  // unchecked
+  EXPECT_DOUBLE_EQ(d.actions[1].period_s, 0.25);
+  EXPECT_TRUE(d.actions[2].owner.empty());
+  EXPECT_DOUBLE_EQ(d.actions[2].error_m, 2.0);
+  EXPECT_DOUBLE_EQ(d.actions[2].min_fraction, 0.8);
+  EXPECT_LT(d.actions[2].min_tilt_deg, 0.0);
+}
+
+TEST(DrillConfigTest, RefusesBadVehicleActions) {
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"vehicles_seen\"\n").find("owner"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"vehicles_seen\"\nowner = \"n\"\n"
+                            "within_s = 2\nnot_before_s = 3\n")
+                .find("not_before_s 3 is not below within_s 2"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"sample_vehicles\"\nduration_s = 5\n")
+                .find("needs min_tilt_deg or min_fraction"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"sample_vehicles\"\nduration_s = 5\n"
+                            "min_fraction = 1.5\n")
+                .find("min_fraction"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\nat_s = 28\ndo = \"sample_vehicles\"\n"
+                            "duration_s = 5\nmin_tilt_deg = 3\n")
+                .find("ends after deadline_s"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"sample_vehicles\"\nduration_s = 5\n"
+                            "min_tilt_deg = 3\nseen = true\n")
+                .find("unknown key"),
+            std::string::npos);
+}
+
 TEST(DrillConfigTest, ShippedDrillsParseAndNameRealProcesses) {
   const std::filesystem::path dir = std::filesystem::path(DT_SOURCE_DIR) / "configs/drills";
   int count = 0;
@@ -127,6 +177,9 @@ TEST(DrillConfigTest, ShippedDrillsParseAndNameRealProcesses) {
     for (const DrillAction& a : d.actions) {
       for (const std::string& n : a.targets) EXPECT_NE(e.FindProcess(n), nullptr) << a.where;
       for (const std::string& n : a.from) EXPECT_NE(e.FindProcess(n), nullptr) << a.where;
+      if (!a.owner.empty()) {
+        EXPECT_NE(e.FindProcess(a.owner), nullptr) << a.where;
+      }
     }
   }
   EXPECT_GE(count, 5);

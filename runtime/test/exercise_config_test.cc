@@ -562,5 +562,52 @@ TEST(ExerciseConfigTest, AViewIsAnObserverMemberWithItsPageAddress) {
   EXPECT_NE(e.find("view.http_port"), std::string::npos) << e;
 }
 
+// The DIS gateway (docs/dis.md "The gateway"): [dis] is optional; an observer member unless it
+// imports craters, then a node member; its UDP settings and geodetic origin are checked, the
+// error naming the key.
+TEST(ExerciseConfigTest, ADisGatewayIsAMemberWithItsUdpSettingsAndOrigin) {
+  const std::string with_dis = std::string(kGood) +
+                               "\n[dis]\nname = \"dis\"\nsite = 1\nhost = 60\n"
+                               "latitude_deg = 36.6\nlongitude_deg = -121.9\nheight_m = 20\n";
+  ExerciseConfig c = ParseExerciseConfig(with_dis, "ex.toml", "/base");
+  ASSERT_TRUE(c.dis.has_value());
+  EXPECT_EQ(c.dis->udp_port, 3000);
+  EXPECT_EQ(c.dis->destination, "127.255.255.255");  // this host's broadcast unless told
+  EXPECT_FALSE(c.dis->multicast());
+  EXPECT_EQ(c.dis->dis_exercise_id, 1);
+  EXPECT_FALSE(c.dis->import_craters);
+  EXPECT_DOUBLE_EQ(c.dis->latitude_deg, 36.6);
+  EXPECT_DOUBLE_EQ(c.dis->longitude_deg, -121.9);
+  EXPECT_EQ(c.FindProcess("dis"), &c.dis->process);
+  ReplicaConfig rc = MakeReplicaConfig(c, *c.FindProcess("node-1"), NodeRole::kNode);
+  EXPECT_EQ(rc.members.at(NodeAddress{1, 60}), NodeRole::kObserver);
+  c = ParseExerciseConfig(with_dis + "import_craters = true\ndestination = \"239.1.2.3\"\n",
+                          "ex.toml", "/base");
+  EXPECT_TRUE(c.dis->multicast());
+  rc = MakeReplicaConfig(c, *c.FindProcess("node-1"), NodeRole::kNode);
+  EXPECT_EQ(rc.members.at(NodeAddress{1, 60}), NodeRole::kNode);
+
+  for (const auto& [bad, key] : std::vector<std::pair<std::string, std::string>>{
+           {"latitude_deg = 91", "dis.latitude_deg"},
+           {"longitude_deg = -181", "dis.longitude_deg"},
+           {"height_m = nan", "dis.height_m"},
+           {"udp_port = 0", "dis.udp_port"},
+           {"destination = \"bogus\"", "dis.destination"},
+           {"dis_exercise_id = 0", "dis.dis_exercise_id"},
+           {"import_craters = 3", "dis.import_craters"},
+           {"udp_prot = 3000", "dis.udp_prot"}}) {
+    const std::string k = bad.substr(0, bad.find(' '));
+    const size_t at = with_dis.find("\n" + k + " = ");
+    const std::string text =
+        at == std::string::npos
+            ? with_dis + bad + "\n"
+            : with_dis.substr(0, at + 1) + bad + with_dis.substr(with_dis.find('\n', at + 1));
+    const std::string e = ErrorOf(text);
+    EXPECT_NE(e.find(key), std::string::npos) << bad << ": " << e;
+  }
+  const std::string e = ErrorOf(Replace(with_dis, "host = 60", "host = 100"));
+  EXPECT_NE(e.find("address 1:100"), std::string::npos) << e;
+}
+
 }  // namespace
 }  // namespace dt

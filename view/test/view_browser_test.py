@@ -2,17 +2,20 @@
 """The live view in a real browser: Playwright driving Debian's chromium headless.
 
 Starts dt_server, two dt_node and dt_view (each by PID, readiness by its READY line), then checks:
-the page loads; the features drawn equal the exercise's; a crater made with dt_ctl is drawn
-within one second (the page's own Date.now() when it drew it, against the time just before
-dt_ctl ran); a crater placed by a click (--allow-commands) runs as node-1's command and the page
-destroys it; a killed node's row turns silent and live again after its restart; a page opened
-late shows the current state at once; without --allow-commands the page has no operator panel
-and a command sent anyway is refused. Screenshots go to <run_dir>. Exits 77 (skipped) when
-playwright or chromium is not installed. Run inside tests/run_in_netns.sh.
+the page loads; the features drawn equal the exercise's; craters made with dt_ctl are drawn (the
+latency, from just before dt_ctl ran to the page's own Date.now() when it drew each, is printed,
+not asserted); the vehicle marker moves when node-1 drives it; a crater placed by a click
+(--allow-commands) runs as node-1's command and the page destroys it; a killed node's row turns
+silent and live again after its restart; a page opened late shows the current state at once;
+node-2 restarted on another terrain is flagged diverged while the server and node-1 look alike,
+and agrees again once back; without --allow-commands the page has no operator panel and a
+command sent anyway is refused. Screenshots go to <run_dir>. Exits 77 (skipped) when playwright
+or chromium is not installed. Run inside tests/run_in_netns.sh.
 
   view_browser_test.py <dt_server> <dt_node> <dt_view> <dt_ctl> <exercise.toml> <run_dir>
                        [<screenshot for docs>]
 """
+import json
 import os
 import shutil
 import signal
@@ -41,6 +44,7 @@ docs_shot = sys.argv[7] if len(sys.argv) > 7 else None
 shutil.rmtree(run_dir, ignore_errors=True)
 os.makedirs(run_dir)
 URL = "http://127.0.0.1:8481/"
+LATENCY_CRATERS = 10
 procs = {}
 
 
@@ -52,8 +56,8 @@ def fail(what):
     sys.exit(1)
 
 
-def start(name, program, *extra):
-    args = [programs[program], "--config", exercise, "--run-dir", run_dir,
+def start(name, program, *extra, config=None):
+    args = [programs[program], "--config", config or exercise, "--run-dir", run_dir,
             "--name", name, *extra]
     log = open(os.path.join(run_dir, f"{name}.log"), "ab")
     p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=log)
@@ -68,6 +72,21 @@ def start(name, program, *extra):
         if time.time() > deadline:
             break
     fail(f"{name} never printed READY {name}")
+
+
+def other_terrain_exercise():
+    """The exercise file with another [terrain] seed, written into run_dir (its key file named by
+    absolute path, since relative ones are taken from the file's own directory)."""
+    text = open(exercise).read()
+    key = os.path.abspath(os.path.join(os.path.dirname(exercise), "../../configs/keys/demo.key"))
+    other = text.replace('key_file = "../../configs/keys/demo.key"', f'key_file = "{key}"')
+    other = other.replace("\nseed = 7\n", "\nseed = 8\n")
+    if other.count(key) != 1 or "\nseed = 8\n" not in other:
+        fail(f"{exercise} no longer has the key_file and [terrain] seed this test rewrites")
+    path = os.path.join(run_dir, "other-terrain.toml")
+    with open(path, "w") as f:
+        f.write(other)
+    return path
 
 
 def ctl(name, *command):
@@ -126,18 +145,32 @@ with sync_playwright() as pw:
           f"the page draws {sorted(drawn)}, the server holds {sorted(server_features())}")
     print(f"features drawn = the exercise's: {len(drawn)}")
 
-    # A crater made with dt_ctl appears within one second, by the page's own clock.
-    before_ms = time.time() * 1000.0
-    crater = ctl("node-2", "crater", "250", "450", "9")
-    page.wait_for_function(f"'{crater}' in window.dtView.drawnAt", timeout=5000)
-    latency_ms = page.evaluate(f"window.dtView.drawnAt['{crater}']") - before_ms
-    print(f"crater {crater} drawn {latency_ms:.0f} ms after dt_ctl was run")
-    if latency_ms > 1000:
-        fail(f"crater {crater} took {latency_ms:.0f} ms to appear")
+    # Craters made with dt_ctl appear on the page. The latency, from just before dt_ctl runs to
+    # the page's own Date.now() when it drew the crater (one clock: same host), is printed for
+    # docs/performance.md, not asserted: speed is a benchmark's to measure.
+    latencies_ms = []
+    for i in range(LATENCY_CRATERS):
+        before_ms = time.time() * 1000.0
+        crater = ctl(f"node-{1 + i % 2}", "crater", str(230 + 12 * i), "450", "4")
+        page.wait_for_function(f"'{crater}' in window.dtView.drawnAt", timeout=10000)
+        latencies_ms.append(page.evaluate(f"window.dtView.drawnAt['{crater}']") - before_ms)
+    latencies_ms.sort()
+    print(f"latency dt_ctl crater -> page DOM over {len(latencies_ms)} craters: min "
+          f"{latencies_ms[0]:.0f} ms, median {latencies_ms[len(latencies_ms) // 2]:.0f} ms, max "
+          f"{latencies_ms[-1]:.0f} ms")
 
     # A vehicle marker is drawn in its owner's colour.
     page.wait_for_function("document.querySelectorAll('#vehicles .vehicle').length >= 1",
                            timeout=5000)
+    # ... and moves when driven: the delta carries it, and the page moves its marker.
+    mark = "document.querySelector('#vehicles .vehicle')"
+    parked = page.evaluate(f"{mark}.getAttribute('transform')")
+    ctl("node-1", "drive", "0", "5", "0")
+    page.wait_for_function(f"{mark}.getAttribute('transform') !== {json.dumps(parked)}",
+                           timeout=10000)
+    ctl("node-1", "drive", "0", "0", "0")
+    moved = page.evaluate(f"{mark}.getAttribute('transform')")
+    print(f"the vehicle marker moved from {parked} to {moved}")
 
     # Operator actions (--allow-commands): a crater placed by clicking, as node-1's command, then
     # destroyed from the page; both go through the node, so the server holds the result.
@@ -206,6 +239,42 @@ with sync_playwright() as pw:
     if docs_shot:
         shutil.copy(shot, docs_shot)
     print(f"screenshot {shot}")
+
+    # A forced divergence: node-2 restarted on a different terrain (the exercise file with
+    # another [terrain] seed, so the same features on other ground) has a digest of its own. Its
+    # row is flagged and its digest's colour differs; the server and node-1 agree and look alike.
+    procs["node-2"].send_signal(signal.SIGTERM)
+    if procs["node-2"].wait(timeout=15) != 0:
+        fail("node-2 did not exit 0 on SIGTERM")
+    start("node-2", "dt_node", config=other_terrain_exercise())
+    rows_js = """() => Object.fromEntries([...document.querySelectorAll('#processes tbody tr')]
+        .map(r => [r.dataset.name, {state: r.dataset.state, diverged: r.dataset.diverged,
+                   colour: r.querySelector('td.digest .swatch')?.style.background ?? '',
+                   text: r.querySelector('td.digest').textContent}]))"""
+    page.wait_for_function(f"{row}.dataset.state === 'live' && {row}.dataset.diverged === '1'",
+                           timeout=15000)
+    page.wait_for_function(
+        "['server', 'node-1'].every(n => document.querySelector("
+        "`#processes tr[data-name=\"${n}\"]`).dataset.diverged === '0')", timeout=15000)
+    rows = page.evaluate(rows_js)
+    if "differs" not in rows["node-2"]["text"]:
+        fail(f"node-2's digest cell does not say it differs: {rows['node-2']}")
+    if not rows["server"]["colour"] or rows["server"]["colour"] != rows["node-1"]["colour"]:
+        fail(f"equal digests are not shown alike: {rows}")
+    if rows["node-2"]["colour"] == rows["server"]["colour"]:
+        fail(f"node-2's other digest has the server's colour: {rows}")
+    shot = os.path.join(run_dir, "view-diverged.png")
+    page.screenshot(path=shot)
+    print(f"node-2 on another terrain is flagged diverged, server and node-1 alike: {shot}")
+    # Back on the exercise's terrain it agrees again.
+    procs["node-2"].send_signal(signal.SIGTERM)
+    if procs["node-2"].wait(timeout=15) != 0:
+        fail("node-2 did not exit 0 on SIGTERM")
+    start("node-2", "dt_node")
+    page.wait_for_function(
+        "[...document.querySelectorAll('#processes tbody tr')].every(r => r.dataset.diverged === '0'"
+        " && r.dataset.state === 'live')", timeout=15000)
+    print("node-2 back on the exercise's terrain: every digest agrees again")
 
     # Without --allow-commands (the default) the page has no operator panel, and a command sent
     # anyway is refused by dt_view, so nothing reaches a node.

@@ -149,8 +149,69 @@ TEST_F(ViewModelTest, ProcessesGoingSilentAndComingBackAreEvents) {
   VehicleView v{"node-a/0", "node-a", "tank", 10, 20, 0.5, 3, true};
   d = model.Update(4, {row}, {v}, 1);
   ASSERT_EQ(d["vehicles"].size(), 1u);
-  EXPECT_EQ(d["vehicles"][0]["owner"], "node-a");
+  EXPECT_EQ(d["vehicles"][0],
+            nlohmann::json::array({"node-a/0", "node-a", "tank", 10.0, 20.0, 0.5, 3.0, true}));
   EXPECT_TRUE(model.Update(5, {row}, {v}, 1).is_null());
+}
+
+TEST_F(ViewModelTest, AVehicleDeltaCarriesTheVehiclesThatChangedAndTheIdsGone) {
+  cluster_.Start(kView, NodeRole::kObserver);
+  ViewModel model(View(), Names());
+  VehicleView a{"node-a/0", "node-a", "tank", 10, 20, 0.5, 3, true};
+  VehicleView b{"node-b/0", "node-b", "jeep", 50, 60, 1.0, 5, true};
+  nlohmann::json d = model.Update(1, {}, {a, b}, 1);
+  ASSERT_EQ(d["vehicles"].size(), 2u);
+  b.x_m += 1.0;
+  d = model.Update(2, {}, {a, b}, 1);
+  ASSERT_EQ(d["vehicles"].size(), 1u);
+  EXPECT_EQ(d["vehicles"][0][0], "node-b/0");
+  EXPECT_DOUBLE_EQ(d["vehicles"][0][3].get<double>(), 51.0);
+  EXPECT_FALSE(d.contains("vehicles_removed"));
+  // Nothing changed: no delta; then a is no longer listed, b is dead.
+  EXPECT_TRUE(model.Update(3, {}, {a, b}, 1).is_null());
+  b.alive = false;
+  d = model.Update(4, {}, {b}, 1);
+  ASSERT_EQ(d["vehicles_removed"], nlohmann::json::array({"node-a/0"}));
+  ASSERT_EQ(d["vehicles"].size(), 1u);
+  EXPECT_EQ(d["vehicles"][0][7], false);
+  const nlohmann::json s = model.Snapshot(5);
+  ASSERT_EQ(s["vehicles"].size(), 1u);
+  EXPECT_EQ(s["vehicles"][0][0], "node-b/0");
+  // A vehicle gone while no delta was sent is still reported gone.
+  EXPECT_TRUE(model.Update(6, {}, {b}, 1).is_null());
+  d = model.Update(7, {}, {}, 1);
+  EXPECT_EQ(d["vehicles_removed"], nlohmann::json::array({"node-b/0"}));
+  EXPECT_EQ(model.Snapshot(8)["vehicles"].size(), 0u);
+}
+
+TEST_F(ViewModelTest, ABridgeChangeResendsTheBridgesItRePlacesAndNothingElse) {
+  cluster_.Start(kView, NodeRole::kObserver);
+  cluster_.Run(500);
+  ViewModel model(View(), Names());
+  auto crater = A().Create(FeatureParams::Crater(20, 100, 3));
+  ASSERT_TRUE(crater.ok());
+  cluster_.Run(300);
+  ASSERT_EQ(model.Update(1, {}, {}, 1)["features"].size(), 1u);
+  // Two bridges over each other, made at once by A and B: both kept, the lower ID placed.
+  auto one = A().Create(FeatureParams::Bridge(60, 60, 0.0, 4, 8, 16, 8, 2, 2));
+  auto two = B().Create(FeatureParams::Bridge(64, 62, 0.0, 4, 8, 16, 8, 2, 2));
+  ASSERT_TRUE(one.ok() && two.ok());
+  cluster_.Run(300);
+  nlohmann::json d = model.Update(2, {}, {}, 1);
+  ASSERT_EQ(d["features"].size(), 2u);
+  const bool one_lower = one.value() < two.value();
+  const FeatureId lower = one_lower ? one.value() : two.value();
+  const FeatureId upper = one_lower ? two.value() : one.value();
+  for (const auto& f : d["features"]) EXPECT_EQ(f["placed"], f["id"] == lower.ToString());
+  // The first one destroyed, the second is placed: it is resent, the crater is not.
+  ASSERT_TRUE((one_lower ? A() : B()).Destroy(lower).ok());
+  cluster_.Run(300);
+  d = model.Update(3, {}, {}, 1);
+  EXPECT_EQ(d["removed"], nlohmann::json::array({lower.ToString()}));
+  ASSERT_EQ(d["features"].size(), 1u);
+  EXPECT_EQ(d["features"][0]["id"], upper.ToString());
+  EXPECT_EQ(d["features"][0]["placed"], true);
+  EXPECT_EQ(model.feature_count(), 2u);
 }
 
 }  // namespace

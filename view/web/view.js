@@ -2,7 +2,7 @@
 "use strict";
 const SVG = "http://www.w3.org/2000/svg";
 const state = {
-  size: 1000, exercise: null, seq: 0, features: new Map(), processes: [], vehicles: [],
+  size: 1000, exercise: null, seq: 0, features: new Map(), processes: [], vehicles: new Map(),
   selected: null, view: null, ws: null, req: 0,
 };
 // For tests and for the curious: when each feature was first drawn (Date.now()), and the
@@ -90,18 +90,32 @@ function removeFeature(id) {
   if (state.selected === id) { state.selected = null; showFeature(); }
 }
 
-function drawVehicles() {
+const vehicleMarks = new Map();  // vehicle ID -> its marker
+// One vehicle's marker, replaced in place when it moves (a delta carries only those that did).
+// A vehicle arrives as [id, owner, type, x, z, heading, speed, alive] (docs/view.md "Messages").
+function vehicleOf([id, owner, type, x, z, heading, speed, alive]) {
+  return { id, owner, type, x, z, heading, speed, alive };
+}
+function drawVehicle(row) {
+  const v = vehicleOf(row);
   const layer = $("vehicles");
-  layer.replaceChildren();
-  for (const v of state.vehicles) {
-    const s = 12;  // metres: a marker, not the vehicle's size
-    const g = el("g", { class: "vehicle", "data-id": v.id, "data-alive": v.alive ? 1 : 0,
-      transform: `translate(${v.x},${Y(v.z)}) rotate(${-v.heading * 180 / Math.PI})` }, layer);
-    el("polygon", { points: `${s},0 ${-s * 0.7},${s * 0.6} ${-s * 0.7},${-s * 0.6}`,
-                    fill: v.alive ? ownerColour(v.owner) : "#666", stroke: "#000" }, g);
-    if (!v.alive) el("path", { d: `M${-s},${-s} L${s},${s} M${-s},${s} L${s},${-s}`,
-                               stroke: "#ff3b2b", "stroke-width": 3 }, g);
-  }
+  const old = vehicleMarks.get(v.id);
+  const s = 12;  // metres: a marker, not the vehicle's size
+  const g = el("g", { class: "vehicle", "data-id": v.id, "data-alive": v.alive ? 1 : 0,
+    transform: `translate(${v.x},${Y(v.z)}) rotate(${-v.heading * 180 / Math.PI})` });
+  el("polygon", { points: `${s},0 ${-s * 0.7},${s * 0.6} ${-s * 0.7},${-s * 0.6}`,
+                  fill: v.alive ? ownerColour(v.owner) : "#666", stroke: "#000" }, g);
+  if (!v.alive) el("path", { d: `M${-s},${-s} L${s},${s} M${-s},${s} L${s},${-s}`,
+                             stroke: "#ff3b2b", "stroke-width": 3 }, g);
+  if (old) old.replaceWith(g); else layer.appendChild(g);
+  vehicleMarks.set(v.id, g);
+  state.vehicles.set(v.id, v);
+}
+function removeVehicle(id) {
+  const g = vehicleMarks.get(id);
+  if (g) g.remove();
+  vehicleMarks.delete(id);
+  state.vehicles.delete(id);
 }
 
 function ago(ms) { return ms < 0 ? "never" : `${(ms / 1000).toFixed(1)} s`; }
@@ -207,8 +221,10 @@ function onSnapshot(s) {
   addEvents(s.events);
   state.processes = s.processes;
   drawProcesses();
-  state.vehicles = s.vehicles;
-  drawVehicles();
+  $("vehicles").replaceChildren();
+  vehicleMarks.clear();
+  state.vehicles.clear();
+  s.vehicles.forEach(drawVehicle);
   setRelief(s.relief);
   if (s.exercise.commands) setUpOperator(s.exercise.nodes);
   window.dtView.snapshotAt = Date.now();
@@ -218,7 +234,8 @@ function onDelta(d) {
   if (d.features) applyFeatures(d.features);
   if (d.events) addEvents(d.events);
   if (d.processes) { state.processes = d.processes; drawProcesses(); }
-  if (d.vehicles) { state.vehicles = d.vehicles; drawVehicles(); }
+  if (d.vehicles_removed) d.vehicles_removed.forEach(removeVehicle);
+  if (d.vehicles) d.vehicles.forEach(drawVehicle);
   if (d.relief !== undefined) setRelief(d.relief);
   window.dtView.deltas++;
 }
@@ -231,7 +248,7 @@ function onMessage(ev) {
     window.dtView.lastReply = m;
   }
   if (m.seq !== undefined) window.dtView.appliedSeq = m.seq;
-  $("stats").textContent = `${state.features.size} features, ${state.vehicles.length} vehicles,` +
+  $("stats").textContent = `${state.features.size} features, ${state.vehicles.size} vehicles,` +
     ` message ${window.dtView.appliedSeq}, ${Date.now() - m.t_ms} ms after it was sent`;
 }
 function connect() {

@@ -1,0 +1,239 @@
+// The DIS gateway's Entity State throughput against raw UDP on loopback, in one run
+// (docs/performance.md, "DIS gateway"). Out: a VehicleState to its Entity State on the socket
+// (dead-reckoning check, geocentric conversion, encode, sendto) against sendto of the same
+// bytes. In: recv and an outside Entity State to a VehicleState (decode, checks, conversion,
+// and in the "bus" variant PduBus::Publish on memq://: stamp, validate, LCM-encode) against recv
+// of the same bytes. Timed in batches of kBatch datagrams (manual time: the thread's CPU time
+// of the batch; a loopback sendto's delivery runs in the sender's thread), the socket drained or
+// filled between batches untimed.
+#include <benchmark/benchmark.h>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <ctime>
+#include <memory>
+#include <vector>
+
+#include "dis/dis_codec.h"
+#include "dis/entity_translation.h"
+#include "dis/gateway_core.h"
+#include "dis/udp_endpoint.h"
+#include "pdu/conversion.h"
+#include "pdu/pdu_bus.h"
+#include "pdu/transport.h"
+
+namespace {
+
+using namespace dt;
+using namespace dt::dis;
+// The thread's CPU time: on a shared machine wall time would also count other processes' turns.
+struct Clock {
+  static double now() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) * 1e-9;
+  }
+};
+
+constexpr int kBatch = 64;  // well inside a default socket receive buffer
+constexpr int kPort = 47301;
+constexpr NodeAddress kNode{1, 1};
+
+GatewaySettings Settings() {
+  GatewaySettings s;
+  s.origin = {36.6, -121.9, 20.0};
+  s.exercise_id = 3;
+  s.terrain_size_m = 1280.0;
+  s.self = {1, 60};
+  s.members = {kNode, s.self};
+  return s;
+}
+
+VehicleStateFields Tank(double x_m) {
+  VehicleStateFields s;
+  s.id = {1, 1, 1};
+  s.type = *EntityTypeOfVehicle("tank");
+  s.location_m = {x_m, 12.5, 400.0};
+  s.velocity_mps = {3.0, 0.0, 1.0};
+  s.heading_rad = 0.3;
+  s.marking = "tank-1";
+  return s;
+}
+
+std::vector<uint8_t> OutsideBytes(const GeodeticFrame& frame) {
+  VehicleStateFields s = Tank(500.0);
+  s.id = {31, 5, 777};
+  EntityStatePdu pdu = EntityStateOfVehicle(s, frame, {3, 0});
+  return Encode(pdu);
+}
+
+std::unique_ptr<UdpEndpoint> Loopback() {
+  // Sends to itself: the socket is its own receiver.
+  return std::make_unique<UdpEndpoint>(
+      UdpEndpointConfig{"127.0.0.1", kPort, "127.0.0.1", "127.0.0.1", 1});
+}
+
+int Drain(UdpEndpoint& e) {
+  int n = 0;
+  while (e.Receive()) ++n;
+  return n;
+}
+
+void BM_RawUdpOut(benchmark::State& state) {
+  auto e = Loopback();
+  GatewayCore core(Settings(), [](std::span<const uint8_t>) { return true; }, {});
+  const std::vector<uint8_t> bytes =
+      Encode(EntityStateOfVehicle(Tank(100.0), core.frame(), {3, 0}));
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(kPort);
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  int64_t lost = 0;
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    for (int i = 0; i < kBatch; ++i) {
+      benchmark::DoNotOptimize(::sendto(e->fd(), bytes.data(), bytes.size(), 0,
+                                        reinterpret_cast<const sockaddr*>(&to), sizeof to));
+    }
+    state.SetIterationTime(Clock::now() - t0);
+    lost += kBatch - Drain(*e);
+  }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+  state.counters["lost"] = static_cast<double>(lost);
+}
+BENCHMARK(BM_RawUdpOut)->UseManualTime();
+
+void BM_GatewayOut(benchmark::State& state) {
+  auto e = Loopback();
+  GatewayCore core(
+      Settings(), [&](std::span<const uint8_t> d) { return e->Send(d); },
+      [](const VehicleStateFields&) { return Status(); });
+  double now_s = 0.0;
+  int64_t lost = 0;
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    for (int i = 0; i < kBatch; ++i) {
+      now_s += 0.01;
+      // 2 m on each time: beyond the 1 m threshold, so every state is sent.
+      core.OnVehicleState(kNode, Tank((i & 1) ? 102.0 : 100.0), now_s);
+    }
+    state.SetIterationTime(Clock::now() - t0);
+    lost += kBatch - Drain(*e);
+  }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+  state.counters["lost"] = static_cast<double>(lost);
+  state.counters["sent"] = static_cast<double>(core.counters().entity_state_sent);
+}
+BENCHMARK(BM_GatewayOut)->UseManualTime();
+
+void Fill(UdpEndpoint& e, const std::vector<uint8_t>& bytes) {
+  for (int i = 0; i < kBatch; ++i) (void)e.Send(bytes);
+}
+
+void BM_RawUdpIn(benchmark::State& state) {
+  auto e = Loopback();
+  const std::vector<uint8_t> bytes = OutsideBytes(GeodeticFrame(Settings().origin));
+  std::vector<uint8_t> buffer(kMaxPduSize + 1);
+  int64_t received = 0;
+  for (auto _ : state) {
+    Fill(*e, bytes);
+    const auto t0 = Clock::now();
+    for (int i = 0; i < kBatch; ++i) {
+      if (::recv(e->fd(), buffer.data(), buffer.size(), MSG_TRUNC) > 0) ++received;
+    }
+    state.SetIterationTime(Clock::now() - t0);
+  }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+  state.counters["lost"] = static_cast<double>(state.iterations() * kBatch - received);
+}
+BENCHMARK(BM_RawUdpIn)->UseManualTime();
+
+// to_bus: published on a PduBus over memq:// (drained untimed), else only converted.
+void BM_GatewayIn(benchmark::State& state, bool to_bus) {
+  auto e = Loopback();
+  auto memq = MakeTransport("memq://", 1);
+  PduBusConfig bc;
+  bc.exercise_id = 1;
+  bc.local = Settings().self;
+  bc.terrain_size_m = Settings().terrain_size_m;
+  PduBus bus(*memq, bc);
+  uint64_t published = 0;
+  GatewayCore core(
+      Settings(), [](std::span<const uint8_t>) { return true; },
+      [&](const VehicleStateFields& s) -> Status {
+        if (to_bus) {
+          if (auto r = bus.Publish(ToVehicleState(s)); !r) return r.error();
+        } else {
+          benchmark::DoNotOptimize(ToVehicleState(s));
+        }
+        ++published;
+        return Status();
+      });
+  const std::vector<uint8_t> bytes = OutsideBytes(core.frame());
+  for (auto _ : state) {
+    Fill(*e, bytes);
+    const auto t0 = Clock::now();
+    for (int i = 0; i < kBatch; ++i) {
+      const auto datagram = e->Receive();
+      if (!datagram) break;
+      core.OnDatagram(*datagram, 1.0);
+    }
+    state.SetIterationTime(Clock::now() - t0);
+    if (to_bus) (void)bus.HandleTimeout(0);
+  }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+  state.counters["lost"] = static_cast<double>(state.iterations() * kBatch - published);
+}
+BENCHMARK_CAPTURE(BM_GatewayIn, converted, false)->UseManualTime();
+BENCHMARK_CAPTURE(BM_GatewayIn, bus, true)->UseManualTime();
+
+// Latency of the gateway's path, from a node's state change to the DIS datagram on the wire: a
+// node's PduBus publishes a VehicleState 2 m on (memq://, one thread), the gateway's bus
+// dispatches it to GatewayCore, which sends the Entity State, and the datagram is received from
+// the socket; thread CPU time per state (the wake-ups of separate processes are not in it).
+// "raw" is the same path without the gateway's work: the VehicleState through both buses as
+// above, then sendto + recv of the Entity State's bytes encoded beforehand; the difference is
+// what the gateway adds.
+void BM_StateToDatagram(benchmark::State& state, bool gateway) {
+  auto e = Loopback();
+  auto memq = MakeTransport("memq://", 1);
+  PduBusConfig nc;
+  nc.exercise_id = 1;
+  nc.local = kNode;
+  nc.terrain_size_m = Settings().terrain_size_m;
+  PduBusConfig gc = nc;
+  gc.local = Settings().self;
+  PduBus node(*memq, nc);
+  PduBus bus(*memq, gc);
+  GatewayCore core(
+      Settings(), [&](std::span<const uint8_t> d) { return e->Send(d); },
+      [](const VehicleStateFields&) { return Status(); });
+  const std::vector<uint8_t> es = Encode(EntityStateOfVehicle(Tank(100.0), core.frame(), {3, 0}));
+  double now_s = 0.0;
+  int64_t heard = 0;
+  bus.Subscribe<dtpdu::vehicle_state_t>([&](const dtpdu::vehicle_state_t& pdu) {
+    ++heard;
+    if (gateway) core.OnVehicleState(kNode, FromVehicleState(pdu), now_s);
+  });
+  int64_t received = 0, i = 0;
+  for (auto _ : state) {
+    now_s += 0.01;
+    const auto t0 = Clock::now();
+    (void)node.Publish(ToVehicleState(Tank((++i & 1) ? 102.0 : 100.0)));
+    (void)bus.HandleTimeout(0);
+    if (!gateway) (void)e->Send(es);
+    if (e->Receive()) ++received;
+    state.SetIterationTime(Clock::now() - t0);
+  }
+  state.counters["heard"] = static_cast<double>(heard);
+  state.counters["lost"] = static_cast<double>(state.iterations() - received);
+}
+BENCHMARK_CAPTURE(BM_StateToDatagram, raw, false)->UseManualTime();
+BENCHMARK_CAPTURE(BM_StateToDatagram, gateway, true)->UseManualTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,314 @@
+#include "dis/gateway_core.h"
+
+#include <fmt/format.h>
+
+#include <cctype>
+
+#include "dis/entity_translation.h"
+#include "log/log.h"
+#include "pdu/dis_time.h"
+#include "vehicle/dead_reckoning.h"
+
+namespace dt::dis {
+namespace {
+
+// A destroyed feature's deactivated Object State is sent at once and then with the next
+// periodic sends, so a receiver that lost one still learns of the removal.
+constexpr int kRemovalResends = 2;
+// Warnings about outside input at most this often.
+constexpr double kErrorLogPeriodS = 5.0;
+
+PduContext Context(uint8_t exercise_id) { return {exercise_id, DisTimestampNow()}; }
+
+// The received state dead reckoned to `dt_s` after it was received.
+VehicleStateFields ExtrapolatedTo(const VehicleStateFields& s, double dt_s) {
+  VehicleStateFields t = s;
+  const DrPose p = Extrapolate(s, dt_s);
+  t.location_m = p.location_m;
+  t.heading_rad = p.heading_rad;
+  t.pitch_rad = p.pitch_rad;
+  t.roll_rad = p.roll_rad;
+  for (int i = 0; i < 3; ++i) t.velocity_mps[i] += s.acceleration_mps2[i] * dt_s;
+  if (s.algorithm == dt::DeadReckoningAlgorithm::kStatic ||
+      s.algorithm == dt::DeadReckoningAlgorithm::kFpw ||
+      s.algorithm == dt::DeadReckoningAlgorithm::kRpw) {
+    t.velocity_mps = s.velocity_mps;  // constant-velocity algorithms
+  }
+  return t;
+}
+
+}  // namespace
+
+GatewayCore::GatewayCore(GatewaySettings settings, SendDatagram send, PublishVehicle publish,
+                         FeatureAuthor author)
+    : settings_(std::move(settings)),
+      frame_(settings_.origin),
+      send_(std::move(send)),
+      publish_(std::move(publish)),
+      author_(std::move(author)),
+      decoder_(settings_.exercise_id) {}
+
+void GatewayCore::SendVehicle(OutVehicle& v, const VehicleStateFields& state, double now_s) {
+  const std::vector<uint8_t> bytes =
+      Encode(EntityStateOfVehicle(state, frame_, Context(settings_.exercise_id)));
+  if (!send_(bytes)) {
+    ++counters_.send_failed;
+    return;
+  }
+  v.dr.Sent(state, now_s);
+  ++counters_.entity_state_sent;
+}
+
+void GatewayCore::OnVehicleState(NodeAddress sender, const VehicleStateFields& state,
+                                 double now_s) {
+  if (sender == settings_.self) return;  // what the gateway imported: DIS has it already
+  auto it = vehicles_.find(state.id);
+  if (it != vehicles_.end() && it->second.owner != sender) {
+    ++counters_.vehicle_conflicts;  // the first sender holds the ID until it times out
+    return;
+  }
+  if ((state.appearance & appearance::kDeactivated) != 0) {
+    if (it == vehicles_.end()) return;
+    // The DIS state bit is the same bit 23: the entity's last Entity State says it left.
+    SendVehicle(it->second, state, now_s);
+    ++counters_.entity_removals_sent;
+    vehicles_.erase(it);
+    return;
+  }
+  if (it == vehicles_.end()) {
+    it = vehicles_
+             .emplace(state.id,
+                      OutVehicle{sender, state, now_s, DeadReckoningOwner(settings_.thresholds)})
+             .first;
+  }
+  OutVehicle& v = it->second;
+  v.state = state;
+  v.received_s = now_s;
+  if (v.dr.Due(state, now_s)) SendVehicle(v, state, now_s);
+}
+
+bool GatewayCore::SendObject(const ObjectStatePdu& pdu) {
+  const std::vector<uint8_t> bytes = std::visit([](const auto& p) { return Encode(p); }, pdu);
+  if (!send_(bytes)) {
+    ++counters_.send_failed;
+    return false;
+  }
+  if (std::holds_alternative<PointObjectStatePdu>(pdu)) {
+    ++counters_.point_sent;
+  } else {
+    ++counters_.linear_sent;
+  }
+  return true;
+}
+
+void GatewayCore::SendFeature(const FeatureId& id, OutFeature& f, const Terrain& terrain,
+                              double now_s, bool changed) {
+  const double ground = terrain.GroundElevationAt(f.params.x_m, f.params.z_m);
+  // Update numbers count the object's state transitions (1, 2, ...; 0 is never used): a
+  // periodic resend of an unchanged state carries the same number.
+  const uint16_t next = !changed                    ? f.update_number
+                        : f.update_number == 0xFFFF ? 1
+                                                    : f.update_number + 1;
+  Result<ObjectStatePdu> pdu =
+      FeatureToDis(id, f.params, ground, next, frame_, Context(settings_.exercise_id));
+  if (!pdu.ok()) {
+    f.unmapped = true;
+    ++counters_.features_unmapped;
+    DT_LOG_WARN("feature {} is not sent to DIS: {}", id.ToString(), pdu.error().message);
+    return;
+  }
+  f.update_number = next;
+  f.sent_s = now_s;
+  f.last = pdu.value();
+  (void)SendObject(f.last);
+}
+
+void GatewayCore::Tick(const std::map<FeatureId, FeatureParams>& live, const Terrain& terrain,
+                       double now_s) {
+  for (auto it = vehicles_.begin(); it != vehicles_.end();) {
+    OutVehicle& v = it->second;
+    if (now_s - v.received_s > settings_.thresholds.timeout_s()) {
+      ++counters_.vehicles_timed_out;  // DIS receivers time it out as well
+      it = vehicles_.erase(it);
+      continue;
+    }
+    const VehicleStateFields now = ExtrapolatedTo(v.state, now_s - v.received_s);
+    if (v.dr.Due(now, now_s)) SendVehicle(v, now, now_s);
+    ++it;
+  }
+  for (auto it = imported_.begin(); it != imported_.end();) {
+    it =
+        now_s - it->second > settings_.thresholds.timeout_s() ? imported_.erase(it) : std::next(it);
+  }
+
+  for (const auto& [id, params] : live) {
+    if (OriginOf(id) == settings_.self) continue;  // an imported crater: DIS has its own object
+    auto it = features_.find(id);
+    if (it == features_.end()) {
+      it = features_.emplace(id, OutFeature{params, 0, 0.0, {}, false}).first;
+      SendFeature(id, it->second, terrain, now_s, true);
+      continue;
+    }
+    OutFeature& f = it->second;
+    if (f.params != params) {
+      f.params = params;
+      f.unmapped = false;
+      SendFeature(id, f, terrain, now_s, true);
+    } else if (!f.unmapped && now_s - f.sent_s >= settings_.feature_period_s) {
+      SendFeature(id, f, terrain, now_s, false);
+    }
+  }
+  for (auto it = features_.begin(); it != features_.end();) {
+    if (live.count(it->first)) {
+      ++it;
+      continue;
+    }
+    if (!it->second.unmapped) {
+      const uint16_t next = it->second.update_number == 0xFFFF ? 1 : it->second.update_number + 1;
+      Removal r{Deactivated(it->second.last, next, Context(settings_.exercise_id)), next,
+                kRemovalResends, now_s + settings_.feature_period_s};
+      if (SendObject(r.pdu)) ++counters_.object_removals_sent;
+      removals_[it->first] = std::move(r);
+    }
+    it = features_.erase(it);
+  }
+  for (auto it = removals_.begin(); it != removals_.end();) {
+    Removal& r = it->second;
+    if (now_s < r.next_s) {
+      ++it;
+      continue;
+    }
+    r.pdu = Deactivated(r.pdu, r.update_number, Context(settings_.exercise_id));
+    if (SendObject(r.pdu)) ++counters_.object_removals_sent;
+    r.next_s = now_s + settings_.feature_period_s;
+    it = --r.resends_left <= 0 ? removals_.erase(it) : std::next(it);
+  }
+}
+
+void GatewayCore::OnDatagram(std::span<const uint8_t> datagram, double now_s) {
+  DecodeResult r = decoder_.Decode(datagram);
+  if (!r.ok()) {
+    if (now_s - last_error_log_s_ > kErrorLogPeriodS) {
+      last_error_log_s_ = now_s;
+      DT_LOG_WARN("DIS datagram dropped: {} (later ones counted in status)", r.error().message);
+    }
+    return;
+  }
+  const Pdu& pdu = r.pdu();
+  if (const auto* es = std::get_if<EntityStatePdu>(&pdu)) {
+    OnEntityState(*es, now_s);
+  } else if (const auto* point = std::get_if<PointObjectStatePdu>(&pdu)) {
+    OnPointObject(*point);
+  } else {
+    const auto& linear = std::get<LinearObjectStatePdu>(pdu);
+    if (Own(linear.object_id)) {
+      ++counters_.own_dropped;
+    } else {
+      ++counters_.objects_ignored;  // berms and ditches are not imported
+    }
+  }
+}
+
+void GatewayCore::OnEntityState(const EntityStatePdu& pdu, double now_s) {
+  if (Own(pdu.entity_id)) {
+    ++counters_.own_dropped;
+    return;
+  }
+  Result<VehicleStateFields> s = VehicleOfEntityState(pdu, frame_, settings_.terrain_size_m);
+  if (!s.ok()) {
+    ++counters_.entities_unmapped;
+    if (now_s - last_error_log_s_ > kErrorLogPeriodS) {
+      last_error_log_s_ = now_s;
+      DT_LOG_WARN("outside Entity State not imported: {}", s.error().message);
+    }
+    return;
+  }
+  if (Status p = publish_(s.value()); !p.ok()) {
+    ++counters_.publish_failed;
+    if (now_s - last_error_log_s_ > kErrorLogPeriodS) {
+      last_error_log_s_ = now_s;
+      DT_LOG_WARN("outside entity {} not published: {}", s.value().id.ToString(),
+                  p.error().message);
+    }
+    return;
+  }
+  ++counters_.vehicles_published;
+  if ((s.value().appearance & appearance::kDeactivated) != 0) {
+    imported_.erase(s.value().id);
+  } else {
+    imported_[s.value().id] = now_s;
+  }
+}
+
+void GatewayCore::OnPointObject(const PointObjectStatePdu& pdu) {
+  if (Own(pdu.object_id)) {
+    ++counters_.own_dropped;
+    return;
+  }
+  if (!settings_.import_craters || !author_.create) {
+    ++counters_.objects_ignored;
+    return;
+  }
+  Result<FeatureFromDis> f = FeatureFromDisPdu(ObjectStatePdu(pdu), frame_);
+  if (!f.ok() || f.value().params.type != FeatureType::kCrater) {
+    if (f.ok()) {
+      ++counters_.objects_ignored;  // only craters are imported
+    } else {
+      ++counters_.objects_unmapped;
+    }
+    return;
+  }
+  const FeatureId outside = f.value().id;
+  auto held = craters_.find(outside);
+  if (f.value().deactivated) {
+    if (held == craters_.end()) return;
+    if (Status s = author_.destroy(held->second); !s.ok()) {
+      DT_LOG_WARN("imported crater {}: not destroyed: {}", held->second.ToString(),
+                  s.error().message);
+    } else {
+      ++counters_.craters_removed;
+    }
+    craters_.erase(held);
+    return;
+  }
+  if (held != craters_.end()) return;  // a heartbeat (a crater, once made, does not change)
+  Result<FeatureId> made = author_.create(f.value().params);
+  if (!made.ok()) {
+    ++counters_.crater_import_failed;
+    DT_LOG_WARN("crater from DIS object {} not made: {}", outside.ToString(), made.error().message);
+    return;
+  }
+  craters_[outside] = made.value();
+  ++counters_.craters_imported;
+  DT_LOG_INFO("crater from DIS object {} made as {}", outside.ToString(), made.value().ToString());
+}
+
+std::string GatewayCore::StatusLines() const {
+  const GatewayCounters& c = counters_;
+  const DecodeCounters& d = decoder_.counters();
+  std::string s = fmt::format(
+      "dis_exercise_id {}\ndis_vehicles_out {}\ndis_features_out {}\ndis_entity_state_sent {}\n"
+      "dis_entity_removals_sent {}\ndis_point_object_sent {}\ndis_linear_object_sent {}\n"
+      "dis_object_removals_sent {}\ndis_send_failed {}\ndis_features_unmapped {}\n"
+      "dis_vehicles_timed_out {}\ndis_vehicle_conflicts {}\n"
+      "dis_in_entity_state {}\ndis_in_point_object {}\ndis_in_linear_object {}\n"
+      "dis_in_own_dropped {}\ndis_in_entities_unmapped {}\ndis_in_vehicles_published {}\n"
+      "dis_in_publish_failed {}\ndis_in_objects_ignored {}\ndis_in_objects_unmapped {}\n"
+      "dis_imported_entities {}\ndis_craters_imported {}\ndis_craters_removed {}\n"
+      "dis_crater_import_failed {}\ndis_in_rejected {}",
+      settings_.exercise_id, vehicles_.size(), features_.size(), c.entity_state_sent,
+      c.entity_removals_sent, c.point_sent, c.linear_sent, c.object_removals_sent, c.send_failed,
+      c.features_unmapped, c.vehicles_timed_out, c.vehicle_conflicts, d.entity_state,
+      d.point_object_state, d.linear_object_state, c.own_dropped, c.entities_unmapped,
+      c.vehicles_published, c.publish_failed, c.objects_ignored, c.objects_unmapped,
+      imported_.size(), c.craters_imported, c.craters_removed, c.crater_import_failed,
+      d.rejected_total());
+  for (size_t i = 0; i < kDecodeFailureCount; ++i) {
+    std::string key(DecodeFailureName(static_cast<DecodeFailure>(i)));
+    for (char& ch : key) ch = ch == ' ' ? '_' : static_cast<char>(std::tolower(ch));
+    s += fmt::format("\ndis_in_rejected_{} {}", key, d.rejected[i]);
+  }
+  return s;
+}
+
+}  // namespace dt::dis

@@ -1,0 +1,133 @@
+// GatewayCore: the DIS gateway's translation without sockets or a replica (docs/dis.md "The
+// gateway"): exercise vehicles and features out as Entity State and Object State PDUs under DIS
+// dead reckoning and heartbeats, outside Entity States in as VehicleStates, and (when allowed)
+// outside craters in as features. Datagrams and PDUs leave through the callbacks it is given.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <set>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dis/dis_codec.h"
+#include "dis/feature_mapping.h"
+#include "dis/geodetic_frame.h"
+#include "pdu/vehicle_state.h"
+#include "terrain/feature_id.h"
+#include "terrain/feature_params.h"
+#include "terrain/result.h"
+#include "terrain/terrain.h"
+#include "vehicle/dead_reckoning_policy.h"
+
+namespace dt::dis {
+
+struct GatewaySettings {
+  GeodeticOrigin origin;
+  uint8_t exercise_id = 1;  // the DIS exercise ID sent and required on input
+  DeadReckoningThresholds thresholds;
+  double terrain_size_m = 0.0;
+  double feature_period_s = 5.0;  // every live feature's Object State again this often
+  bool import_craters = false;
+  NodeAddress self;  // the gateway's own address: it owns the vehicles it imports
+  // The exercise's members: DIS input whose site/application is one of them is the exercise's
+  // own (the gateway's datagrams looped back, or another gateway of the same exercise).
+  std::set<NodeAddress> members;
+};
+
+struct GatewayCounters {
+  // Out, to DIS.
+  uint64_t entity_state_sent = 0, entity_removals_sent = 0, point_sent = 0, linear_sent = 0,
+           object_removals_sent = 0, send_failed = 0, features_unmapped = 0, vehicles_timed_out = 0,
+           vehicle_conflicts = 0;
+  // In, from DIS (decode counters are the decoder's).
+  uint64_t own_dropped = 0, entities_unmapped = 0, vehicles_published = 0, publish_failed = 0,
+           objects_ignored = 0, objects_unmapped = 0, craters_imported = 0, craters_removed = 0,
+           crater_import_failed = 0;
+};
+
+// Creates and destroys features for imported craters (the gateway's replica).
+struct FeatureAuthor {
+  std::function<Result<FeatureId>(const FeatureParams&)> create;
+  std::function<Status(FeatureId)> destroy;
+};
+
+class GatewayCore {
+ public:
+  using SendDatagram = std::function<bool(std::span<const uint8_t>)>;
+  using PublishVehicle = std::function<Status(const VehicleStateFields&)>;
+
+  // Throws std::invalid_argument for a bad origin (GeodeticFrame).
+  GatewayCore(GatewaySettings settings, SendDatagram send, PublishVehicle publish,
+              FeatureAuthor author = {});
+
+  // Exercise -> DIS. A VehicleState heard on the bus at now_s (never the gateway's own).
+  void OnVehicleState(NodeAddress sender, const VehicleStateFields& state, double now_s);
+  // Heartbeats and timeouts of the vehicles; every feature of `live` that is new or changed is
+  // sent, every one not sent for the feature period is sent again, and a feature gone from
+  // `live` is sent deactivated. `terrain` gives the bare ground under each feature.
+  void Tick(const std::map<FeatureId, FeatureParams>& live, const Terrain& terrain, double now_s);
+
+  // DIS -> exercise. One datagram received at now_s: dropped and counted unless it is whole,
+  // valid, of this DIS exercise and from outside.
+  void OnDatagram(std::span<const uint8_t> datagram, double now_s);
+
+  const GatewayCounters& counters() const { return counters_; }
+  const DecodeCounters& decode_counters() const { return decoder_.counters(); }
+  size_t vehicles_out() const { return vehicles_.size(); }
+  size_t features_out() const { return features_.size(); }
+  size_t imported_entities() const { return imported_.size(); }
+  size_t imported_craters() const { return craters_.size(); }
+  const GeodeticFrame& frame() const { return frame_; }
+  // "key value" lines for the control socket's status.
+  std::string StatusLines() const;
+
+ private:
+  struct OutVehicle {
+    NodeAddress owner;
+    VehicleStateFields state;  // the last received
+    double received_s = 0.0;
+    DeadReckoningOwner dr;
+  };
+  struct OutFeature {
+    FeatureParams params;
+    uint16_t update_number = 0;
+    double sent_s = 0.0;
+    ObjectStatePdu last;
+    bool unmapped = false;  // has no DIS form: never sent
+  };
+  struct Removal {
+    ObjectStatePdu pdu;
+    uint16_t update_number = 0;
+    int resends_left = 0;
+    double next_s = 0.0;
+  };
+
+  bool Own(const EntityId& id) const { return settings_.members.count({id.site, id.application}); }
+  void SendVehicle(OutVehicle& v, const VehicleStateFields& state, double now_s);
+  bool SendObject(const ObjectStatePdu& pdu);
+  // changed: a new state (the update number goes up), else a periodic resend of the same.
+  void SendFeature(const FeatureId& id, OutFeature& f, const Terrain& terrain, double now_s,
+                   bool changed);
+  void OnEntityState(const EntityStatePdu& pdu, double now_s);
+  void OnPointObject(const PointObjectStatePdu& pdu);
+
+  GatewaySettings settings_;
+  GeodeticFrame frame_;
+  SendDatagram send_;
+  PublishVehicle publish_;
+  FeatureAuthor author_;
+  Decoder decoder_;
+  GatewayCounters counters_;
+  std::map<dt::EntityId, OutVehicle> vehicles_;
+  std::map<FeatureId, OutFeature> features_;
+  std::map<FeatureId, Removal> removals_;
+  std::map<dt::EntityId, double> imported_;  // outside entities and when last heard
+  std::map<FeatureId, FeatureId> craters_;   // outside object ID -> the feature made for it
+  double last_error_log_s_ = -1e300;
+};
+
+}  // namespace dt::dis

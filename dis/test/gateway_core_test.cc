@@ -1,0 +1,295 @@
+// GatewayCore without sockets: what goes out to DIS for the exercise's vehicles and features,
+// what comes in from outside DIS, and what is dropped and counted.
+#include "dis/gateway_core.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "dis/dis_codec.h"
+#include "dis/entity_translation.h"
+#include "dis/object_types.h"
+
+namespace dt::dis {
+namespace {
+
+constexpr NodeAddress kNode{1, 1};
+constexpr NodeAddress kGateway{1, 60};
+
+GatewaySettings Settings(bool import_craters = false) {
+  GatewaySettings s;
+  s.origin = {36.6, -121.9, 20.0};
+  s.exercise_id = 9;
+  s.terrain_size_m = 640.0;
+  s.feature_period_s = 5.0;
+  s.import_craters = import_craters;
+  s.self = kGateway;
+  s.members = {{1, 100}, kNode, kGateway};
+  return s;
+}
+
+VehicleStateFields Tank(double x_m) {
+  VehicleStateFields s;
+  s.id = {1, 1, 3};
+  s.type = *EntityTypeOfVehicle("tank");
+  s.location_m = {x_m, 12.5, 200.0};
+  s.velocity_mps = {0.0, 0.0, 0.0};
+  s.heading_rad = 0.7;
+  s.algorithm = dt::DeadReckoningAlgorithm::kRvw;
+  s.appearance = appearance::kOnBridge;  // the exercise's own bit: never sent to DIS
+  s.marking = "tank-3";
+  return s;
+}
+
+struct Harness {
+  explicit Harness(bool import_craters = false, bool with_author = false) {
+    FeatureAuthor author;
+    if (with_author) {
+      author.create = [this](const FeatureParams& p) -> Result<FeatureId> {
+        created.push_back(p);
+        return FeatureId{kGateway.site, kGateway.host, static_cast<uint32_t>(created.size())};
+      };
+      author.destroy = [this](FeatureId id) {
+        destroyed.push_back(id);
+        return Status();
+      };
+    }
+    core = std::make_unique<GatewayCore>(
+        Settings(import_craters),
+        [this](std::span<const uint8_t> d) {
+          sent.emplace_back(d.begin(), d.end());
+          return true;
+        },
+        [this](const VehicleStateFields& s) {
+          published.push_back(s);
+          return Status();
+        },
+        std::move(author));
+  }
+  std::vector<Pdu> Take() {
+    std::vector<Pdu> out;
+    for (const auto& d : sent) {
+      DecodeResult r = DecodePdu(d, 9);
+      EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+      if (r.ok()) out.push_back(r.pdu());
+    }
+    sent.clear();
+    return out;
+  }
+  std::vector<std::vector<uint8_t>> sent;
+  std::vector<VehicleStateFields> published;
+  std::vector<FeatureParams> created;
+  std::vector<FeatureId> destroyed;
+  std::unique_ptr<GatewayCore> core;
+  Terrain terrain{HeightGrid(65, 10.0, 4.0f)};
+  std::map<FeatureId, FeatureParams> live;
+};
+
+TEST(GatewayCoreTest, VehicleGoesOutAsEntityStateWithDeadReckoningAndHeartbeat) {
+  Harness h;
+  h.core->OnVehicleState(kNode, Tank(100.0), 10.0);
+  std::vector<Pdu> out = h.Take();
+  ASSERT_EQ(out.size(), 1u);
+  const auto& es = std::get<EntityStatePdu>(out[0]);
+  EXPECT_EQ(es.header.exercise_id, 9);
+  EXPECT_EQ(es.entity_id, (EntityId{1, 1, 3}));
+  EXPECT_EQ(es.dead_reckoning.algorithm, 4);  // RVW
+  EXPECT_EQ(es.appearance & appearance::kOnBridge, 0u);
+  const WorldCoordinates want = h.core->frame().ToGeocentric({100.0, 12.5, 200.0});
+  EXPECT_NEAR(es.location.x, want.x, 1e-6);
+  EXPECT_NEAR(es.location.y, want.y, 1e-6);
+  EXPECT_NEAR(es.location.z, want.z, 1e-6);
+  EXPECT_EQ(std::string(es.marking.characters.data(), 6), "tank-3");
+
+  // Standing still: nothing until the 5 s heartbeat.
+  h.core->OnVehicleState(kNode, Tank(100.0), 11.0);
+  h.core->Tick(h.live, h.terrain, 14.9);
+  EXPECT_TRUE(h.Take().empty());
+  h.core->Tick(h.live, h.terrain, 15.1);
+  EXPECT_EQ(h.Take().size(), 1u);
+  // Moved beyond the 1 m threshold: at once.
+  h.core->OnVehicleState(kNode, Tank(101.5), 15.5);
+  EXPECT_EQ(h.Take().size(), 1u);
+  // Moved within it: not yet.
+  h.core->OnVehicleState(kNode, Tank(101.9), 15.6);
+  EXPECT_TRUE(h.Take().empty());
+
+  // Its owner removes it: one last Entity State, deactivated.
+  VehicleStateFields gone = Tank(101.9);
+  gone.appearance |= appearance::kDeactivated;
+  h.core->OnVehicleState(kNode, gone, 16.0);
+  out = h.Take();
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_NE(std::get<EntityStatePdu>(out[0]).appearance & appearance::kDeactivated, 0u);
+  EXPECT_EQ(h.core->vehicles_out(), 0u);
+  EXPECT_EQ(h.core->counters().entity_removals_sent, 1u);
+}
+
+TEST(GatewayCoreTest, SilentVehicleTimesOutAndImportedOnesAreNotSentBack) {
+  Harness h;
+  h.core->OnVehicleState(kNode, Tank(100.0), 0.0);
+  h.core->OnVehicleState(kGateway, Tank(300.0), 0.0);  // the gateway's own import
+  EXPECT_EQ(h.core->vehicles_out(), 1u);
+  h.core->Tick(h.live, h.terrain, 12.1);  // timeout 5 s x 2.4
+  EXPECT_EQ(h.core->vehicles_out(), 0u);
+  EXPECT_EQ(h.core->counters().vehicles_timed_out, 1u);
+  // A state of the same entity from another sender is a conflict, not a takeover.
+  h.core->OnVehicleState(kNode, Tank(100.0), 13.0);
+  h.core->OnVehicleState({1, 2}, Tank(150.0), 13.1);
+  EXPECT_EQ(h.core->counters().vehicle_conflicts, 1u);
+}
+
+EntityStatePdu Outside(double x_m, const GeodeticFrame& frame) {
+  VehicleStateFields s = Tank(x_m);
+  s.id = {31, 5, 777};
+  s.appearance = 0;
+  s.velocity_mps = {2.0, 0.0, -1.0};
+  EntityStatePdu pdu = EntityStateOfVehicle(s, frame, {9, 0});
+  pdu.entity_type = {1, 1, 222, 0, 0, 0, 0};  // a land platform no built-in type is
+  pdu.dead_reckoning.algorithm = 8;           // RVB: body axes
+  return pdu;
+}
+
+TEST(GatewayCoreTest, OutsideEntityStateIsPublishedAsVehicleState) {
+  Harness h;
+  h.core->OnDatagram(Encode(Outside(250.0, h.core->frame())), 1.0);
+  ASSERT_EQ(h.published.size(), 1u);
+  const VehicleStateFields& v = h.published[0];
+  EXPECT_EQ(v.id, (dt::EntityId{31, 5, 777}));
+  EXPECT_NEAR(v.location_m[0], 250.0, 1e-6);
+  EXPECT_NEAR(v.location_m[1], 12.5, 1e-6);
+  EXPECT_NEAR(v.location_m[2], 200.0, 1e-6);
+  EXPECT_NEAR(v.velocity_mps[0], 2.0, 1e-5);
+  EXPECT_NEAR(v.velocity_mps[2], -1.0, 1e-5);
+  EXPECT_NEAR(v.heading_rad, 0.7, 1e-5);
+  EXPECT_EQ(v.algorithm, dt::DeadReckoningAlgorithm::kRvw);  // RVB's world counterpart
+  EXPECT_EQ(v.type, *EntityTypeOfVehicle("truck"));          // category 0: a truck
+  EXPECT_EQ(h.core->imported_entities(), 1u);
+
+  // The exercise's own entities (the gateway's datagrams looped back) are not imported.
+  h.core->OnDatagram(Encode(EntityStateOfVehicle(Tank(100.0), h.core->frame(), {9, 0})), 1.1);
+  EXPECT_EQ(h.published.size(), 1u);
+  EXPECT_EQ(h.core->counters().own_dropped, 1u);
+  // Off the terrain: dropped and counted.
+  h.core->OnDatagram(Encode(Outside(5000.0, h.core->frame())), 1.2);
+  EXPECT_EQ(h.published.size(), 1u);
+  EXPECT_EQ(h.core->counters().entities_unmapped, 1u);
+}
+
+TEST(GatewayCoreTest, BadDisInputIsDroppedAndCountedNeverApplied) {
+  Harness h;
+  const std::vector<uint8_t> good = Encode(Outside(250.0, h.core->frame()));
+  std::vector<uint8_t> short_one(good.begin(), good.begin() + 10);
+  std::vector<uint8_t> wrong_length = good;
+  wrong_length[9] = static_cast<uint8_t>(wrong_length[9] + 1);
+  std::vector<uint8_t> unknown_type = good;
+  unknown_type[2] = 2;  // Fire
+  std::vector<uint8_t> nan = good;
+  const uint64_t quiet_nan = 0x7FF8000000000000ull;
+  for (int i = 0; i < 8; ++i) nan[48 + i] = static_cast<uint8_t>(quiet_nan >> (56 - 8 * i));
+  std::vector<uint8_t> foreign = good;
+  foreign[1] = 10;
+  for (const auto* d : {&short_one, &wrong_length, &unknown_type, &nan, &foreign}) {
+    h.core->OnDatagram(*d, 1.0);
+  }
+  EXPECT_TRUE(h.published.empty());
+  const DecodeCounters& c = h.core->decode_counters();
+  EXPECT_EQ(c.rejected_total(), 5u);
+  EXPECT_EQ(c.rejected_for(DecodeFailure::kTooShort), 1u);
+  EXPECT_EQ(c.rejected_for(DecodeFailure::kLengthMismatch), 1u);
+  EXPECT_EQ(c.rejected_for(DecodeFailure::kUnsupportedPduType), 1u);
+  EXPECT_EQ(c.rejected_for(DecodeFailure::kNonFinite), 1u);
+  EXPECT_EQ(c.rejected_for(DecodeFailure::kForeignExercise), 1u);
+  EXPECT_NE(h.core->StatusLines().find("dis_in_rejected_foreign_exercise 1"), std::string::npos);
+  h.core->OnDatagram(good, 2.0);
+  EXPECT_EQ(h.published.size(), 1u);
+}
+
+TEST(GatewayCoreTest, FeaturesGoOutWithUpdateNumbersPeriodsAndRemoval) {
+  Harness h;
+  const FeatureId crater{1, 1, 4}, berm{1, 1, 5};
+  h.live[crater] = FeatureParams::Crater(100.0, 120.0, 6.0);
+  h.live[berm] = FeatureParams::Berm(300.0, 300.0, 0.5, 40.0, 4.0, 2.0);
+  h.core->Tick(h.live, h.terrain, 0.0);
+  std::vector<Pdu> out = h.Take();
+  ASSERT_EQ(out.size(), 2u);
+  const auto& point = std::get<PointObjectStatePdu>(out[0]);
+  EXPECT_EQ(point.object_id, (EntityId{1, 1, 4}));
+  EXPECT_EQ(point.object_type, kCraterObjectType);
+  EXPECT_EQ(point.update_number, 1);
+  const LocalPoint at = h.core->frame().FromGeocentric(point.location);
+  EXPECT_NEAR(at.y_m, 4.0, 1e-6);  // on the bare ground
+  EXPECT_EQ(std::get<LinearObjectStatePdu>(out[1]).update_number, 1);
+
+  h.core->Tick(h.live, h.terrain, 4.9);
+  EXPECT_TRUE(h.Take().empty());
+  h.core->Tick(h.live, h.terrain, 5.0);  // the period: the same state, the same number
+  out = h.Take();
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(std::get<PointObjectStatePdu>(out[0]).update_number, 1);
+
+  h.live[crater] = FeatureParams::Crater(100.0, 120.0, 8.0);  // changed: at once
+  h.core->Tick(h.live, h.terrain, 5.5);
+  out = h.Take();
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(std::get<PointObjectStatePdu>(out[0]).update_number, 2);
+  EXPECT_EQ(
+      UnpackCraterAppearance(std::get<PointObjectStatePdu>(out[0]).specific_appearance).diameter_m,
+      16);
+
+  h.live.erase(crater);  // destroyed: deactivated now, and twice more a period apart
+  h.core->Tick(h.live, h.terrain, 6.0);
+  out = h.Take();
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_TRUE(IsDeactivated(ObjectStatePdu(std::get<PointObjectStatePdu>(out[0]))));
+  EXPECT_EQ(std::get<PointObjectStatePdu>(out[0]).update_number, 3);
+  int removals = 1;
+  for (double t = 6.5; t < 30.0; t += 0.5) {
+    h.core->Tick(h.live, h.terrain, t);
+    for (const Pdu& p : h.Take()) {
+      if (const auto* pt = std::get_if<PointObjectStatePdu>(&p)) {
+        EXPECT_TRUE(IsDeactivated(ObjectStatePdu(*pt)));
+        EXPECT_EQ(pt->update_number, 3);  // resent, not a new transition
+        ++removals;
+      }
+    }
+  }
+  EXPECT_EQ(removals, 3);
+  EXPECT_EQ(h.core->features_out(), 1u);
+}
+
+PointObjectStatePdu OutsideCrater(const GeodeticFrame& frame, bool deactivated) {
+  auto pdu = std::get<PointObjectStatePdu>(
+      FeatureToDis({40, 2, 9}, FeatureParams::Crater(200.0, 220.0, 5.0), 4.0, 1, frame, {9, 0})
+          .value());
+  if (deactivated) pdu.general_appearance |= general_appearance::kDeactivated;
+  return pdu;
+}
+
+TEST(GatewayCoreTest, OutsideCratersAreImportedOnlyWhenAllowed) {
+  Harness off;
+  off.core->OnDatagram(Encode(OutsideCrater(off.core->frame(), false)), 1.0);
+  EXPECT_EQ(off.core->counters().objects_ignored, 1u);
+
+  Harness on(/*import_craters=*/true, /*with_author=*/true);
+  on.core->OnDatagram(Encode(OutsideCrater(on.core->frame(), false)), 1.0);
+  on.core->OnDatagram(Encode(OutsideCrater(on.core->frame(), false)), 2.0);  // heartbeat
+  ASSERT_EQ(on.created.size(), 1u);
+  EXPECT_EQ(on.created[0].type, FeatureType::kCrater);
+  EXPECT_NEAR(on.created[0].x_m, 200.0, 1e-6);
+  EXPECT_NEAR(on.created[0].z_m, 220.0, 1e-6);
+  EXPECT_NEAR(on.created[0].length_m[0], 5.0, 1e-9);
+  // The imported crater is the gateway's feature: not sent back to DIS.
+  on.live[FeatureId{kGateway.site, kGateway.host, 1}] = on.created[0];
+  on.core->Tick(on.live, on.terrain, 2.5);
+  EXPECT_TRUE(on.Take().empty());
+  on.core->OnDatagram(Encode(OutsideCrater(on.core->frame(), true)), 3.0);
+  ASSERT_EQ(on.destroyed.size(), 1u);
+  EXPECT_EQ(on.destroyed[0], (FeatureId{kGateway.site, kGateway.host, 1}));
+  EXPECT_EQ(on.core->counters().craters_removed, 1u);
+}
+
+}  // namespace
+}  // namespace dt::dis

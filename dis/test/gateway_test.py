@@ -1,0 +1,311 @@
+#!/usr/bin/env python3
+"""dt_dis with real processes and outside DIS peers, in a private network namespace.
+
+Starts dt_server, two dt_node (node-1 drives a stationary tank) and dt_dis (each by PID, ready by
+its READY line), then:
+  (a) tshark captures on lo, UDP port 3000, and Wireshark's DIS dissector decodes the gateway's
+      Entity State of the tank: entity ID, location and dead-reckoning algorithm equal what
+      node-1 reports (dt_ctl vehicles; the location converted by opendis's own WGS-84 geodesy
+      and the tangent plane at the exercise's origin, not by the gateway's code);
+  (b) PyPI opendis encodes an Entity State and sends it to port 3000: both nodes list it as a
+      remote vehicle owned by the gateway's address (dt_ctl vehicles);
+  (c) bad DIS datagrams (short, foreign exercise, unknown PDU type) are counted in the
+      gateway's status and change nothing.
+With --import (an exercise whose [dis] says import_craters = true) it checks instead that an
+outside Point Object State crater (dis_sample_tool's, sent as a DIS simulation's heartbeat would
+be) becomes a crater feature of the gateway's own address on both nodes, and that its
+deactivated state destroys it there.
+Exits 77 (skipped) when tshark or opendis is not installed. Run inside tests/run_in_netns.sh.
+
+  gateway_test.py <dt_server> <dt_node> <dt_dis> <dt_ctl> <exercise.toml> <run_dir>
+                  [--import <dis_sample_tool>]
+"""
+import math
+import os
+import re
+import shutil
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import time
+from io import BytesIO
+
+
+def skip(why):
+    print(f"SKIP: {why}")
+    sys.exit(77)
+
+
+TSHARK = shutil.which("tshark")
+if TSHARK is None:
+    skip("tshark is not installed (Debian package tshark; scripts/setup.sh installs it)")
+try:
+    from opendis.DataOutputStream import DataOutputStream
+    from opendis.dis7 import EntityStatePdu
+    from opendis.RangeCoordinates import GPS
+except ImportError:
+    skip("the opendis Python module is not installed (scripts/setup.sh installs it)")
+
+programs = dict(zip(["dt_server", "dt_node", "dt_dis", "dt_ctl"], sys.argv[1:5]))
+exercise, run_dir = sys.argv[5], sys.argv[6]
+shutil.rmtree(run_dir, ignore_errors=True)
+os.makedirs(run_dir)
+# From dis-test.toml.
+DIS_EXERCISE, ORIGIN = 3, (36.6, -121.9, 20.0)
+GATEWAY = "1:60"
+procs = {}
+
+
+def stop_all():
+    for p in procs.values():
+        if p.poll() is None:
+            p.send_signal(signal.SIGTERM)
+    for p in procs.values():
+        try:
+            p.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            p.kill()
+
+
+def fail(what):
+    print(f"FAIL: {what}")
+    stop_all()
+    sys.exit(1)
+
+
+def start(name, program):
+    args = [programs[program], "--config", exercise, "--run-dir", run_dir, "--name", name]
+    log = open(os.path.join(run_dir, f"{name}.log"), "ab")
+    p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=log)
+    procs[name] = p
+    deadline = time.time() + 60
+    for line in p.stdout:  # readiness: the process's own READY line
+        log.write(line)
+        log.flush()
+        if line.strip() == f"READY {name}".encode():
+            return p
+        if time.time() > deadline:
+            break
+    fail(f"{name} never printed READY {name}")
+
+
+def ctl(name, *command):
+    r = subprocess.run([programs["dt_ctl"], "--config", exercise, "--run-dir", run_dir,
+                        "--name", name, *command], capture_output=True, text=True, timeout=10)
+    if r.returncode != 0:
+        fail(f"dt_ctl {name} {' '.join(command)}: {r.stderr.strip()}")
+    return r.stdout.strip()
+
+
+def status(name):
+    return dict(line.split(" ", 1) for line in ctl(name, "status").splitlines() if " " in line)
+
+
+def poll(what, check, timeout_s=15.0):
+    deadline = time.time() + timeout_s
+    while time.time() < deadline:
+        got = check()
+        if got:
+            return got
+        time.sleep(0.1)
+    fail(f"timed out waiting for {what}")
+
+
+# The tangent plane at the origin (x east, y up, z north), from opendis's WGS-84 conversion.
+lat, lon = math.radians(ORIGIN[0]), math.radians(ORIGIN[1])
+# opendis 1.0: lla2ecef takes degrees (llarpy2ecef radians).
+ORIGIN_ECEF = GPS().lla2ecef(ORIGIN)
+EAST = (-math.sin(lon), math.cos(lon), 0.0)
+NORTH = (-math.sin(lat) * math.cos(lon), -math.sin(lat) * math.sin(lon), math.cos(lat))
+UP = (math.cos(lat) * math.cos(lon), math.cos(lat) * math.sin(lon), math.sin(lat))
+
+
+def to_ecef(x, y, z):
+    return tuple(ORIGIN_ECEF[i] + EAST[i] * x + NORTH[i] * z + UP[i] * y for i in range(3))
+
+
+def vehicle_line(text, kind, entity):
+    for line in text.splitlines():
+        f = line.split()
+        if len(f) > 2 and f[0] == kind and entity in f:
+            return dict(kv.split("=", 1) for kv in f if "=" in kv) | {"id": entity, "type": f[2]}
+    return None
+
+
+def import_craters(tool):
+    start("server", "dt_server")
+    start("node-1", "dt_node")
+    start("node-2", "dt_node")
+    start("dis", "dt_dis")
+    path = os.path.join(run_dir, "crater.bin")
+    subprocess.run([tool, "crater", path], check=True, capture_output=True)
+    crater = bytearray(open(path, "rb").read())
+    crater[1] = DIS_EXERCISE  # the sample tool's exercise is another
+    gone = bytearray(crater)
+    gone[24:26] = (int.from_bytes(crater[24:26], "big") + 1).to_bytes(2, "big")  # update number
+    gone[72] |= 0x08  # general appearance bit 11: deactivated
+    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+
+    def features_after(datagram, name):
+        # Sent again each poll as the outside simulation's heartbeat would: the gateway can make
+        # features only once it has signed on.
+        sock.sendto(bytes(datagram), ("127.0.0.1", 3000))
+        return [f for f in ctl(name, "features").splitlines() if f.startswith(GATEWAY + ":")]
+
+    made = {n: poll(f"{n} holding the imported crater", lambda: features_after(crater, n))
+            for n in ("node-1", "node-2")}
+    print(f"imported crater: {made}")
+    failures = []
+    if made["node-1"] != made["node-2"] or len(made["node-1"]) != 1:
+        failures.append(f"the nodes hold {made}, want one and the same crater of {GATEWAY}")
+    s = status("dis")
+    if s.get("role") != "node" or s.get("dis_craters_imported") != "1":
+        failures.append(f"gateway role {s.get('role')}, craters imported "
+                        f"{s.get('dis_craters_imported')}; want node, 1")
+    for n in ("node-1", "node-2"):
+        poll(f"{n} dropping the deactivated crater", lambda: not features_after(gone, n))
+    if status("dis").get("dis_craters_removed") != "1":
+        failures.append("the gateway did not count the removal")
+    stop_all()
+    for name, p in procs.items():
+        if p.returncode != 0:
+            failures.append(f"{name} exited {p.returncode}")
+    for f in failures:
+        print("FAIL:", f)
+    if not failures:
+        print("an outside crater became the gateway's feature on both nodes, and went with its "
+              "deactivation")
+    return 1 if failures else 0
+
+
+def main():
+    if len(sys.argv) > 8 and sys.argv[7] == "--import":
+        return import_craters(sys.argv[8])
+    start("server", "dt_server")
+    start("node-1", "dt_node")
+    start("node-2", "dt_node")
+    start("dis", "dt_dis")
+
+    # (a) tshark on lo, until the gateway has sent the tank's Entity State a few times.
+    pcap = os.path.join(run_dir, "gateway.pcap")
+    cap = subprocess.Popen([TSHARK, "-i", "lo", "-f", "udp port 3000", "-a", "duration:20",
+                            "-c", "400", "-w", pcap], stdout=subprocess.DEVNULL,
+                           stderr=subprocess.PIPE, text=True)
+    procs["tshark"] = cap
+    for line in cap.stderr:
+        if "Capturing on" in line:
+            break
+    else:
+        fail("tshark did not start capturing")
+    before = int(status("dis").get("dis_entity_state_sent", "0"))
+    poll("3 more Entity States from the gateway",
+         lambda: int(status("dis")["dis_entity_state_sent"]) >= before + 3)
+    node = vehicle_line(ctl("node-1", "vehicles"), "local", "1:1:1")
+    if node is None:
+        fail("node-1 does not list its tank 1:1:1")
+    cap.send_signal(signal.SIGINT)  # tshark writes the file out and ends
+    cap.wait(timeout=15)
+    del procs["tshark"]
+    fields = ["dis.exer_id", "dis.pdu_type", "dis.entity_id_site", "dis.entity_id_application",
+              "dis.entity_id_entity", "dis.entity_location.x", "dis.entity_location.y",
+              "dis.entity_location.z", "dis.entity_marking_character_set"]
+    cmd = [TSHARK, "-r", pcap, "-d", "udp.port==3000,dis", "-Y", "dis.pdu_type == 1",
+           "-T", "fields", "-E", "separator=;", "-E", "occurrence=a", "-E", "aggregator=,"]
+    for f in fields:
+        cmd += ["-e", f]
+    rows = [dict(zip(fields, line.split(";"))) for line in
+            subprocess.run(cmd, check=True, capture_output=True, text=True).stdout.splitlines()]
+    tank = [r for r in rows if (r["dis.entity_id_site"], r["dis.entity_id_application"],
+                                r["dis.entity_id_entity"]) == ("1", "1", "1")]
+    print(f"tshark decoded {len(rows)} Entity States, {len(tank)} of the tank")
+    if not tank:
+        fail("tshark decoded no Entity State of entity 1:1:1")
+    es = tank[-1]
+    failures = []
+    if es["dis.exer_id"] != str(DIS_EXERCISE):
+        failures.append(f"exercise ID {es['dis.exer_id']}, want {DIS_EXERCISE}")
+    # tshark 4.0 gives the algorithm and the marking's character set under one field name.
+    algorithm = es["dis.entity_marking_character_set"].split(",")[0]
+    if algorithm != "2":
+        failures.append(f"dead-reckoning algorithm {algorithm}, want 2 (FPW, dis-test.toml)")
+    want = to_ecef(float(node["x_m"]), float(node["y_m"]), float(node["z_m"]))
+    got = tuple(float(es[f"dis.entity_location.{a}"]) for a in "xyz")
+    error_m = math.dist(want, got)
+    print(f"node-1 reports {node['x_m']}, {node['y_m']}, {node['z_m']}; tshark {got}; "
+          f"off by {error_m:.4f} m")
+    if error_m > 0.02:  # dt_ctl prints centimetres
+        failures.append(f"location {got} is {error_m:.3f} m from node-1's {want}")
+    verbose = subprocess.run([TSHARK, "-r", pcap, "-d", "udp.port==3000,dis", "-V"],
+                             check=True, capture_output=True, text=True).stdout
+    if "Malformed" in verbose:
+        failures.append("tshark calls a captured gateway datagram malformed")
+
+    # (b) opendis sends an Entity State 30 m east of the tank.
+    x, y, z = float(node["x_m"]) + 30.0, float(node["y_m"]), float(node["z_m"])
+    pdu = EntityStatePdu()
+    # opendis 1.0's defaults (docs/dis.md "Outside peers"): PDU type and family 0, a PDU
+    # status object and bytes appearance that do not serialise, length 0.
+    pdu.pduType, pdu.protocolFamily, pdu.protocolVersion = 1, 1, 7
+    pdu.exerciseID = DIS_EXERCISE
+    pdu.pduStatus, pdu.entityAppearance, pdu.capabilities = 0, 0, 0
+    pdu.entityID.siteID, pdu.entityID.applicationID, pdu.entityID.entityID = 31, 5, 777
+    pdu.forceId = 2
+    pdu.entityType.entityKind, pdu.entityType.domain, pdu.entityType.country = 1, 1, 222
+    pdu.entityLocation.x, pdu.entityLocation.y, pdu.entityLocation.z = to_ecef(x, y, z)
+    pdu.deadReckoningParameters.deadReckoningAlgorithm = 1
+    pdu.marking.characterSet = 1
+    pdu.marking.characters = list(b"OUTSIDE") + [0] * 4
+    pdu.length = 144
+    buf = BytesIO()
+    pdu.serialize(DataOutputStream(buf))
+    data = buf.getvalue()
+    sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+
+    def sent_and_seen(node_name):
+        sock.sendto(data, ("127.0.0.1", 3000))
+        return vehicle_line(ctl(node_name, "vehicles"), "remote", "31:5:777")
+
+    for n in ("node-1", "node-2"):
+        remote = poll(f"{n} listing the outside entity 31:5:777", lambda: sent_and_seen(n))
+        print(f"{n}: remote 31:5:777 {remote}")
+        if remote.get("owner") != GATEWAY:
+            failures.append(f"{n}: outside entity owned by {remote.get('owner')}, want {GATEWAY}")
+        if remote.get("type") != "truck":
+            failures.append(f"{n}: outside entity of type {remote.get('type')}, want truck")
+        off = math.hypot(float(remote["x_m"]) - x, float(remote["z_m"]) - z)
+        if off > 0.05:
+            failures.append(f"{n}: outside entity at {remote['x_m']}, {remote['z_m']}: {off} m off")
+
+    # (c) Bad input: counted, and nothing of it reaches the exercise.
+    before = status("dis")
+    short = data[:10]
+    foreign = data[:1] + bytes([DIS_EXERCISE + 1]) + data[2:]
+    unknown = data[:2] + bytes([2]) + data[3:]  # a Fire PDU's type on an Entity State's bytes
+    for d in (short, foreign, unknown):
+        sock.sendto(d, ("127.0.0.1", 3000))
+
+    def counted():
+        s = status("dis")
+        return all(int(s[k]) > int(before[k]) for k in
+                   ("dis_in_rejected_too_short", "dis_in_rejected_foreign_exercise",
+                    "dis_in_rejected_unsupported_pdu_type")) and s
+
+    after = poll("the gateway counting the bad datagrams", counted)
+    if int(after["dis_in_vehicles_published"]) - int(before["dis_in_vehicles_published"]) != 0:
+        failures.append("a bad datagram was published as a vehicle")
+    stop_all()
+    for name, p in procs.items():
+        if p.returncode != 0:
+            failures.append(f"{name} exited {p.returncode}")
+    for f in failures:
+        print("FAIL:", f)
+    if not failures:
+        print("tshark decoded the gateway's Entity State as node-1 reports it; opendis's Entity "
+              "State is a remote vehicle on both nodes; bad DIS input was counted, not applied")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

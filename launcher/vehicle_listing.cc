@@ -1,0 +1,80 @@
+#include "launcher/vehicle_listing.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include <fmt/format.h>
+
+namespace dt {
+namespace {
+
+bool ParseNumber(std::string_view text, double& out) {
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, out);
+  return ec == std::errc() && ptr == end && std::isfinite(out);
+}
+
+}  // namespace
+
+Result<std::vector<ListedVehicle>> ParseVehicleListing(std::string_view body) {
+  std::vector<ListedVehicle> out;
+  std::istringstream in{std::string(body)};
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty()) continue;
+    std::istringstream words(line);
+    std::vector<std::string> positional;
+    std::map<std::string, std::string, std::less<>> keys;
+    for (std::string w; words >> w;) {
+      const size_t eq = w.find('=');
+      if (eq == std::string::npos) {
+        positional.push_back(w);
+      } else {
+        keys[w.substr(0, eq)] = w.substr(eq + 1);
+      }
+    }
+    ListedVehicle v;
+    // local <index> <entity> <type> ...; remote <entity> <type> ...
+    if (!positional.empty() && positional[0] == "local" && positional.size() == 4) {
+      v.local = true;
+      v.entity = positional[2];
+      v.type = positional[3];
+    } else if (!positional.empty() && positional[0] == "remote" && positional.size() == 3) {
+      v.entity = positional[1];
+      v.type = positional[2];
+    } else {
+      return Error{fmt::format("not a vehicle line: \"{}\"", line)};
+    }
+    const auto owner = keys.find("owner");
+    if (owner == keys.end() || owner->second.empty()) {
+      return Error{fmt::format("no owner= in \"{}\"", line)};
+    }
+    v.owner = owner->second;
+    for (const auto& [key, field] :
+         {std::pair{"x_m", &v.x_m}, std::pair{"y_m", &v.y_m}, std::pair{"z_m", &v.z_m},
+          std::pair{"heading_deg", &v.heading_deg}, std::pair{"pitch_deg", &v.pitch_deg},
+          std::pair{"roll_deg", &v.roll_deg}, std::pair{"speed_mps", &v.speed_mps},
+          std::pair{"model_error_m", &v.model_error_m}}) {
+      const auto it = keys.find(key);
+      if (it == keys.end() || !ParseNumber(it->second, *field)) {
+        return Error{fmt::format("{}= missing or not a finite number in \"{}\"", key, line)};
+      }
+    }
+    if (!v.local) {
+      const auto age = keys.find("age_s");
+      if (age == keys.end() || !ParseNumber(age->second, v.age_s)) {
+        return Error{fmt::format("age_s= missing or not a finite number in \"{}\"", line)};
+      }
+    }
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
+double TiltDeg(const ListedVehicle& v) {
+  return std::max(std::abs(v.pitch_deg), std::abs(v.roll_deg));
+}
+
+}  // namespace dt

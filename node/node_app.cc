@@ -16,7 +16,7 @@ namespace dt {
 NodeApp::NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process)
     : exercise_(exercise), process_(process) {
   if (!process.scenario.empty()) {
-    scenario_.emplace(LoadScenario(process.scenario, static_cast<int>(process.vehicles.size())));
+    scenario_.emplace(LoadScenario(process.scenario, process.start_vehicle_count()));
   }
   const int64_t t0 = MonotonicMs();
   HeightGrid ground = MakeRandomTerrain(exercise.terrain);
@@ -40,6 +40,60 @@ NodeApp::NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process)
                                               process.name, i, added.error().message));
     }
   }
+  for (size_t g = 0; g < process.groups.size(); ++g) SpawnGroup(g, process.groups[g]);
+}
+
+namespace {
+// A vehicle type with a blade (the bulldozer) gets one, raised.
+std::optional<Blade> BladeFor(std::string_view type) {
+  Result<BladeSpec> blade = BladeOf(type);
+  if (!blade) return std::nullopt;
+  return Blade(blade.value());
+}
+}  // namespace
+
+void NodeApp::SpawnGroup(size_t g, const VehicleGroupConfig& group) {
+  constexpr int kPlacementTries = 100;
+  Result<PhysicalVehicleType> type = BuiltInPhysicalType(group.type, *exercise_.friction);
+  if (!type) throw std::invalid_argument(type.error().message);
+  const double size_m = replica_->terrain().ground().size_m();
+  for (int i = 0; i < group.count; ++i) {
+    const uint64_t seed = WanderSeed(group.seed, static_cast<uint64_t>(i));
+    Wanderer wanderer(type.value().base, group.area, size_m, seed);
+    WanderRandom place(seed + 1);
+    std::optional<SimulatedVehicle> made;
+    std::string last_error;
+    for (int attempt = 0; attempt < kPlacementTries && !made; ++attempt) {
+      const WanderStart s = DrawWanderStart(wanderer.clear_area(), place);
+      Result<SimulatedVehicle> v = SimulatedVehicle::Make(type.value(), replica_->terrain(), s.x_m,
+                                                          s.z_m, s.heading_rad, group.model);
+      if (v) {
+        made.emplace(std::move(v).value());
+      } else {
+        last_error = v.error().message;
+      }
+    }
+    if (!made) {
+      throw std::invalid_argument(
+          fmt::format("{}: {} group {}: no place found for vehicle {} in {} tries: {}",
+                      exercise_.source.string(), process_.name, g, i, kPlacementTries, last_error));
+    }
+    vehicles_.push_back(std::move(*made));
+    blades_.push_back(BladeFor(group.type));
+    autonomy_.emplace_back(std::move(wanderer));
+    sharing_->AddLocal(vehicles_.back());
+  }
+  DT_LOG_INFO(
+      "group {}: {} {} {} vehicle(s) wandering x {:.0f}..{:.0f} m, z {:.0f}..{:.0f} m "
+      "(seed {})",
+      g, group.count, VehicleModelName(group.model), group.type, group.area.x_min_m,
+      group.area.x_max_m, group.area.z_min_m, group.area.z_max_m, group.seed);
+}
+
+int NodeApp::autonomous_count() const {
+  int n = 0;
+  for (const auto& a : autonomy_) n += a.has_value() ? 1 : 0;
+  return n;
 }
 
 void NodeApp::Start(int64_t now_ms) {
@@ -53,6 +107,14 @@ void NodeApp::Tick(int64_t now_ms, double dt_s) {
   replica_->Tick(now_ms);
   for (size_t i = 0; i < vehicles_.size(); ++i) {
     SimulatedVehicle& v = vehicles_[i];
+    // A wanderer steers until its vehicle can no longer be driven (destroyed, immobilised).
+    if (autonomy_[i] && v.alive() && v.damage_name() == "none") {
+      const WanderCommand c = autonomy_[i]->Next(v.pose(), dt_s);
+      if (c.speed_mps != v.commanded_speed_mps() ||
+          c.heading_rate_rad_s != v.commanded_rate_rad_s()) {
+        (void)v.Command(c.speed_mps, c.heading_rate_rad_s);
+      }
+    }
     Result<VehicleEvents> r = v.Advance(replica_->terrain(), dt_s);
     if (!r) {
       DT_LOG_WARN("vehicle {} ({}): {}", i, v.type_name(), r.error().message);
@@ -145,7 +207,10 @@ ControlReply NodeApp::Handle(std::string_view line) {
   }
   if (auto r = AnswerCommonCommand(c.value(), process_.name, NodeRole::kNode, *replica_, transport_,
                                    vehicles_)) {
-    if (c.value().verb == ControlVerb::kStatus && r->ok) r->body += "\n" + sharing_->StatusLines();
+    if (c.value().verb == ControlVerb::kStatus && r->ok) {
+      r->body += "\n" + sharing_->StatusLines() +
+                 fmt::format("\nautonomous_vehicles {}", autonomous_count());
+    }
     return *r;
   }
   ControlReply reply = RunFeatureCommand(c.value(), *this);
@@ -179,6 +244,10 @@ Result<AppliedDrive> NodeApp::Drive(int index, double speed_mps, double heading_
   }
   SimulatedVehicle& v = vehicles_[static_cast<size_t>(index)];
   if (Status s = v.Command(speed_mps, heading_rate_rad_s); !s) return s.error();
+  if (autonomy_[static_cast<size_t>(index)]) {
+    autonomy_[static_cast<size_t>(index)].reset();
+    DT_LOG_INFO("vehicle {} ({}) stops wandering: driven by its operator", index, v.type_name());
+  }
   return AppliedDrive{v.type_name(), v.commanded_speed_mps(), v.commanded_rate_rad_s()};
 }
 
@@ -192,11 +261,8 @@ Result<int> NodeApp::Spawn(const SpawnRequest& request) {
       type.value(), replica_->terrain(), request.x_m, request.z_m, request.heading_rad, *model);
   if (!v) return v.error();
   vehicles_.push_back(std::move(v).value());
-  if (Result<BladeSpec> blade = BladeOf(request.type); blade) {
-    blades_.emplace_back(Blade(blade.value()));
-  } else {
-    blades_.emplace_back(std::nullopt);
-  }
+  blades_.push_back(BladeFor(request.type));
+  autonomy_.emplace_back();
   const EntityId id = sharing_->AddLocal(vehicles_.back());
   const int index = vehicle_count() - 1;
   DT_LOG_INFO("vehicle {} ({}): a {} at ({:.1f}, {:.1f}) moved by the {} model", index,
@@ -213,6 +279,7 @@ Status NodeApp::Remove(int index) {
   sharing_->RemoveLocal(i, vehicles_[i], static_cast<double>(now_ms_) / 1000.0);
   vehicles_.erase(vehicles_.begin() + index);
   blades_.erase(blades_.begin() + index);
+  autonomy_.erase(autonomy_.begin() + index);
   return {};
 }
 

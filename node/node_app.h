@@ -16,6 +16,7 @@
 #include "runtime/process_runtime.h"
 #include "vehicle/blade.h"
 #include "vehicle/simulated_vehicle.h"
+#include "vehicle/wander.h"
 
 namespace dt {
 
@@ -43,6 +44,10 @@ class NodeApp final : public NodeActions {
   const Replica& replica() const { return *replica_; }
   const std::vector<SimulatedVehicle>& vehicles() const { return vehicles_; }
   const VehicleSharing& sharing() const { return *sharing_; }
+  // Vehicles still wandering (docs/vehicles.md "Autonomous groups"): a group's, until a drive
+  // command hands one to its operator.
+  int autonomous_count() const;
+  bool autonomous(int index) const { return autonomy_[static_cast<size_t>(index)].has_value(); }
 
   // NodeActions.
   Result<FeatureId> Create(const FeatureParams& params) override;
@@ -62,6 +67,9 @@ class NodeApp final : public NodeActions {
  private:
   // One tick of vehicle i's blade: its post changes issued as earth moves.
   void StepBlade(size_t i);
+  // Places group `g` (its vehicles appended to vehicles_, each wandering); throws
+  // std::invalid_argument naming the group when no place is found for one.
+  void SpawnGroup(size_t g, const VehicleGroupConfig& group);
 
   const ExerciseConfig& exercise_;
   const ProcessConfig& process_;
@@ -70,8 +78,9 @@ class NodeApp final : public NodeActions {
   std::unique_ptr<IdReservationFile> ids_;  // outlives the replica
   std::unique_ptr<Replica> replica_;
   std::vector<SimulatedVehicle> vehicles_;
-  std::unique_ptr<VehicleSharing> sharing_;   // over transport_.bus; its order is vehicles_'
-  std::vector<std::optional<Blade>> blades_;  // one per vehicle, in vehicles_' order
+  std::vector<std::optional<Wanderer>> autonomy_;  // one per vehicle: set while it wanders
+  std::unique_ptr<VehicleSharing> sharing_;        // over transport_.bus; its order is vehicles_'
+  std::vector<std::optional<Blade>> blades_;       // one per vehicle, in vehicles_' order
   int64_t blade_post_changes_ = 0;
   int64_t now_ms_ = 0;
   CatchUpProgress progress_;

@@ -40,11 +40,14 @@ VehicleSharing::VehicleSharing(PduBus& bus, NodeAddress local, DeadReckoningThre
 }
 
 EntityId VehicleSharing::AddLocal(const SimulatedVehicle& vehicle) {
+  const std::optional<EntityType> type = EntityTypeOfVehicle(vehicle.type_name());
   Owned o{.id = {local_.site, local_.host, static_cast<uint16_t>(next_entity_)},
           .motion = {},
           .owner = DeadReckoningOwner(thresholds_),
           .last_truth = {},
-          .shared = EntityTypeOfVehicle(vehicle.type_name()).has_value()};
+          .shared = type.has_value(),
+          .type = type.value_or(EntityType{}),
+          .marking = fmt::format("{}-{}", vehicle.type_name(), next_entity_)};
   // Entity numbers are never reused in a run, so a removed vehicle's late PDUs name no other.
   next_entity_ = next_entity_ >= 65535 ? 1 : next_entity_ + 1;
   if (!o.shared) {
@@ -55,12 +58,12 @@ EntityId VehicleSharing::AddLocal(const SimulatedVehicle& vehicle) {
   return owned_.back().id;
 }
 
-VehicleStateFields VehicleSharing::Truth(const Owned& o, const SimulatedVehicle& v) const {
-  const VehiclePose p = v.pose();
+VehicleStateFields VehicleSharing::Truth(const Owned& o, const SimulatedVehicle& v,
+                                         const VehiclePose& p) const {
   VehicleStateFields s;
   s.id = o.id;
   s.force_id = 1;
-  s.type = *EntityTypeOfVehicle(v.type_name());
+  s.type = o.type;
   s.location_m = {p.x_m, p.elevation_m, p.z_m};
   s.heading_rad = std::remainder(p.heading_rad, 2 * std::numbers::pi);
   s.pitch_rad = p.pitch_rad;
@@ -76,7 +79,7 @@ VehicleStateFields VehicleSharing::Truth(const Owned& o, const SimulatedVehicle&
   } else if (s.velocity_mps[1] < -kFallingSpeedMps) {
     s.appearance |= appearance::kFalling;
   }
-  s.marking = fmt::format("{}-{}", v.type_name(), o.id.entity);
+  s.marking = o.marking;
   return s;
 }
 
@@ -93,7 +96,7 @@ void VehicleSharing::Send(Owned& o, const VehicleStateFields& state, double now_
 void VehicleSharing::RemoveLocal(size_t index, const SimulatedVehicle& vehicle, double now_s) {
   Owned& o = owned_[index];
   if (o.shared) {
-    VehicleStateFields gone = Truth(o, vehicle);
+    VehicleStateFields gone = Truth(o, vehicle, vehicle.pose());
     gone.appearance |= appearance::kDeactivated;
     gone.velocity_mps = gone.acceleration_mps2 = gone.angular_velocity_body_rad_s = {0, 0, 0};
     Send(o, gone, now_s);
@@ -110,7 +113,7 @@ void VehicleSharing::Tick(const std::vector<SimulatedVehicle>& local, const Terr
     if (!o.shared) continue;
     // The physical model's own velocities, not differences of its poses (docs/vehicles.md).
     ObserveVehicle(o.motion, local[i], now_s);
-    o.last_truth = Truth(o, local[i]);
+    o.last_truth = Truth(o, local[i], local[i].pose());
     if (o.owner.Due(o.last_truth, now_s)) Send(o, o.last_truth, now_s);
   }
   remote_.Tick(terrain, now_s);

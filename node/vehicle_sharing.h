@@ -52,9 +52,11 @@ class VehicleSharing {
     MotionEstimator motion;
     DeadReckoningOwner owner;
     VehicleStateFields last_truth;
-    bool shared = true;  // false for a type with no entity type (never sent)
+    bool shared = true;   // false for a type with no entity type (never sent)
+    EntityType type;      // its type's, when shared
+    std::string marking;  // "<type>-<entity number>"
   };
-  VehicleStateFields Truth(const Owned& o, const SimulatedVehicle& v) const;
+  VehicleStateFields Truth(const Owned& o, const SimulatedVehicle& v, const VehiclePose& p) const;
   void Send(Owned& o, const VehicleStateFields& state, double now_s);
 
   PduBus& bus_;

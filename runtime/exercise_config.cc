@@ -23,7 +23,9 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 
 // The keys of the process tables (docs/node.md "Exercise files").
 const std::vector<std::string> kServerKeys = {"name", "site", "host"};
-const std::vector<std::string> kNodeKeys = {"name", "site", "host", "scenario", "vehicle"};
+const std::vector<std::string> kNodeKeys = {"name", "site", "host", "scenario", "vehicle", "group"};
+const std::vector<std::string> kGroupKeys = {"type", "count", "area", "seed", "model"};
+const std::vector<std::string> kAreaKeys = {"x_min_m", "x_max_m", "z_min_m", "z_max_m"};
 
 VehicleConfig ReadVehicle(const TomlReader& r) {
   VehicleConfig v;
@@ -38,6 +40,37 @@ VehicleConfig ReadVehicle(const TomlReader& r) {
   v.model = *m;
   r.Finish();
   return v;
+}
+
+VehicleGroupConfig ReadGroup(const TomlReader& r, double terrain_size_m) {
+  VehicleGroupConfig g;
+  g.type = r.String("type", "truck");
+  if (!BuiltInVehicleType(g.type)) r.Fail("type", "unknown vehicle type (tank, truck, jeep)");
+  g.count = static_cast<int>(r.Int("count", 1, kMaxGroupVehicles));
+  g.seed = static_cast<uint64_t>(r.Int("seed", 1, 0, INT64_MAX));
+  const std::string model = r.String("model", "light");
+  const std::optional<VehicleModel> m = ParseVehicleModel(model);
+  if (!m) r.Fail("model", "expected \"physical\" or \"light\"");
+  g.model = *m;
+  g.area = {0.0, terrain_size_m, 0.0, terrain_size_m};
+  if (auto a = r.OptionalTable("area", kAreaKeys)) {
+    g.area.x_min_m = a->Double("x_min_m", 0.0, 0.0, terrain_size_m);
+    g.area.x_max_m = a->Double("x_max_m", terrain_size_m, 0.0, terrain_size_m);
+    g.area.z_min_m = a->Double("z_min_m", 0.0, 0.0, terrain_size_m);
+    g.area.z_max_m = a->Double("z_max_m", terrain_size_m, 0.0, terrain_size_m);
+    const double length_m = BuiltInVehicleType(g.type).value().length_m;
+    if (g.area.x_max_m - g.area.x_min_m < 2 * length_m) {
+      a->Fail("x_max_m", fmt::format("the area must be at least {} m wide (x_min_m = {})",
+                                     2 * length_m, g.area.x_min_m));
+    }
+    if (g.area.z_max_m - g.area.z_min_m < 2 * length_m) {
+      a->Fail("z_max_m", fmt::format("the area must be at least {} m deep (z_min_m = {})",
+                                     2 * length_m, g.area.z_min_m));
+    }
+    a->Finish();
+  }
+  r.Finish();
+  return g;
 }
 
 ProcessConfig ReadProcess(const TomlReader& r, const std::filesystem::path& base_dir, bool is_node,
@@ -60,6 +93,13 @@ ProcessConfig ReadProcess(const TomlReader& r, const std::filesystem::path& base
                                   terrain_size_m));
       }
       p.vehicles.push_back(vc);
+    }
+    for (const TomlReader& g : r.TableArray("group", kGroupKeys)) {
+      p.groups.push_back(ReadGroup(g, terrain_size_m));
+    }
+    if (p.start_vehicle_count() > kMaxNodeVehicles) {
+      r.FailTable(fmt::format("[[node.vehicle]] and [[node.group]] hold {} vehicles, more than {}",
+                              p.start_vehicle_count(), kMaxNodeVehicles));
     }
   }
   r.Finish();
@@ -145,6 +185,12 @@ void ApplyOverrides(ExerciseConfig& exercise, const std::string& transport_url,
     exercise.transport_url = transport_url;
   }
   if (!run_dir.empty()) exercise.run_dir = std::filesystem::absolute(run_dir);
+}
+
+int ProcessConfig::start_vehicle_count() const {
+  int n = static_cast<int>(vehicles.size());
+  for (const VehicleGroupConfig& g : groups) n += g.count;
+  return n;
 }
 
 std::vector<const ProcessConfig*> ExerciseConfig::Processes() const {

@@ -17,6 +17,7 @@
 #include "terrain/random_terrain.h"
 #include "vehicle/dead_reckoning_policy.h"
 #include "vehicle/simulated_vehicle.h"
+#include "vehicle/wander.h"
 
 namespace dt {
 
@@ -29,12 +30,27 @@ struct VehicleConfig {
   VehicleModel model = VehicleModel::kPhysical;  // docs/vehicles.md "Choosing the model"
 };
 
+// A group of autonomous vehicles a node owns from the start (docs/vehicles.md "Autonomous
+// groups"): `count` vehicles of one type placed in `area` from `seed`, each wandering it.
+struct VehicleGroupConfig {
+  std::string type = "truck";
+  int count = 1;    // 1 .. kMaxGroupVehicles
+  WanderArea area;  // inside the terrain; the whole terrain when the file gives none
+  uint64_t seed = 1;
+  VehicleModel model = VehicleModel::kLight;  // light by default: groups are meant to be large
+};
+inline constexpr int kMaxGroupVehicles = 10000;  // per group
+inline constexpr int kMaxNodeVehicles = 60000;   // vehicles and groups of one node together
+
 // One process of the exercise: the server, the standby or a node.
 struct ProcessConfig {
   std::string name;  // "server", "node-1": names logs, the control socket and output prefixes
   NodeAddress address;
   std::filesystem::path scenario;  // nodes only; empty: none (absolute, resolved by the loader)
   std::vector<VehicleConfig> vehicles;
+  std::vector<VehicleGroupConfig> groups;  // their vehicles follow `vehicles` in the node's list
+  // vehicles.size() plus every group's count: the node's vehicles at the start.
+  int start_vehicle_count() const;
 };
 
 // The live view (docs/view.md): an observer replica that serves a web page.

@@ -19,11 +19,14 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& w) {
 
 Eigen::Vector3d ToVector(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
-// Scales v down to at most `limit` in length.
+// Scales v down to at most `limit` in length. A hair under it: scaled to exactly `limit`, the
+// length recomputed from the rounded components came out 200.00000000000003 for an acceleration
+// limit of 200, and validation refused to send the state.
 void Clamp(std::array<double, 3>& v, double limit) {
   const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   if (n > limit) {
-    for (double& x : v) x *= limit / n;
+    const double scale = limit / n * (1.0 - 1e-12);
+    for (double& x : v) x *= scale;
   }
 }
 
@@ -65,6 +68,15 @@ Eigen::Matrix3d RotateByBodyRate(const Eigen::Matrix3d& r0, const Eigen::Vector3
 }
 
 DrPose Extrapolate(const VehicleStateFields& s, double dt_s) {
+  const bool rotates =
+      s.algorithm == DeadReckoningAlgorithm::kRpw || s.algorithm == DeadReckoningAlgorithm::kRvw;
+  return Extrapolate(s,
+                     rotates ? OrientationMatrix(s.heading_rad, s.pitch_rad, s.roll_rad)
+                             : Eigen::Matrix3d::Identity(),
+                     dt_s);
+}
+
+DrPose Extrapolate(const VehicleStateFields& s, const Eigen::Matrix3d& orientation0, double dt_s) {
   DrPose p;
   p.location_m = s.location_m;
   p.heading_rad = s.heading_rad;
@@ -82,8 +94,7 @@ DrPose Extrapolate(const VehicleStateFields& s, double dt_s) {
   }
   if (rotates) {
     const Eigen::Matrix3d r =
-        RotateByBodyRate(OrientationMatrix(s.heading_rad, s.pitch_rad, s.roll_rad),
-                         ToVector(s.angular_velocity_body_rad_s), dt_s);
+        RotateByBodyRate(orientation0, ToVector(s.angular_velocity_body_rad_s), dt_s);
     EulerFromMatrix(r, p.heading_rad, p.pitch_rad, p.roll_rad);
   }
   return p;
@@ -112,6 +123,8 @@ Eigen::Vector3d BodyRateBetween(const Eigen::Matrix3d& r_prev, const Eigen::Matr
 
 void MotionEstimator::Update(const DrPose& pose, double t_s) {
   const double dt = t_s - t_s_;
+  const Eigen::Matrix3d orientation =
+      OrientationMatrix(pose.heading_rad, pose.pitch_rad, pose.roll_rad);
   if (samples_ > 0 && dt > 0.0) {
     // The difference is the velocity half a tick ago; the acceleration brings it to now.
     std::array<double, 3> v{};
@@ -124,8 +137,10 @@ void MotionEstimator::Update(const DrPose& pose, double t_s) {
     for (size_t i = 0; i < 3; ++i) velocity_[i] = v[i] + 0.5 * dt * acceleration_[i];
     dt_prev_ = dt;
     const Eigen::Vector3d w =
-        BodyRateBetween(OrientationMatrix(pose_.heading_rad, pose_.pitch_rad, pose_.roll_rad),
-                        OrientationMatrix(pose.heading_rad, pose.pitch_rad, pose.roll_rad), dt);
+        BodyRateBetween(pose_orientation_valid_
+                            ? pose_orientation_
+                            : OrientationMatrix(pose_.heading_rad, pose_.pitch_rad, pose_.roll_rad),
+                        orientation, dt);
     omega_ = {w.x(), w.y(), w.z()};
     Clamp(velocity_, kMaxVehicleSpeedMps);
     Clamp(acceleration_, kMaxVehicleAccelerationMps2);
@@ -133,6 +148,8 @@ void MotionEstimator::Update(const DrPose& pose, double t_s) {
   }
   if (samples_ == 0 || dt > 0.0) {
     pose_ = pose;
+    pose_orientation_ = orientation;
+    pose_orientation_valid_ = true;
     t_s_ = t_s;
     samples_ = std::min(samples_ + 1, 2);
   }
@@ -157,6 +174,7 @@ void MotionEstimator::UpdateWithRates(const DrPose& pose, double t_s,
     Clamp(acceleration_, kMaxVehicleAccelerationMps2);
     Clamp(omega_, kMaxVehicleAngularRateRadS);
     pose_ = pose;
+    pose_orientation_valid_ = false;
     t_s_ = t_s;
     samples_ = std::min(samples_ + 1, 2);
   }

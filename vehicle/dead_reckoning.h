@@ -35,6 +35,10 @@ Eigen::Matrix3d RotateByBodyRate(const Eigen::Matrix3d& r0, const Eigen::Vector3
 //   FPW, RPW: P = P0 + V dt               (RPW rotates, FPW does not)
 //   RVW, FVW: P = P0 + V dt + A dt^2 / 2  (RVW rotates, FVW does not)
 DrPose Extrapolate(const VehicleStateFields& state, double dt_s);
+// The same, bit for bit, with the state's orientation matrix given (OrientationMatrix of its
+// heading, pitch and roll): for a state extrapolated every tick, whose matrix is made once.
+DrPose Extrapolate(const VehicleStateFields& state, const Eigen::Matrix3d& orientation0,
+                   double dt_s);
 
 // Distance between two locations (metres) and the angle of the rotation from one orientation to
 // the other (radians, 0 .. pi): the errors the thresholds are compared with.
@@ -69,6 +73,10 @@ class MotionEstimator {
   double t_s_ = 0.0;
   double dt_prev_ = 0.0;
   DrPose pose_;
+  // OrientationMatrix of pose_ when Update made it (not after UpdateWithRates), so the next
+  // Update makes one matrix, not two.
+  Eigen::Matrix3d pose_orientation_;
+  bool pose_orientation_valid_ = false;
   std::array<double, 3> mid_velocity_{}, velocity_{}, acceleration_{}, omega_{};
 };
 

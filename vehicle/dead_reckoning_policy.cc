@@ -29,7 +29,7 @@ DrPose PoseOf(const VehicleStateFields& s) {
 
 std::optional<DrPose> DeadReckoningOwner::Believed(double now_s) const {
   if (!last_) return std::nullopt;
-  return Extrapolate(*last_, now_s - last_s_);
+  return Extrapolate(*last_, last_orientation_, now_s - last_s_);
 }
 
 bool DeadReckoningOwner::Due(const VehicleStateFields& truth, double now_s) const {
@@ -46,6 +46,7 @@ bool DeadReckoningOwner::Due(const VehicleStateFields& truth, double now_s) cons
 
 void DeadReckoningOwner::Sent(const VehicleStateFields& sent, double now_s) {
   last_ = sent;
+  last_orientation_ = OrientationMatrix(sent.heading_rad, sent.pitch_rad, sent.roll_rad);
   last_s_ = now_s;
   ++sent_count_;
 }

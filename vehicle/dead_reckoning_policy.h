@@ -42,6 +42,7 @@ class DeadReckoningOwner {
  private:
   DeadReckoningThresholds thresholds_;
   std::optional<VehicleStateFields> last_;
+  Eigen::Matrix3d last_orientation_;  // OrientationMatrix of last_, made once per state sent
   double last_s_ = 0.0;
   uint64_t sent_count_ = 0;
 };

@@ -71,11 +71,13 @@ RemoteApply RemoteVehicles::Apply(NodeAddress sender, const VehicleStateFields& 
     DT_LOG_INFO("remote vehicle {} ({}, \"{}\") of {} appeared", state.id.ToString(),
                 type.value().name, state.marking, sender.ToString());
   } else {
-    const DrPose predicted = Extrapolate(it->second.state, now_s - it->second.received_s);
+    const DrPose predicted =
+        Extrapolate(it->second.state, it->second.orientation0, now_s - it->second.received_s);
     it->second.correction_m = PositionErrorM(predicted, PoseOf(state));
   }
   RemoteVehicle& v = it->second;
   v.state = state;
+  v.orientation0 = OrientationMatrix(state.heading_rad, state.pitch_rad, state.roll_rad);
   v.received_s = now_s;
   v.type = std::move(type).value();
   v.pose = PoseOf(state);
@@ -96,7 +98,7 @@ std::vector<EntityId> RemoteVehicles::Tick(const Terrain& terrain, double now_s)
       it = vehicles_.erase(it);
       continue;
     }
-    v.pose = Extrapolate(v.state, silent_s);
+    v.pose = Extrapolate(v.state, v.orientation0, silent_s);
     // Off the ground (on a bridge deck, falling) the owner's elevation and tilt are kept.
     const bool grounded =
         (v.state.appearance & (appearance::kOnBridge | appearance::kFalling)) == 0;

@@ -19,13 +19,14 @@ namespace dt {
 
 struct RemoteVehicle {
   EntityId id;
-  NodeAddress owner;          // the sender of its states
-  VehicleStateFields state;   // the last state received
-  double received_s = 0.0;    // when, on this node's clock
-  VehicleType type;           // the built-in type its entity type names
-  DrPose pose;                // dead reckoned to the last Tick and settled on the local terrain
-  bool settled = false;       // y, pitch and roll of `pose` come from the local terrain
-  double correction_m = 0.0;  // how far the dead-reckoned copy was off when the last state came
+  NodeAddress owner;             // the sender of its states
+  VehicleStateFields state;      // the last state received
+  Eigen::Matrix3d orientation0;  // OrientationMatrix of `state`, made once for every Tick
+  double received_s = 0.0;       // when, on this node's clock
+  VehicleType type;              // the built-in type its entity type names
+  DrPose pose;                   // dead reckoned to the last Tick and settled on the local terrain
+  bool settled = false;          // y, pitch and roll of `pose` come from the local terrain
+  double correction_m = 0.0;     // how far the dead-reckoned copy was off when the last state came
   uint64_t updates = 0;
 };
 

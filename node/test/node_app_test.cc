@@ -6,11 +6,14 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -265,6 +268,64 @@ TEST_F(NodeAppTest, ABulldozerCutsCarriesAndSetsDownThroughEarthMoves) {
     for (int i = 0; i < 65; ++i) sum += terrain.BladeDeltaMm(i, j);
   }
   EXPECT_EQ(sum, 0);
+}
+
+// A tank and a group of 12 light trucks: the trucks wander (the same way in two runs), are
+// listed, counted and shared like the tank; a drive command hands one to its operator.
+TEST_F(NodeAppTest, AGroupWandersDeterministicallyIsSharedAndCountedAndADriveTakesOneOver) {
+  const ExerciseConfig exercise = Exercise(
+      "[[node.vehicle]]\ntype = \"tank\"\nx_m = 50\nz_m = 100\n"
+      "[[node.group]]\ntype = \"truck\"\ncount = 12\nseed = 3\n"
+      "area = { x_min_m = 40, x_max_m = 300, z_min_m = 20, z_max_m = 280 }\n",
+      false);
+  std::vector<VehiclePose> first_run;
+  for (int run = 0; run < 2; ++run) {
+    NodeApp node(exercise, exercise.nodes[0]);
+    ASSERT_EQ(node.vehicles().size(), 13u);
+    EXPECT_EQ(node.autonomous_count(), 12);
+    EXPECT_FALSE(node.autonomous(0));
+    EXPECT_EQ(node.vehicles()[1].model(), VehicleModel::kLight);
+    std::vector<VehiclePose> start;
+    for (const SimulatedVehicle& v : node.vehicles()) start.push_back(v.pose());
+    node.Start(0);
+    for (int64_t ms = 33; ms <= 20000; ms += 33) node.Tick(ms, 0.033);
+    const double size_m = exercise.terrain_size_m();
+    for (size_t i = 0; i < node.vehicles().size(); ++i) {
+      const VehiclePose p = node.vehicles()[i].pose();
+      const double moved_m = std::hypot(p.x_m - start[i].x_m, p.z_m - start[i].z_m);
+      if (i == 0) {
+        EXPECT_EQ(moved_m, 0.0);  // the tank is nobody's to drive
+      } else {
+        EXPECT_GT(moved_m, 10.0) << "truck " << i;
+        EXPECT_GT(std::min({p.x_m, p.z_m, size_m - p.x_m, size_m - p.z_m}), 5.0) << "truck " << i;
+      }
+      if (run == 0) {
+        first_run.push_back(p);
+      } else {
+        EXPECT_EQ(p.x_m, first_run[i].x_m) << i;
+        EXPECT_EQ(p.z_m, first_run[i].z_m) << i;
+        EXPECT_EQ(p.heading_rad, first_run[i].heading_rad) << i;
+      }
+    }
+    if (run == 1) {
+      ControlReply r = node.Handle("vehicles");
+      ASSERT_TRUE(r.ok) << r.error;
+      EXPECT_NE(r.body.find("local 12 1:1:13 truck owner=1:1"), std::string::npos) << r.body;
+      r = node.Handle("status");
+      EXPECT_NE(r.body.find("local_vehicles 13\n"), std::string::npos) << r.body;
+      EXPECT_NE(r.body.find("autonomous_vehicles 12"), std::string::npos) << r.body;
+      // Every vehicle's first state went out, and the wandering ones' turns since.
+      EXPECT_GT(node.sharing().sent(), 13u);
+      // Driving truck 5 makes it the operator's: it stops wandering and holds the command.
+      ASSERT_TRUE(node.Handle("drive 5 0 0").ok);
+      EXPECT_FALSE(node.autonomous(5));
+      for (int64_t ms = 20033; ms <= 21000; ms += 33) node.Tick(ms, 0.033);
+      EXPECT_EQ(node.vehicles()[5].commanded_speed_mps(), 0.0);
+      EXPECT_EQ(node.vehicles()[5].pose().speed_mps, 0.0);
+      r = node.Handle("status");
+      EXPECT_NE(r.body.find("autonomous_vehicles 11"), std::string::npos) << r.body;
+    }
+  }
 }
 
 TEST_F(NodeAppTest, RefusesADriveThatIsNotFiniteAndClampsOneOutOfRange) {

@@ -167,6 +167,89 @@ TEST(ExerciseConfigTest, VehiclesTableSetsTheDeadReckoningThresholds) {
   EXPECT_NE(e.find("static, fpw"), std::string::npos) << e;
 }
 
+// Groups of node-2 (the terrain is 320 m a side).
+std::string WithGroup(const std::string& group) {
+  return std::string(kGood) + "[[node.group]]\n" + group;
+}
+
+TEST(ExerciseConfigTest, AGroupReadsItsFieldsAndDefaultsToLightVehiclesOverTheWholeTerrain) {
+  const ExerciseConfig c = ParseExerciseConfig(
+      WithGroup("type = \"tank\"\ncount = 30\nseed = 5\nmodel = \"physical\"\n"
+                "area = { x_min_m = 10, x_max_m = 200, z_min_m = 20.5, z_max_m = 300 }\n"
+                "[[node.group]]\ncount = 7\n"),
+      "ex.toml", "/base");
+  ASSERT_EQ(c.nodes[1].groups.size(), 2u);
+  const VehicleGroupConfig& g = c.nodes[1].groups[0];
+  EXPECT_EQ(g.type, "tank");
+  EXPECT_EQ(g.count, 30);
+  EXPECT_EQ(g.seed, 5u);
+  EXPECT_EQ(g.model, VehicleModel::kPhysical);
+  EXPECT_EQ(g.area.x_min_m, 10.0);
+  EXPECT_EQ(g.area.x_max_m, 200.0);
+  EXPECT_EQ(g.area.z_min_m, 20.5);
+  EXPECT_EQ(g.area.z_max_m, 300.0);
+  const VehicleGroupConfig& d = c.nodes[1].groups[1];
+  EXPECT_EQ(d.type, "truck");
+  EXPECT_EQ(d.model, VehicleModel::kLight);
+  EXPECT_EQ(d.seed, 1u);
+  EXPECT_EQ(d.area.x_min_m, 0.0);
+  EXPECT_EQ(d.area.x_max_m, 320.0);
+  EXPECT_EQ(d.area.z_max_m, 320.0);
+  EXPECT_EQ(c.nodes[1].start_vehicle_count(), 37);
+  EXPECT_EQ(c.nodes[0].start_vehicle_count(), 1);
+  EXPECT_TRUE(c.nodes[0].groups.empty());
+}
+
+TEST(ExerciseConfigTest, AGroupsErrorsNameTheField) {
+  struct Case {
+    const char* group;
+    const char* names;  // in the message
+  };
+  const Case cases[] = {
+      {"count = 0\n", "node[1].group[0].count"},
+      {"count = 10001\n", "node[1].group[0].count"},
+      {"count = 2.5\n", "node[1].group[0].count"},
+      {"type = \"tank\"\n", "node[1].group[0].count: missing"},
+      {"count = 3\n"
+       "type = \"horse\"\n",
+       "node[1].group[0].type"},
+      {"count = 3\n"
+       "model = \"heavy\"\n",
+       "node[1].group[0].model"},
+      {"count = 3\n"
+       "seed = -1\n",
+       "node[1].group[0].seed"},
+      {"count = 3\ncuont = 3\n", "node[1].group[0].cuont: unknown key (did you mean \"count\"?)"},
+      {"count = 3\n"
+       "area = { x_min_m = 0, x_max_m = 321 }\n",
+       "node[1].group[0].area.x_max_m"},
+      {"count = 3\n"
+       "area = { z_min_m = -5 }\n",
+       "node[1].group[0].area.z_min_m"},
+      {"count = 3\n"
+       "area = { x_min_m = 100, x_max_m = 50 }\n",
+       "node[1].group[0].area.x_max_m"},
+      {"count = 3\n"
+       "area = { z_min_m = 100, z_max_m = 110 }\n",
+       "node[1].group[0].area.z_max_m"},
+      {"count = 3\n"
+       "area = { x_min = 1 }\n",
+       "node[1].group[0].area.x_min: unknown key"},
+      {"count = 10000\n[[node.group]]\ncount = 10000\n[[node.group]]\ncount = 10000\n"
+       "[[node.group]]\ncount = 10000\n[[node.group]]\ncount = 10000\n[[node.group]]\n"
+       "count = 10000\n[[node.group]]\ncount = 1\n",
+       "hold 60001 vehicles, more than 60000"},
+  };
+  for (const Case& k : cases) {
+    const std::string e = ErrorOf(WithGroup(k.group));
+    EXPECT_NE(e.find(k.names), std::string::npos) << k.group << " gave: " << e;
+  }
+  // A group on the server is an unknown key, not ignored.
+  const std::string e =
+      ErrorOf(Replace(kGood, "host = 100\n", "host = 100\n[[server.group]]\ncount = 1\n"));
+  EXPECT_NE(e.find("server.group"), std::string::npos) << e;
+}
+
 TEST(ExerciseConfigTest, ErrorsNameFileKeyAndValue) {
   std::string e = ErrorOf(Replace(kGood, "tick_hz = 20", "tick_hz = 0"));
   EXPECT_NE(e.find("ex.toml"), std::string::npos) << e;
@@ -440,6 +523,8 @@ TEST(ExerciseConfigTest, ShippedDemoParses) {
   const ExerciseConfig c =
       LoadExerciseConfig(std::filesystem::path(DT_SOURCE_DIR) / "configs/exercises/demo.toml");
   EXPECT_EQ(c.nodes.size(), 3u);
+  ASSERT_EQ(c.nodes[1].groups.size(), 1u);
+  EXPECT_EQ(c.nodes[1].start_vehicle_count(), 21);
   EXPECT_FALSE(c.auth.keyless);
   EXPECT_EQ(c.auth.key_file.filename(), "demo.key");
   for (const ProcessConfig& n : c.nodes) {

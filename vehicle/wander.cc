@@ -1,0 +1,119 @@
+#include "vehicle/wander.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace dt {
+namespace {
+
+constexpr double kLegMinS = 3.0, kLegMaxS = 10.0;
+constexpr double kLegSpeedMin = 0.25, kLegSpeedMax = 0.6;  // of the type's top speed
+constexpr double kLegRateMax = 0.5;                        // of the type's turn rate
+constexpr double kTurnBackSpeed = 0.3;                     // of the type's top speed
+constexpr double kReactionS = 1.0;  // leg speed held while slowing down (the physical model brakes)
+constexpr double kFacingInRad = std::numbers::pi / 3;  // a turn back ends this close to the centre
+constexpr double kSteerTimeS = 0.5;  // the turn rate that closes a heading error in this time
+// The commanded speed changes by at most this much a second. The light model takes a command at
+// once: a step from 5 to 15 m/s in one tick is 300 m/s^2 to dead reckoning, sent in a state that,
+// if the next one is lost, a receiver extrapolates for seconds (docs/performance.md).
+constexpr double kSpeedRampMps2 = 2.0;
+
+double WrapPi(double a) { return std::remainder(a, 2 * std::numbers::pi); }
+
+}  // namespace
+
+uint64_t WanderRandom::Next() {
+  uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+double WanderRandom::Uniform(double lo, double hi) {
+  const double u = static_cast<double>(Next() >> 11) * 0x1.0p-53;  // [0, 1)
+  return lo + (hi - lo) * u;
+}
+
+uint64_t WanderSeed(uint64_t group_seed, uint64_t index) {
+  WanderRandom r(group_seed ^ (index * 0xd1b54a32d192ed03ULL));
+  return r.Next();
+}
+
+WanderStart DrawWanderStart(const WanderArea& clear, WanderRandom& random) {
+  WanderStart s;
+  s.x_m = random.Uniform(clear.x_min_m, clear.x_max_m);
+  s.z_m = random.Uniform(clear.z_min_m, clear.z_max_m);
+  s.heading_rad = random.Uniform(-std::numbers::pi, std::numbers::pi);
+  return s;
+}
+
+Wanderer::Wanderer(const VehicleType& type, const WanderArea& area, double terrain_size_m,
+                   uint64_t seed)
+    : max_speed_mps_(type.max_speed_mps), max_rate_rad_s_(type.max_turn_rate_rad_s), random_(seed) {
+  const double turn_radius_m = kTurnBackSpeed * max_speed_mps_ / std::max(max_rate_rad_s_, 1e-6);
+  lookahead_m_ = 2 * turn_radius_m + type.length_m + kLegSpeedMax * max_speed_mps_ * kReactionS;
+  edge_margin_m_ = 2 * turn_radius_m + type.length_m;
+  // The area less the margin at the terrain's edge; a point at its middle if nothing is left.
+  auto clear = [&](double lo, double hi, double& out_lo, double& out_hi) {
+    out_lo = std::max(lo, edge_margin_m_);
+    out_hi = std::min(hi, terrain_size_m - edge_margin_m_);
+    if (out_lo > out_hi) {
+      const double mid = std::clamp((lo + hi) / 2, std::min(edge_margin_m_, terrain_size_m / 2),
+                                    std::max(terrain_size_m - edge_margin_m_, terrain_size_m / 2));
+      out_lo = out_hi = mid;
+    }
+  };
+  clear(area.x_min_m, area.x_max_m, clear_.x_min_m, clear_.x_max_m);
+  clear(area.z_min_m, area.z_max_m, clear_.z_min_m, clear_.z_max_m);
+  NewLeg();
+}
+
+void Wanderer::NewLeg() {
+  leg_left_s_ = random_.Uniform(kLegMinS, kLegMaxS);
+  leg_.speed_mps = max_speed_mps_ * random_.Uniform(kLegSpeedMin, kLegSpeedMax);
+  const double turn = random_.Uniform(-1.0, 1.0);
+  // One leg in two straight; the others turn by up to kLegRateMax of the type's rate.
+  leg_.heading_rate_rad_s = std::abs(turn) < 0.5 ? 0.0 : turn * kLegRateMax * max_rate_rad_s_;
+}
+
+bool Wanderer::Inside(double x_m, double z_m) const {
+  return x_m >= clear_.x_min_m && x_m <= clear_.x_max_m && z_m >= clear_.z_min_m &&
+         z_m <= clear_.z_max_m;
+}
+
+WanderCommand Wanderer::Next(const VehiclePose& pose, double dt_s) {
+  const double ax = std::cos(pose.heading_rad), az = std::sin(pose.heading_rad);
+  const bool ahead_clear = Inside(pose.x_m + ax * lookahead_m_, pose.z_m + az * lookahead_m_);
+  const double to_centre = std::atan2((clear_.z_min_m + clear_.z_max_m) / 2 - pose.z_m,
+                                      (clear_.x_min_m + clear_.x_max_m) / 2 - pose.x_m);
+  const double error_rad = WrapPi(to_centre - pose.heading_rad);
+  if (turning_back_ && ahead_clear && std::abs(error_rad) < kFacingInRad) {
+    turning_back_ = false;
+    NewLeg();
+  } else if (!ahead_clear && !turning_back_) {
+    turning_back_ = true;
+    // The side is kept for the whole turn, so heading straight away from the centre cannot
+    // hesitate between the two.
+    turn_sign_ = error_rad >= 0.0 ? 1.0 : -1.0;
+  }
+  WanderCommand wanted = leg_;
+  if (turning_back_) {
+    // Steered onto the centre once facing it (either side of it, so an overshoot is no turn
+    // round), at the full rate on the side chosen until then.
+    const double rate =
+        std::abs(error_rad) < kFacingInRad ? error_rad / kSteerTimeS : turn_sign_ * max_rate_rad_s_;
+    wanted = {kTurnBackSpeed * max_speed_mps_, std::clamp(rate, -max_rate_rad_s_, max_rate_rad_s_)};
+  } else {
+    leg_left_s_ -= dt_s;
+    if (leg_left_s_ <= 0.0) NewLeg();
+    wanted = leg_;
+  }
+  // Slowing for a turn back may take longer than the ramp allows: it is not ramped down.
+  const double step = kSpeedRampMps2 * dt_s;
+  speed_mps_ = turning_back_ ? std::min(wanted.speed_mps, speed_mps_ + step)
+                             : std::clamp(wanted.speed_mps, speed_mps_ - step, speed_mps_ + step);
+  return {speed_mps_, wanted.heading_rate_rad_s};
+}
+
+}  // namespace dt

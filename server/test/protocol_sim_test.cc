@@ -865,7 +865,9 @@ TEST(ProtocolSimTest, TheGuaranteeHoldsForEverySeed) {
   std::printf("%lld earth moves issued by blade operations\n",
               static_cast<long long>(earth_moves_issued));
   // Blade work is in the schedules: a run of a few seeds issues some.
-  if (count >= 10) EXPECT_GT(earth_moves_issued, 0);
+  if (count >= 10) {
+    EXPECT_GT(earth_moves_issued, 0);
+  }
 }
 
 }  // namespace

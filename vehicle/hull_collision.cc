@@ -6,7 +6,8 @@
 namespace dt {
 
 HullPenetration DeepestPenetration(std::span<const Eigen::Vector3d> points,
-                                   std::span<const Solid> solids, double max_vertical_m) {
+                                   std::span<const Solid> solids, double max_vertical_m,
+                                   bool prefer_top) {
   HullPenetration best;
   for (const Solid& s : solids) {
     const Eigen::Vector3d along(s.ux, 0.0, s.uz);
@@ -43,6 +44,7 @@ HullPenetration DeepestPenetration(std::span<const Eigen::Vector3d> points,
       for (const Exit& e : exits) {
         if (e.depth < pick->depth) pick = &e;
       }
+      if (prefer_top && std::isfinite(exits[4].depth)) pick = &exits[4];
       if (pick->depth > best.depth_m) {
         best.hit = true;
         best.depth_m = pick->depth;

@@ -26,7 +26,11 @@ struct HullPenetration {
 // the bottom when that is at most `max_vertical_m` (a belly or a roof grazing a slab); or level
 // along the bridge, out from under a sloping bottom or off a sloping top (a roof meeting a ramp's
 // underside goes back the way the underside rises, not out of the ramp's side).
+// With `prefer_top`, a point within max_vertical_m under a top goes up even when a side is
+// nearer: a hull whose bottom is roughly level and has come down onto a deck's edge rests on it
+// (out through the near side pushed a jeep with its centre over the deck off it).
 HullPenetration DeepestPenetration(std::span<const Eigen::Vector3d> points,
-                                   std::span<const Solid> solids, double max_vertical_m);
+                                   std::span<const Solid> solids, double max_vertical_m,
+                                   bool prefer_top = false);
 
 }  // namespace dt

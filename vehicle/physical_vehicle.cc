@@ -23,6 +23,12 @@ using Eigen::Vector3d;
 constexpr double kDampingRatio = 0.6;
 // Belly contacts bottom out almost at once: the hull is rigid.
 constexpr double kBellyTravelM = 0.03;
+// A wedge's level exit is at most the way a step drives in at top speed (25 m/s x 10 ms) with
+// margin; a deeper one is a roof pushed up into a flat ceiling, left to the impulse below.
+constexpr double kWedgeLevelExitMaxM = 0.3;
+// A hull tilted less than this (cos 30 degrees) meets a deck's edge with its bottom, which rests
+// on the edge; tilted further, its side meets it and slides off.
+constexpr double kLevelBottomMinCos = 0.866;
 // The tag leaves after this many steps without the deck (0.1 s); a fall stays latched for 1 s.
 constexpr int kLeaveDeckSteps = static_cast<int>(100'000'000 / kPhysicsStepNs);
 constexpr int kFallLatchSteps = static_cast<int>(1'000'000'000 / kPhysicsStepNs);
@@ -710,14 +716,17 @@ void PhysicalVehicle::ResolveHull(std::span<const Solid> solids, PhysicalReport&
   const size_t n = std::min(world.size(), hull_points_.size());
   for (int pass = 0; pass < 4; ++pass) {
     const Matrix3d R = q_.toRotationMatrix();
+    const bool level_bottom = (R * Vector3d::UnitY()).y() > kLevelBottomMinCos;
     for (size_t i = 0; i < n; ++i) world[i] = x_ + R * hull_points_[i];
-    const HullPenetration hit =
-        DeepestPenetration(std::span<const Vector3d>(world.data(), n),
-                           std::span<const Solid>(near.data(), near_count), kBellyTravelM);
+    const HullPenetration hit = DeepestPenetration(std::span<const Vector3d>(world.data(), n),
+                                                   std::span<const Solid>(near.data(), near_count),
+                                                   kBellyTravelM, level_bottom);
     if (!hit.hit) return;
     report.blocked = true;
     const Vector3d& face = hit.normal;
-    if (face.y() > -0.5) {
+    // A level bottom resting on a deck's edge turns as well as moves, as through an underside:
+    // translated alone, the roll that brought the edge down went on.
+    if (face.y() > -0.5 && !(level_bottom && face.y() > 0.5)) {
       // Through a side, the top, or level out from under a sloping face: the hull moves out and
       // loses its velocity into the face.
       x_ += hit.push_m;
@@ -731,6 +740,24 @@ void PhysicalVehicle::ResolveHull(std::span<const Solid> solids, PhysicalReport&
     // the corner in, and the corner was pushed down through the springs step after step: a fall
     // with no speed, which the ground's hard stops then fought.
     const Vector3d r = hit.point_m - x_;
+    // Driving on into a ceiling that comes down (a roof under a ramp's underside) is a wedge: the
+    // slope turned the forward speed into a downward push that squeezed the hull down faster than
+    // it could fall. The wedge stops the vehicle instead: the hull goes back level the way it
+    // came in (out from under the slope, as far as it drove in) and loses its speed into the
+    // wedge.
+    const Vector3d level(face.x(), 0.0, face.z());
+    const double level_norm = level.norm();
+    if (level_norm > 1e-6) {
+      const Vector3d back = level / level_norm;  // towards where the ceiling rises
+      const double level_m = hit.depth_m * std::abs(face.y()) / level_norm;
+      const double into = (v_ + w_.cross(r)).dot(back);
+      if (into < 0.0 && level_m <= kWedgeLevelExitMaxM) {
+        x_ += back * level_m;
+        const double com_into = v_.dot(back);
+        if (com_into < 0.0) v_ -= com_into * back;
+        continue;
+      }
+    }
     const Matrix3d Iw = WorldInverseInertia(R);
     const Vector3d rn = r.cross(face);
     const double w = 1.0 / type_.mass_kg + rn.dot(Iw * rn);

@@ -153,6 +153,12 @@ TEST(VehicleProperty, RoofUnderASlopingUndersideIsNotDrivenDownFasterThanItFalls
 TEST(VehicleProperty, EarlierFailuresNearEarthworksAndBridges) {
   for (const int s : {288, 295}) CheckSeed(s);
 }
+// 267, 833: a roof corner driven on into a ramp's sloping underside at 1-2 m/s, the slope turning
+// the forward speed into a downward push (1-3 mm a tick past free fall). The wedge now stops the
+// vehicle: it goes back level out from under the slope.
+TEST(VehicleProperty, DrivingIntoAWedgeUnderARampStopsRatherThanSqueezesDown) {
+  for (const int s : {267, 833}) CheckSeed(s);
+}
 
 TEST(VehicleProperty, AtRestOnFlatGroundStaysAtRest) {
   constexpr Material kSoils[] = {Material::kGrass, Material::kMud, Material::kConcrete,

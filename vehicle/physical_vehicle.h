@@ -134,7 +134,8 @@ class PhysicalVehicle {
     FeatureId deck;  // the deck that carries the running gear hardest
     double deck_n = 0.0;
     Eigen::Vector3d deck_point = Eigen::Vector3d::Zero();
-    size_t sampled = 0;  // contacts sampled: the running gear, or all with the belly
+    FeatureId hull_deck;  // a deck the belly rests on
+    size_t sampled = 0;   // contacts sampled: the running gear, or all with the belly
   };
 
   PhysicalVehicle(const PhysicalVehicleType& type, double x_m, double z_m, double heading_rad,
@@ -148,6 +149,9 @@ class PhysicalVehicle {
   size_t GatherRefinedBellyTouches(const Terrain& terrain, std::span<const Solid> solids,
                                    const Eigen::Matrix3d& R, std::span<Touch> touches, size_t count,
                                    StepForces& forces);
+  size_t GatherSolidEdgeTouches(const Terrain& terrain, std::span<const Solid> solids,
+                                const Eigen::Matrix3d& R, std::span<Touch> touches, size_t count,
+                                StepForces& forces);
   void ApplyGrip(const Eigen::Matrix3d& R, double h_s, std::span<const Touch> touches,
                  StepForces& forces, PhysicalReport& report);
   void Integrate(const StepForces& forces, const Eigen::Matrix3d& R, double h_s);

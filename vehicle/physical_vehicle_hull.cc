@@ -14,14 +14,12 @@ namespace {
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 using physical_internal::kBellyTravelM;
+using physical_internal::kLevelBottomMinCos;
 using physical_internal::Rotate;
 
 // A wedge's level exit is at most the way a step drives in at top speed (25 m/s x 10 ms) with
 // margin; a deeper one is a roof pushed up into a flat ceiling, left to the impulse below.
 constexpr double kWedgeLevelExitMaxM = 0.3;
-// A hull tilted less than this (cos 30 degrees) meets a deck's edge with its bottom, which rests
-// on the edge; tilted further, its side meets it and slides off.
-constexpr double kLevelBottomMinCos = 0.866;
 
 }  // namespace
 

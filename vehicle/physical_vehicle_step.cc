@@ -20,6 +20,7 @@ using Eigen::Matrix3d;
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
 using physical_internal::kBellyTravelM;
+using physical_internal::kLevelBottomMinCos;
 using physical_internal::Rotate;
 
 // The tag leaves after this many steps without the deck (0.1 s); a fall stays latched for 1 s.
@@ -30,6 +31,49 @@ constexpr int kFallLatchSteps = static_cast<int>(1'000'000'000 / kPhysicsStepNs)
 // line joining them by a quarter of the spacing times the slopes' sum, more than the 0.1 m the
 // hull may enter on a tilted hull; half-way points bring that under 0.04 m.
 constexpr double kBellyRefineGapM = 0.1;
+// Points along a solid's top edge under the belly are at most this far apart, and this far inside
+// the edge.
+constexpr double kEdgeSampleSpacingM = 0.25;
+constexpr double kEdgeInsetM = 0.01;
+// An edge under the belly supports it only if the solid's top there is at most this far below
+// the belly (farther, the belly is clear of it; above, the hull meets a side: ResolveHull).
+constexpr double kEdgeSupportGapM = 0.1;
+
+// The part of segment a..b (plan x, z) inside the convex quadrilateral q (counter-clockwise or
+// clockwise), as parameters [t0, t1] of a + t (b - a); false if none.
+bool ClipToQuad(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                const std::array<Eigen::Vector2d, 4>& q, double& t0, double& t1) {
+  const Eigen::Vector2d d = b - a;
+  // The quad's orientation: the sign of its area.
+  double area2 = 0.0;
+  for (size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector2d& p = q[i];
+    const Eigen::Vector2d& n = q[(i + 1) % 4];
+    area2 += p.x() * n.y() - n.x() * p.y();
+  }
+  const double sign = area2 >= 0.0 ? 1.0 : -1.0;
+  t0 = 0.0;
+  t1 = 1.0;
+  for (size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector2d e = q[(i + 1) % 4] - q[i];
+    // Inside is where sign * cross(e, p - q[i]) >= 0.
+    const double at_a = sign * (e.x() * (a.y() - q[i].y()) - e.y() * (a.x() - q[i].x()));
+    const double rate = sign * (e.x() * d.y() - e.y() * d.x());
+    if (std::abs(rate) < 1e-12) {
+      if (at_a < 0.0) return false;
+      continue;
+    }
+    const double t = -at_a / rate;
+    if (rate > 0.0) {
+      t0 = std::max(t0, t);
+    } else {
+      t1 = std::min(t1, t);
+    }
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
 // Below this speed the engine's force is taken at this speed (P / v is unbounded at rest).
 constexpr double kEngineFloorSpeedMps = 1.0;
 
@@ -45,6 +89,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   forces.F = Vector3d(0.0, -kGravityMps2 * type_.mass_kg, 0.0);
   size_t count = GatherTouches(terrain, solids, R, touches, forces, report);
   count = GatherRefinedBellyTouches(terrain, solids, R, touches, count, forces);
+  if (!solids.empty()) count = GatherSolidEdgeTouches(terrain, solids, R, touches, count, forces);
   const std::span<const Touch> touched(touches.data(), count);
   if (forces.total_n > 0.0) ApplyGrip(R, h, touched, forces, report);
   Integrate(forces, R, h);
@@ -113,6 +158,7 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
     forces.F += normal_n * s.normal;
     forces.tau += r.cross(normal_n * s.normal);
     forces.total_n += normal_n;
+    if (!c.gear && s.bridge.number != 0) forces.hull_deck = s.bridge;
     if (c.gear) {
       forces.gear_touching = true;
       if (s.bridge.number != 0 && normal_n >= forces.deck_n) {
@@ -166,6 +212,7 @@ size_t PhysicalVehicle::GatherRefinedBellyTouches(const Terrain& terrain,
       forces.F += normal_n * s.normal;
       forces.tau += r.cross(normal_n * s.normal);
       forces.total_n += normal_n;
+      if (s.bridge.number != 0) forces.hull_deck = s.bridge;
       touches[count++] = {r,
                           s.normal,
                           Vector3d(p.x(), s.height_m, p.z()),
@@ -173,6 +220,89 @@ size_t PhysicalVehicle::GatherRefinedBellyTouches(const Terrain& terrain,
                           &type_.grip[static_cast<size_t>(s.material)],
                           false,
                           mid};
+    }
+  }
+  return count;
+}
+
+size_t PhysicalVehicle::GatherSolidEdgeTouches(const Terrain& terrain,
+                                               std::span<const Solid> solids, const Matrix3d& R,
+                                               std::span<Touch> touches, size_t count,
+                                               StepForces& forces) {
+  // A deck's edge under the belly carries the hull at the edge itself, not at the nearest belly
+  // grid point inside it (up to a grid spacing short): a vehicle with one side's wheels off a
+  // deck rests on its bottom at the edge while its centre of mass is over the deck.
+  // Tilted further, the hull's side meets the edge instead (ResolveHull), and slides off it.
+  if (R(1, 1) <= kLevelBottomMinCos) return count;
+  const double L2 = type_.base.length_m / 2.0, W2 = type_.base.width_m / 2.0;
+  const double bottom_up = type_.clearance_m - type_.cg_height_m;  // body frame
+  std::array<Eigen::Vector2d, 4> quad;
+  const double corners[4][2] = {{L2, W2}, {-L2, W2}, {-L2, -W2}, {L2, -W2}};
+  double lowest = INFINITY;
+  for (size_t i = 0; i < 4; ++i) {
+    const Vector3d p = x_ + R * Vector3d(corners[i][0], bottom_up, corners[i][1]);
+    quad[i] = {p.x(), p.z()};
+    lowest = std::min(lowest, p.y());
+  }
+  // Plan x, z of body (ahead, left) on the bottom face, for the inverse map.
+  Eigen::Matrix2d plan;
+  plan << R(0, 0), R(0, 2), R(2, 0), R(2, 2);
+  const Eigen::Matrix2d to_body = plan.inverse();
+  const Eigen::Vector2d offset(x_.x() + R(0, 1) * bottom_up, x_.z() + R(2, 1) * bottom_up);
+  for (const Solid& s : solids) {
+    const double top_max = std::max(s.top0_m, s.top1_m);
+    if (top_max < lowest - kEdgeSupportGapM) continue;
+    // The four edges of the solid's plan, in its frame: (a, r) from and to.
+    const double edges[4][4] = {{s.a0_m, s.r0_m, s.a1_m, s.r0_m},
+                                {s.a0_m, s.r1_m, s.a1_m, s.r1_m},
+                                {s.a0_m, s.r0_m, s.a0_m, s.r1_m},
+                                {s.a1_m, s.r0_m, s.a1_m, s.r1_m}};
+    const double mid_a = 0.5 * (s.a0_m + s.a1_m), mid_r = 0.5 * (s.r0_m + s.r1_m);
+    for (const auto& e : edges) {
+      // Bridge frame to world plan: x = origin + a u + r (uz, -ux).
+      auto world = [&](double a, double r) {
+        return Eigen::Vector2d(s.origin_x_m + a * s.ux + r * s.uz,
+                               s.origin_z_m + a * s.uz - r * s.ux);
+      };
+      // Inset towards the solid's middle, so the samples lie on its top.
+      const double ia = e[0] == e[2] ? (mid_a > e[0] ? kEdgeInsetM : -kEdgeInsetM) : 0.0;
+      const double ir = e[1] == e[3] ? (mid_r > e[1] ? kEdgeInsetM : -kEdgeInsetM) : 0.0;
+      const Eigen::Vector2d a = world(e[0] + ia, e[1] + ir), b = world(e[2] + ia, e[3] + ir);
+      double t0 = 0.0, t1 = 0.0;
+      if (!ClipToQuad(a, b, quad, t0, t1)) continue;
+      const double length = (b - a).norm() * (t1 - t0);
+      const int n = std::max(1, static_cast<int>(std::ceil(length / kEdgeSampleSpacingM))) + 1;
+      for (int k = 0; k < n && count < touches.size(); ++k) {
+        const double t = t0 + (t1 - t0) * k / (n - 1);
+        const Eigen::Vector2d at = a + t * (b - a);
+        const Eigen::Vector2d ahead_left = to_body * (at - offset);
+        const Vector3d body(ahead_left.x(), bottom_up, ahead_left.y());
+        const Vector3d r = R * body;
+        const Vector3d p = x_ + r;
+        double along = 0.0, right = 0.0;
+        s.ToLocal(p.x(), p.z(), along, right);
+        const double top = s.TopAt(std::clamp(along, s.a0_m, s.a1_m));
+        // Clear of the belly, or a side the hull meets (not a top it rests on).
+        if (top <= p.y() - kEdgeSupportGapM || top > p.y() + kBellyTravelM) continue;
+        GroundPlaneCache cache;
+        const SurfaceSample sample =
+            SampleSurface(terrain, solids, p.x(), p.z(), p.y() + kBellyTravelM, cache);
+        const double depth = (sample.height_m - p.y()) * sample.normal.y();
+        if (depth <= 0.0) continue;
+        const double vn = (v_ + w_.cross(r)).dot(sample.normal);
+        const double normal_n = std::max(0.0, spring_n_per_m_ * depth - damper_n_s_per_m_ * vn);
+        forces.F += normal_n * sample.normal;
+        forces.tau += r.cross(normal_n * sample.normal);
+        forces.total_n += normal_n;
+        if (sample.bridge.number != 0) forces.hull_deck = sample.bridge;
+        touches[count++] = {r,
+                            sample.normal,
+                            Vector3d(p.x(), sample.height_m, p.z()),
+                            normal_n,
+                            &type_.grip[static_cast<size_t>(sample.material)],
+                            false,
+                            body};
+      }
     }
   }
   return count;
@@ -312,6 +442,9 @@ void PhysicalVehicle::UpdateBridgeTag(const Terrain& terrain, const StepForces& 
     }
     last_deck_x_m_ = forces.deck_point.x();
     last_deck_z_m_ = forces.deck_point.z();
+  } else if (on_bridge() && forces.hull_deck == bridge_) {
+    // The running gear lifted (a bounce) while the hull rests on the deck: still on it.
+    off_deck_steps_ = 0;
   } else {
     off_deck_steps_ = std::min(off_deck_steps_ + 1, 1 << 20);
     if (on_bridge() && off_deck_steps_ >= kLeaveDeckSteps) {

@@ -117,10 +117,48 @@ class PhysicalVehicle {
     GroundPlaneCache ground;  // valid while the terrain's stamp is the one it was filled under
   };
 
+  // A contact that touches the surface in this step.
+  struct Touch {
+    Eigen::Vector3d r, n, plane_point;  // arm from the centre of mass (world), normal, surface
+    double normal_n;
+    const SoilGrip* grip;
+    bool gear;
+    Eigen::Vector3d body;  // the contact's point, body frame
+  };
+  static constexpr size_t kMaxTouches = 512;
+  // What the contacts of one step add up to.
+  struct StepForces {
+    Eigen::Vector3d F = Eigen::Vector3d::Zero(), tau = Eigen::Vector3d::Zero();  // N, N m
+    double total_n = 0.0;
+    bool gear_touching = false;
+    FeatureId deck;  // the deck that carries the running gear hardest
+    double deck_n = 0.0;
+    Eigen::Vector3d deck_point = Eigen::Vector3d::Zero();
+    FeatureId hull_deck;  // a deck the belly rests on
+    size_t sampled = 0;   // contacts sampled: the running gear, or all with the belly
+  };
+
   PhysicalVehicle(const PhysicalVehicleType& type, double x_m, double z_m, double heading_rad,
                   double gear_bottom_m);
+  // One fixed step (physical_vehicle_step.cc), in the order of these phases.
   void Step(const Terrain& terrain, std::span<const Solid> solids, double h_s,
             PhysicalReport& report);
+  size_t GatherTouches(const Terrain& terrain, std::span<const Solid> solids,
+                       const Eigen::Matrix3d& R, std::span<Touch> touches, StepForces& forces,
+                       PhysicalReport& report);
+  size_t GatherRefinedBellyTouches(const Terrain& terrain, std::span<const Solid> solids,
+                                   const Eigen::Matrix3d& R, std::span<Touch> touches, size_t count,
+                                   StepForces& forces);
+  size_t GatherSolidEdgeTouches(const Terrain& terrain, std::span<const Solid> solids,
+                                const Eigen::Matrix3d& R, std::span<Touch> touches, size_t count,
+                                StepForces& forces);
+  void ApplyGrip(const Eigen::Matrix3d& R, double h_s, std::span<const Touch> touches,
+                 StepForces& forces, PhysicalReport& report);
+  void Integrate(const StepForces& forces, const Eigen::Matrix3d& R, double h_s);
+  void ApplyHardStops(std::span<const Touch> touches);
+  void UpdateBridgeTag(const Terrain& terrain, const StepForces& forces, PhysicalReport& report);
+  void CheckDamage(const Terrain& terrain, bool touched, PhysicalReport& report);
+  // The hull against bridge solids (physical_vehicle_hull.cc).
   void ResolveHull(std::span<const Solid> solids, PhysicalReport& report);
   bool OnTerrain(const Terrain& terrain) const;
   // True if a corner of the box from the gear's bottom to the roof is at or below the ground.

@@ -84,12 +84,15 @@ class SimRun {
     return true;
   }
   std::string Check();
-  // The observer's guarantee (docs/view.md "Limits"): every change the server holds, the same.
+  // The observer's guarantee (docs/protocol.md "Observers"): the server's changes, identically,
+  // and nothing else.
   std::string CheckObserver();
-  int observer_extra_ = 0;  // changes only the observer holds (a lost change it alone got)
+  // Changes the observer dropped: it alone held them (their author crashed before anyone else
+  // got them).
+  uint64_t observer_dropped_ = 0;
 
  public:
-  int observer_extra() const { return observer_extra_; }
+  uint64_t observer_dropped() const { return observer_dropped_; }
 
  private:
   // Step "anti-entropy": one slot corrupted on a random replica (not the server) mid-run must be

@@ -108,6 +108,7 @@ void AntiEntropy::Tick(int64_t now_ms) {
   now_ms_ = std::max(now_ms_, now_ms);
   if (!pending_store_.empty()) FlushStore();
   ForgetSilentPeers();
+  if (config_.role == NodeRole::kObserver) DropWhatOnlyThisHolds();
   RetryAsks();
   if (last_summary_ms_ < 0 || now_ms_ - last_summary_ms_ >= config_.period_ms) {
     last_summary_ms_ = now_ms_;
@@ -265,7 +266,7 @@ void AntiEntropy::OnSummary(NodeAddress peer, const dtpdu::anti_entropy_t& pdu) 
   PeerView& view = peers_[peer];
   for (const auto& e : pdu.entries) {
     const NodeAddress author = FromPdu(e.author);
-    view.gap_free[author] = PeerView::Held{e.seq, now_ms_};
+    view.gap_free[author] = PeerView::Held{e.seq, now_ms_, e.max_held};
     const ChangeLog* log = FindLog(author);
     if (held_beyond_ && e.max_held > (log == nullptr ? 0 : log->max_known())) {
       held_beyond_(peer, author, e.max_held);
@@ -553,6 +554,10 @@ void AntiEntropy::Put(const Change& old_copy, const Change& change) {
   // again from every change of them held.
   std::vector<FeatureId> ids{old_copy.id};
   if (change.id != old_copy.id) ids.push_back(change.id);
+  RebuildRecords(ids);
+}
+
+void AntiEntropy::RebuildRecords(const std::vector<FeatureId>& ids) {
   std::vector<std::vector<const Change*>> of(ids.size());
   for (const auto& [author, log] : logs_) {
     for (const Change* c : log.Range(1, log.max_held())) {

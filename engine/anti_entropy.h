@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -31,6 +32,10 @@ struct AntiEntropyConfig {
   int retry_ms = 1000;    // a request unanswered this long is sent again, at most kMaxAttempts
   int silence_ms = 2000;  // a peer unheard for max(silence_ms, 3 periods) is forgotten
   ChangeStore* store = nullptr;  // a server or standby: repaired slots are stored here
+  // An observer drops the changes it holds beyond what every live replica holds once the author's
+  // own summary says it holds less, or once none has reported them for this long (the replica's
+  // gap_give_up_ms; docs/protocol.md, "Observers"). 0: only on the author's word.
+  int drop_unreported_ms = 0;
 };
 
 // Works on its replica's logs and records (which must outlive it) and speaks AntiEntropy PDUs
@@ -89,6 +94,9 @@ class AntiEntropy {
     uint64_t summaries_sent = 0, summaries_received = 0, hash_requests_sent = 0,
              hash_answers_sent = 0, copy_requests_sent = 0, copies_sent = 0, differences_found = 0,
              slots_repaired = 0, sessions_given_up = 0;
+    // An observer's changes no other replica holds, taken out of its logs (docs/protocol.md,
+    // "Observers"); the records of their features are rebuilt, as for a repaired slot.
+    uint64_t slots_dropped = 0;
     uint64_t bytes_sent = 0, bytes_received = 0;  // AntiEntropy PDUs only (not the copies)
   };
   const Stats& stats() const { return stats_; }
@@ -155,7 +163,16 @@ class AntiEntropy {
   void Decide(NodeAddress peer, const Change& theirs);
   // The log, its prefix hashes and the records take `change` in place of the held copy.
   void Put(const Change& old_copy, const Change& change);
+  // The records of these features applied again from every change of them held.
+  void RebuildRecords(const std::vector<FeatureId>& ids);
   void FlushStore();
+
+  // An observer's changes beyond what every other replica holds (engine/anti_entropy_drop.cc).
+  void DropWhatOnlyThisHolds();
+  // The highest change of `author` a live peer's summary or a live claim says is held elsewhere.
+  int64_t HeldElsewhere(NodeAddress author, const ChangeLog& log) const;
+  // Takes the changes above `keep_upto` out of `author`'s log; `why` goes to the log line.
+  void Drop(NodeAddress author, int64_t keep_upto, const std::string& why);
   // The prefix hashes of a held author's log, extended to its gap-free point.
   PrefixHashes& Prefix(NodeAddress author);
   const ChangeLog* FindLog(NodeAddress author) const;
@@ -177,13 +194,21 @@ class AntiEntropy {
     int64_t last_heard_ms = 0;
     NodeRole role = NodeRole::kNode;
     struct Held {
-      int64_t seq = 0;      // the gap-free point its last summary gave
-      int64_t seen_ms = 0;  // when; an author missing from its summaries for long is dropped
+      int64_t seq = 0;       // the gap-free point its last summary gave
+      int64_t seen_ms = 0;   // when; an author missing from its summaries for long is dropped
+      int64_t max_held = 0;  // the highest change it held then, maybe beyond a gap
     };
     std::map<NodeAddress, Held> gap_free;  // per author
   };
   std::map<NodeAddress, PeerView> peers_;
   std::vector<Change> pending_store_;  // repaired slots the store has not taken yet
+  // An observer, per author: it has held more than every other replica since since_ms, its
+  // highest change being `held` then (a new change restarts the clock).
+  struct Beyond {
+    int64_t held = 0;
+    int64_t since_ms = 0;
+  };
+  std::map<NodeAddress, Beyond> beyond_;
   bool store_failing_ = false;
   int64_t now_ms_ = 0;
   int64_t last_summary_ms_ = -1;

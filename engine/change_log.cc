@@ -37,6 +37,37 @@ bool ChangeLog::Replace(const Change& change) {
   return true;
 }
 
+std::optional<Change> ChangeLog::Remove(int64_t seq) {
+  std::optional<Change> removed;
+  if (seq >= 1 && seq <= static_cast<int64_t>(slots_.size())) {
+    auto& slot = slots_[static_cast<size_t>(seq - 1)];
+    removed.swap(slot);  // the slot stays, empty: later slots do not move
+  }
+  if (!removed) {
+    auto it = aside_.find(seq);
+    if (it == aside_.end()) return std::nullopt;
+    removed = std::move(it->second);
+    aside_.erase(it);
+  }
+  --held_;
+  if (seq >= 1) contiguous_ = std::min(contiguous_, seq - 1);
+  if (seq == max_held_) {
+    // The next held sequence below, aside or in a slot (a scan of empty slots: removing is rare).
+    max_held_ = 0;
+    if (auto a = aside_.lower_bound(seq); a != aside_.begin()) {
+      max_held_ = std::max<int64_t>(0, std::prev(a)->first);
+    }
+    for (int64_t s = std::min<int64_t>(seq - 1, static_cast<int64_t>(slots_.size())); s > max_held_;
+         --s) {
+      if (slots_[static_cast<size_t>(s - 1)]) {
+        max_held_ = s;
+        break;
+      }
+    }
+  }
+  return removed;
+}
+
 const Change* ChangeLog::Find(int64_t seq) const {
   if (seq >= 1 && seq <= static_cast<int64_t>(slots_.size())) {
     const auto& slot = slots_[static_cast<size_t>(seq - 1)];

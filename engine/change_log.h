@@ -29,6 +29,11 @@ class ChangeLog {
   // repair, docs/protocol.md); the gap-free point and pointers to the slot are unchanged. False
   // (and nothing changes) if the sequence is not held.
   bool Replace(const Change& change);
+  // Takes the change held in slot `seq` out of the log (an observer dropping a change nobody else
+  // holds, docs/protocol.md "Observers"): the gap-free point falls below `seq` if it was above,
+  // and max_held to the highest change still held. Pointers to other slots stay valid. Nullopt
+  // (and nothing changes) if the sequence is not held.
+  std::optional<Change> Remove(int64_t seq);
   const Change* Find(int64_t seq) const;
   // Held changes with start <= seq <= end, in sequence order.
   std::vector<const Change*> Range(int64_t start, int64_t end) const;

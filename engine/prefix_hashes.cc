@@ -23,4 +23,9 @@ void PrefixHashes::Replace(int64_t seq, uint64_t old_hash, uint64_t new_hash) {
   for (size_t i = static_cast<size_t>(seq); i < prefix_.size(); ++i) prefix_[i] += delta;
 }
 
+void PrefixHashes::Truncate(int64_t upto) {
+  if (upto < 0) std::abort();  // a gap-free point is never negative
+  if (upto < length()) prefix_.resize(static_cast<size_t>(upto) + 1);
+}
+
 }  // namespace dt

@@ -24,6 +24,9 @@ class PrefixHashes {
   uint64_t Range(int64_t lo, int64_t hi) const { return At(hi) - At(lo - 1); }
   // The change in slot `seq` was replaced: its hash went from old_hash to new_hash.
   void Replace(int64_t seq, uint64_t old_hash, uint64_t new_hash);
+  // The log's gap-free point fell to `upto` (a held change was removed): sums beyond it go, and
+  // Extend hashes again whatever fills those slots. Nothing changes if upto >= length().
+  void Truncate(int64_t upto);
 
  private:
   std::vector<uint64_t> prefix_{0};

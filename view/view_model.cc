@@ -131,6 +131,32 @@ void ViewModel::Refresh(const std::set<FeatureId>& ids, nlohmann::json& changed,
   }
 }
 
+void ViewModel::ForgetDropped() {
+  std::set<std::pair<std::string, int64_t>> gone;  // (author's name, change_seq)
+  for (auto& [author, upto] : noted_upto_) {
+    const ChangeLog* log = replica_.log(author);
+    std::set<int64_t>& beyond = noted_beyond_[author];
+    const int64_t held_upto = log == nullptr ? 0 : log->contiguous();
+    for (int64_t seq = held_upto + 1; seq <= upto; ++seq) {
+      if (log != nullptr && log->Find(seq) != nullptr) {
+        beyond.insert(seq);  // still held: noted, beyond the new gap-free point
+      } else {
+        gone.insert({Name(author), seq});
+      }
+    }
+    upto = std::min(upto, held_upto);
+    std::erase_if(beyond, [&](int64_t seq) {
+      if (log != nullptr && log->Find(seq) != nullptr) return false;
+      gone.insert({Name(author), seq});
+      return true;
+    });
+  }
+  if (gone.empty()) return;
+  for (auto& [id, history] : history_) {
+    std::erase_if(history, [&](const Event& e) { return gone.count({e.by, e.change_seq}) != 0; });
+  }
+}
+
 void ViewModel::NoteProcesses(int64_t now_ms, const std::vector<ProcessRow>& rows,
                               std::vector<Event>& events) {
   for (const ProcessRow& r : rows) {
@@ -157,6 +183,11 @@ nlohmann::json ViewModel::Update(int64_t now_ms, const std::vector<ProcessRow>& 
   std::vector<Event> events;
   std::set<FeatureId> touched;
   bool bridge = false;
+  // A dropped change takes records back without a new change, like a repair: look at everything.
+  const uint64_t drops = replica_.anti_entropy().stats().slots_dropped;
+  const bool dropped = drops != drops_seen_;
+  drops_seen_ = drops;
+  if (dropped) ForgetDropped();
   for (const auto& [author, contiguous] : replica_.contiguous_change_seq()) {
     const ChangeLog* log = replica_.log(author);
     if (log == nullptr) continue;
@@ -173,7 +204,7 @@ nlohmann::json ViewModel::Update(int64_t now_ms, const std::vector<ProcessRow>& 
   }
   // A repaired slot (anti-entropy) changes records without a new change: look at everything.
   const uint64_t repairs = replica_.anti_entropy().stats().slots_repaired;
-  const bool everything = repairs != repairs_seen_;
+  const bool everything = repairs != repairs_seen_ || dropped;
   repairs_seen_ = repairs;
   if (everything) {
     for (const auto& [id, r] : replica_.records().all()) touched.insert(id);

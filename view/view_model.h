@@ -56,6 +56,9 @@ class ViewModel {
   void Note(const Change& c, int64_t now_ms, std::vector<Event>& events);
   // Re-reads the records of these features; removed ones go to `removed`.
   void Refresh(const std::set<FeatureId>& ids, nlohmann::json& changed, nlohmann::json& removed);
+  // The replica dropped changes only it held (docs/protocol.md "Observers"): they leave the
+  // history, and their slots are noted again when a change fills them.
+  void ForgetDropped();
   void NoteProcesses(int64_t now_ms, const std::vector<ProcessRow>& rows,
                      std::vector<Event>& events);
 
@@ -67,6 +70,7 @@ class ViewModel {
   std::map<NodeAddress, int64_t> noted_upto_;
   std::map<NodeAddress, std::set<int64_t>> noted_beyond_;
   uint64_t repairs_seen_ = 0;
+  uint64_t drops_seen_ = 0;
   std::map<FeatureId, nlohmann::json> features_;  // live records as last sent
   std::map<FeatureId, std::vector<Event>> history_;
   std::vector<Event> events_;  // the last events_kept_

@@ -100,6 +100,65 @@ TEST(ChangeLogTest, ReplaceSwapsAHeldSlotInPlaceAndRefusesOneNotHeld) {
   EXPECT_EQ(log.max_held(), far);
 }
 
+TEST(ChangeLogTest, RemoveTakesAHeldChangeOutAndTheGapFreePointAndMaxHeldFollow) {
+  ChangeLog log;
+  const auto far = static_cast<uint32_t>(1 + 4 * ChangeLog::kMaxSlotJump);
+  for (uint32_t s : {1u, 2u, 3u, 4u, 6u, far}) ASSERT_TRUE(log.Insert(Numbered(s)));
+  ASSERT_EQ(log.contiguous(), 4);
+  const Change* kept = log.Find(6);
+  // The highest change, held aside: max_held falls to the highest still held, in a slot.
+  auto removed = log.Remove(far);
+  ASSERT_TRUE(removed.has_value());
+  EXPECT_EQ(*removed, Numbered(far));
+  EXPECT_EQ(log.Find(far), nullptr);
+  EXPECT_EQ(log.max_held(), 6);
+  EXPECT_EQ(log.size(), 5u);
+  // A slot of the gap-free prefix: the gap-free point falls below it, other slots stay put.
+  ASSERT_TRUE(log.Remove(3).has_value());
+  EXPECT_EQ(log.contiguous(), 2);
+  EXPECT_EQ(log.FirstGap(), std::make_pair(int64_t{3}, int64_t{3}));
+  EXPECT_EQ(log.Find(6), kept);
+  EXPECT_EQ(log.Range(1, 6).size(), 4u);
+  // Not held (any more): nothing changes.
+  EXPECT_FALSE(log.Remove(3).has_value());
+  EXPECT_FALSE(log.Remove(5).has_value());
+  EXPECT_EQ(log.size(), 4u);
+  // The highest change in a slot, past a gap: max_held skips the empty slot below it.
+  ASSERT_TRUE(log.Remove(6).has_value());
+  EXPECT_EQ(log.max_held(), 4);
+  EXPECT_EQ(log.max_known(), 4);
+  // The slot takes a change again, and the gap-free point moves past it as for any arrival.
+  EXPECT_TRUE(log.Insert(Numbered(3)));
+  EXPECT_EQ(log.contiguous(), 4);
+  EXPECT_FALSE(log.has_gap());
+  for (uint32_t s : {1u, 2u, 3u, 4u}) ASSERT_TRUE(log.Remove(s).has_value());
+  EXPECT_EQ(log.size(), 0u);
+  EXPECT_EQ(log.max_held(), 0);
+  EXPECT_EQ(log.contiguous(), 0);
+}
+
+TEST(PrefixHashesTest, TruncateDropsTheSumsPastAFallenGapFreePoint) {
+  ChangeLog log;
+  PrefixHashes p;
+  for (uint32_t s : {1u, 2u, 3u, 4u}) ASSERT_TRUE(log.Insert(Numbered(s)));
+  p.Extend(log);
+  const uint64_t two = p.At(2);
+  ASSERT_TRUE(log.Remove(3).has_value());
+  p.Truncate(log.contiguous());
+  EXPECT_EQ(p.length(), 2);
+  EXPECT_EQ(p.At(2), two);
+  p.Truncate(5);  // beyond what is hashed: nothing changes
+  EXPECT_EQ(p.length(), 2);
+  // Another copy fills the slot: the sums from it on are of that copy.
+  Change other = Numbered(3);
+  other.stamp.lamport = 55;
+  ASSERT_TRUE(log.Insert(other));
+  p.Extend(log);
+  EXPECT_EQ(p.length(), 4);
+  EXPECT_EQ(p.Range(3, 3), ChangeHash(other));
+  EXPECT_EQ(p.Range(4, 4), ChangeHash(Numbered(4)));
+}
+
 TEST(PrefixHashesTest, SumsFollowTheGapFreePointAndAReplacedSlot) {
   ChangeLog log;
   PrefixHashes p;

@@ -1,6 +1,7 @@
 // Tests the observer role (docs/protocol.md, "Observers"): a replica that holds the terrain,
 // creates nothing and is not counted by anyone: no sign-on waits for it, nobody asks it for
 // playback, its own changes and claims about it are refused.
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <set>
@@ -32,7 +33,41 @@ ReplicaConfig Defaults() {
 
 class ObserverTest : public ::testing::Test, public testing::ServerAndTwoNodes {
  protected:
-  ObserverTest() : ServerAndTwoNodes(5, Defaults()) {}
+  explicit ObserverTest(const ReplicaConfig& config = Defaults()) : ServerAndTwoNodes(5, config) {}
+
+  // A's next change (its second) reaches the observer, and whoever else is in `with`, alone; then
+  // A crashes and the network heals. The observer holds A:2, the server does not.
+  void AuthorCrashesAfterAChangeOnlyTheObserverGot(std::vector<NodeAddress> with = {}) {
+    ASSERT_TRUE(A().Create(FeatureParams::Crater(30, 30, 2)).ok());
+    Run(1000);
+    ASSERT_EQ(cluster_.at(kView).Digest(), S().Digest());
+    with.push_back(kA);
+    with.push_back(kView);
+    std::vector<NodeAddress> others;
+    for (NodeAddress n : {kServer, kB}) {
+      if (std::find(with.begin(), with.end(), n) == with.end()) others.push_back(n);
+    }
+    cluster_.net().faults().Partition(with, others);
+    auto lost = A().Create(FeatureParams::Crater(90, 90, 3));
+    ASSERT_TRUE(lost.ok());
+    lost_ = lost.value();
+    Run(100);
+    ASSERT_NE(cluster_.at(kView).log(kA)->Find(2), nullptr);
+    cluster_.Crash(kA);
+    cluster_.net().faults().Heal();
+  }
+
+  // Runs until the observer has dropped a change, at most `ms`; the virtual time it took.
+  int64_t RunUntilDropped(int64_t ms) {
+    const int64_t start = cluster_.now_ms();
+    while (cluster_.at(kView).anti_entropy().stats().slots_dropped == 0 &&
+           cluster_.now_ms() - start < ms) {
+      Run(10);
+    }
+    return cluster_.now_ms() - start;
+  }
+
+  FeatureId lost_;
 
   // A playback request as an observer sends one while it catches up, addressed to `target`.
   static dtpdu::playback_t Request(NodeAddress target, NodeAddress subject) {
@@ -170,6 +205,91 @@ TEST_F(ObserverTest, AChangeByAnObserverAndAClaimAboutOneAreRefused) {
     EXPECT_EQ(r->log(kView), nullptr);
     EXPECT_TRUE(r->caught_up());
   }
+}
+
+// A change of A reached the observer alone, then A crashed. A's next incarnation signs on
+// without it (nobody else holds it, and an observer answers no one): once A's own summary holds
+// less, the observer drops its copy, and its terrain is the exercise's again.
+TEST_F(ObserverTest, AChangeOnlyTheObserverGotIsDroppedOnceItsAuthorsNextIncarnationHoldsLess) {
+  Replica& view = cluster_.Start(kView, NodeRole::kObserver);
+  ASSERT_NO_FATAL_FAILURE(AuthorCrashesAfterAChangeOnlyTheObserverGot());
+  Run(2000);
+  // Nobody else holds it, but A is down: the observer waits for A's word (gap_give_up_ms is
+  // 30 s here).
+  EXPECT_NE(view.Digest(), S().Digest());
+  EXPECT_EQ(view.anti_entropy().stats().slots_dropped, 0u);
+  ASSERT_EQ(view.live_feature_count(), 2u);
+  Replica& a = cluster_.Start(kA, NodeRole::kNode);
+  RunUntilDropped(8000);
+  EXPECT_EQ(view.anti_entropy().stats().slots_dropped, 1u);
+  EXPECT_EQ(view.log(kA)->max_held(), 1);
+  EXPECT_EQ(view.log(kA)->Find(2), nullptr);
+  EXPECT_EQ(view.records().Find(lost_), nullptr);
+  EXPECT_EQ(view.live_feature_count(), 1u);
+  EXPECT_EQ(view.Digest(), S().Digest());
+  Run(2000);
+  EXPECT_TRUE(view.caught_up());
+  EXPECT_EQ(view.Digest(), S().Digest());
+  EXPECT_EQ(view.counters().sent, 0u);  // its copy never travelled
+  EXPECT_TRUE(a.signed_on());
+  EXPECT_EQ(a.own_change_seq(), 1);
+  for (Replica* r : {&a, &B(), &S()}) {
+    EXPECT_EQ(r->anti_entropy().stats().slots_dropped, 0u) << r->config().address.ToString();
+  }
+}
+
+ReplicaConfig GivingUpAfter4s() {
+  ReplicaConfig c = Defaults();
+  c.gap_give_up_ms = 4000;
+  return c;
+}
+
+class ObserverGivingUpTest : public ObserverTest {
+ protected:
+  ObserverGivingUpTest() : ObserverTest(GivingUpAfter4s()) {}
+};
+
+// The same, but A never comes back: nobody has reported the slot for gap_give_up_ms, so the
+// observer drops it, as a gap nobody can fill would be given up on.
+TEST_F(ObserverGivingUpTest, AChangeOnlyTheObserverGotIsDroppedWhenItsAuthorStaysSilent) {
+  Replica& view = cluster_.Start(kView, NodeRole::kObserver);
+  ASSERT_NO_FATAL_FAILURE(AuthorCrashesAfterAChangeOnlyTheObserverGot());
+  const int64_t took = RunUntilDropped(12000);
+  EXPECT_EQ(view.anti_entropy().stats().slots_dropped, 1u);
+  EXPECT_GE(took, 4000);  // not before the slot went unreported for gap_give_up_ms
+  EXPECT_EQ(view.log(kA)->max_held(), 1);
+  EXPECT_EQ(view.live_feature_count(), 1u);
+  EXPECT_EQ(view.Digest(), S().Digest());
+  Run(1000);
+  EXPECT_TRUE(view.caught_up());
+  EXPECT_EQ(view.Digest(), S().Digest());
+}
+
+// B holds A's lost change too, but B is unheard (its writes fail) when A's next incarnation
+// holds less: the observer drops its copy on a stale view. B's next summaries report the slot,
+// the observer fetches it as any gap, and everyone, the server included, ends with B's copy.
+TEST_F(ObserverTest, ADropMadeWhileAHolderWasUnheardHealsWhenItIsHeardAgain) {
+  Replica& view = cluster_.Start(kView, NodeRole::kObserver);
+  ASSERT_NO_FATAL_FAILURE(AuthorCrashesAfterAChangeOnlyTheObserverGot({kB}));
+  ASSERT_NE(B().log(kA)->Find(2), nullptr);
+  const Change held = *B().log(kA)->Find(2);
+  const int64_t blocked_ms = 9000;
+  cluster_.net().BlockWrites(kB, cluster_.now_ms() + blocked_ms);
+  cluster_.Start(kA, NodeRole::kNode);
+  const int64_t took = RunUntilDropped(blocked_ms);
+  ASSERT_EQ(view.anti_entropy().stats().slots_dropped, 1u);
+  ASSERT_LT(took, blocked_ms);  // B was still unheard
+  EXPECT_EQ(view.log(kA)->Find(2), nullptr);
+  Run(blocked_ms - took + 4000);
+  ASSERT_NE(view.log(kA)->Find(2), nullptr);
+  EXPECT_EQ(*view.log(kA)->Find(2), held);
+  ASSERT_NE(S().log(kA)->Find(2), nullptr);
+  EXPECT_EQ(*S().log(kA)->Find(2), held);
+  EXPECT_EQ(view.anti_entropy().stats().slots_dropped, 1u);  // dropped once, not again
+  EXPECT_EQ(view.live_feature_count(), 2u);
+  EXPECT_EQ(view.Digest(), S().Digest());
+  EXPECT_EQ(view.Digest(), B().Digest());
+  EXPECT_TRUE(view.caught_up());
 }
 
 }  // namespace

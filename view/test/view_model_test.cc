@@ -214,5 +214,45 @@ TEST_F(ViewModelTest, ABridgeChangeResendsTheBridgesItRePlacesAndNothingElse) {
   EXPECT_EQ(model.feature_count(), 2u);
 }
 
+// A change that reached the view alone before its author crashed is dropped once the author's
+// next incarnation holds less (docs/protocol.md "Observers"): the page removes the feature, and
+// the slot, when the author fills it with its next change, is noted like any new change.
+TEST_F(ViewModelTest, AChangeOnlyTheViewHeldLeavesThePageAndItsSlotIsNotedAgainWhenFilled) {
+  cluster_.Start(kView, NodeRole::kObserver);
+  ASSERT_TRUE(A().Create(FeatureParams::Crater(30, 30, 3)).ok());
+  cluster_.Run(1000);
+  ViewModel model(View(), Names());
+  ASSERT_EQ(model.Update(1, {}, {}, 1)["features"].size(), 1u);
+  cluster_.net().faults().Partition({kTestA, kView}, {kTestServer, kTestB});
+  auto lost = A().Create(FeatureParams::Crater(90, 90, 3));
+  ASSERT_TRUE(lost.ok());
+  cluster_.Run(100);
+  cluster_.Crash(kTestA);
+  cluster_.net().faults().Heal();
+  ASSERT_EQ(model.Update(2, {}, {}, 1)["features"].size(), 1u);
+  ASSERT_EQ(model.feature_count(), 2u);
+  Replica& a = cluster_.Start(kTestA, NodeRole::kNode);
+  for (int i = 0; i < 1000 && View().anti_entropy().stats().slots_dropped == 0; ++i) {
+    cluster_.Run(10);
+  }
+  ASSERT_EQ(View().anti_entropy().stats().slots_dropped, 1u);
+  nlohmann::json d = model.Update(3, {}, {}, 1);
+  EXPECT_EQ(d["removed"], nlohmann::json::array({lost.value().ToString()}));
+  EXPECT_EQ(model.feature_count(), 1u);
+  for (int i = 0; i < 1000 && !a.signed_on(); ++i) cluster_.Run(10);
+  ASSERT_TRUE(a.signed_on());
+  auto next = a.Create(FeatureParams::Crater(60, 20, 2));
+  ASSERT_TRUE(next.ok());
+  ASSERT_EQ(a.log(kTestA)->Find(2)->id, next.value());  // the slot the lost crater had
+  cluster_.Run(300);
+  d = model.Update(4, {}, {}, 1);
+  ASSERT_EQ(d["features"].size(), 1u);
+  EXPECT_EQ(d["features"][0]["id"], next.value().ToString());
+  ASSERT_EQ(d["features"][0]["history"].size(), 1u);
+  EXPECT_EQ(d["features"][0]["history"][0]["change_seq"], 2);
+  EXPECT_EQ(model.feature_count(), 2u);
+  EXPECT_EQ(View().Digest(), S().Digest());
+}
+
 }  // namespace
 }  // namespace dt

@@ -14,7 +14,7 @@ void DrillRunner::DigestMark(const DrillAction& a) {
   for (;;) {
     agreed = AgreeOnce(detail);
     if (agreed || ElapsedS() - start_s > a.within_s || Expired()) break;
-    if (sup_.Poll(100)) {
+    if (PollBeside(100)) {
       Check(fmt::format("digest \"{}\"", a.mark), false, "interrupted");
       return;
     }

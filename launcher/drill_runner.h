@@ -123,6 +123,9 @@ class DrillRunner {
   bool SampleStep(Sampling& s, double& next_due_s);
   void SampleRound(Sampling& s);
   void FinishSampling(Sampling& s);
+  // What a blocking action's wait does: due sampling rounds, then the children's output for up
+  // to timeout_ms (less when a round falls due sooner). True if interrupted.
+  bool PollBeside(int timeout_ms);
   // Blocks until the owner's vehicle is alive inside the action's box (within_s).
   void VehicleReaches(const DrillAction& a);
 

@@ -93,7 +93,7 @@ void DrillRunner::VehiclesSeen(const DrillAction& a) {
       Check(what, false, fmt::format("not after {:.1f} s: {}", t_s, last_problem));
       return;
     }
-    if (sup_.Poll(100)) {
+    if (PollBeside(100)) {
       Check(what, false, "interrupted");
       return;
     }
@@ -151,12 +151,21 @@ void DrillRunner::VehicleReaches(const DrillAction& a) {
       last = listed.error().message;
     }
     if (t_s > a.within_s || Expired()) break;
-    if (sup_.Poll(100)) {
+    if (PollBeside(100)) {
       Check(what, false, "interrupted");
       return;
     }
   }
   Check(what, false, fmt::format("not after {:.1f} s: {}", ElapsedS() - start_s, last));
+}
+
+bool DrillRunner::PollBeside(int timeout_ms) {
+  // A sampling started before a blocking action goes on while it waits: it is meant to see what
+  // the vehicles do meanwhile (a tank crossing a crater while the drill waits for another).
+  double next_due_s = 1e300;
+  for (Sampling& v : samplings_) (void)SampleStep(v, next_due_s);
+  const double wait_s = std::min(next_due_s - ElapsedS(), timeout_ms / 1000.0);
+  return sup_.Poll(static_cast<int>(std::clamp(wait_s, 0.0, timeout_ms / 1000.0) * 1000.0));
 }
 
 bool DrillRunner::SampleStep(Sampling& s, double& next_due_s) {

@@ -23,7 +23,6 @@ Status Blade::Lower(double depth_m) {
   depth_m_ = depth_m;
   down_ = true;
   edge_mm_.reset();
-  swept_m_ = 0.0;
   return Status::Ok();
 }
 
@@ -45,22 +44,6 @@ int64_t SetDown(PostWindow& w, const std::vector<std::pair<int, int>>& posts, in
     left -= give;
   }
   return left;
-}
-
-// The posts of the window in the blade's strip from the edge back `behind_m` (the way it cut).
-std::vector<std::pair<int, int>> Strip(const PostWindow& w, double edge_x, double edge_z, double fx,
-                                       double fz, double rx, double rz, double half,
-                                       double behind_m) {
-  std::vector<std::pair<int, int>> out;
-  const double s = w.spacing_m();
-  for (int j = w.j0(); j < w.j0() + w.rows(); ++j) {
-    for (int i = w.i0(); i < w.i0() + w.columns(); ++i) {
-      const double dx = i * s - edge_x, dz = j * s - edge_z;
-      const double along = dx * fx + dz * fz, across = dx * rx + dz * rz;
-      if (std::abs(across) <= half && along <= 0.0 && along > -behind_m) out.emplace_back(i, j);
-    }
-  }
-  return out;
 }
 
 }  // namespace
@@ -117,9 +100,6 @@ std::vector<PostDelta> Blade::Step(const Terrain& terrain, const FrictionTable& 
     }
   }
 
-  const auto repose = [&](Material m) {
-    return soils.ReposeRad(m == Material::kFromGround ? Material::kDirt : m);
-  };
   if (down_) {
     if (!edge_mm_) {
       const double ex = std::clamp(edge_x, 0.0, g.size_m()),
@@ -134,36 +114,16 @@ std::vector<PostDelta> Blade::Step(const Terrain& terrain, const FrictionTable& 
       load_mm_ += cut;
     }
     const auto capacity_mm = static_cast<int64_t>(spec_.capacity_m3 / (s * s) / kPostDeltaUnitM);
-    swept_m_ += travel;
-    // The blade is a wall: what slumps back from the spill ahead of it onto the way it cut (the
-    // posts behind the edge it has passed, under the tracks) is scraped up again, and what the
-    // blade then holds beyond its capacity spills ahead once more. After the last pass that
-    // surplus is set down ahead unslumped, held steeper than repose by the blade, so the load
-    // never ends a tick beyond the capacity and nothing slumps behind the edge.
-    const double behind_m = std::min(swept_m_, length_m);
-    constexpr int kScrapePasses = 4;
-    for (int pass = 0; pass < kScrapePasses; ++pass) {
-      if (load_mm_ > capacity_mm) {
-        load_mm_ = capacity_mm + SetDown(w, ahead, load_mm_ - capacity_mm);
-      }
-      if (w.Deltas().empty()) return {};  // nothing cut or spilled this tick
-      Slump(w, repose);
-      int64_t scraped = 0;
-      for (auto [i, j] : Strip(w, edge_x, edge_z, fx, fz, rx, rz, half, behind_m)) {
-        const int64_t above = w.height_mm(i, j) - edge_mm;
-        if (above <= 0) continue;
-        w.height_mm(i, j) -= above;
-        scraped += above;
-      }
-      if (scraped == 0) return w.Deltas();
-      load_mm_ += scraped;
+    if (load_mm_ > capacity_mm) {
+      load_mm_ = capacity_mm + SetDown(w, ahead, load_mm_ - capacity_mm);
     }
-    if (load_mm_ > capacity_mm) load_mm_ = capacity_mm + SetDown(w, ahead, load_mm_ - capacity_mm);
-    return w.Deltas();
+  } else {
+    load_mm_ = SetDown(w, ahead, load_mm_);
   }
-  load_mm_ = SetDown(w, ahead, load_mm_);
-  if (w.Deltas().empty()) return {};  // nothing set down this tick
-  Slump(w, repose);
+  if (w.Deltas().empty()) return {};  // nothing cut or set down this tick
+  Slump(w, [&](Material m) {
+    return soils.ReposeRad(m == Material::kFromGround ? Material::kDirt : m);
+  });
   return w.Deltas();
 }
 

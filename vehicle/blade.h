@@ -34,8 +34,7 @@ Result<BladeSpec> BladeOf(std::string_view vehicle_type_name);
 // over falling ground it carries); beyond the capacity the load spills
 // onto the posts just ahead of the blade; when the blade rises the whole load is set down there.
 // The changed posts and their neighbours then slump to the soils' angles of repose
-// (terrain/slump.h); what slumps back onto the way behind the edge is scraped up again (the blade
-// holds the spill in front). Soil is conserved: every millimetre cut is carried or set down.
+// (terrain/slump.h). Soil is conserved: every millimetre cut is carried or set down.
 class Blade {
  public:
   explicit Blade(BladeSpec spec) : spec_(spec) {}
@@ -47,7 +46,6 @@ class Blade {
   void Raise() {
     down_ = false;
     edge_mm_.reset();
-    swept_m_ = 0.0;
   }
   bool down() const { return down_; }
   double depth_m() const { return depth_m_; }
@@ -73,7 +71,6 @@ class Blade {
   double depth_m_ = 0.0;
   int64_t load_mm_ = 0;
   std::optional<int64_t> edge_mm_;  // the edge's elevation, set on the first tick down
-  double swept_m_ = 0.0;            // how far the edge went forward since the blade was lowered
   int last_window_posts_ = 0;
   bool has_last_ = false;
   double last_edge_x_ = 0.0, last_edge_z_ = 0.0;

@@ -72,40 +72,6 @@ TEST(BladeTest, BeyondTheCapacityTheBladeSpills) {
   EXPECT_EQ(TotalMm(t) + blade.load_mm(), 0);
 }
 
-// Through a berm the blade spills what it cannot carry just ahead of itself. That soil must not
-// slump back across the edge onto the cut the tracks drive on: it did, and a bulldozer in the
-// earthworks drill climbed its own spill (pitched 10-23 degrees, a third of its speed).
-TEST(BladeTest, ThroughABermTheWayBehindTheEdgeStaysAtTheEdge) {
-  Terrain t(HeightGrid(161, 0.5, 0.0f, Material::kDirt));
-  // Across the path at x 20..23: 1.5 m high on a 3 m base, far more than the blade carries.
-  ASSERT_TRUE(t.Add({1, 1, 1}, FeatureParams::Berm(21.5, 30.0, M_PI / 2, 20.0, 3.0, 1.5)).ok());
-  Blade blade(BladeOf("bulldozer").value());
-  ASSERT_TRUE(blade.Lower(0.0).ok());
-  double x = 12.0;  // the edge 2.95 m ahead, at 14.95
-  uint32_t number = 1;
-  Drive(t, blade, x, 40.0, 1.0, 120, number);  // 12 m: the edge to x 26.95, past the berm
-  const double edge_x = x + 5.9 / 2.0;
-  EXPECT_GT(blade.load_mm(), 0);
-  EXPECT_EQ(TotalMm(t) + blade.load_mm(), 0) << "soil made or lost";
-  // The edge held level at the ground: behind it, over the berm and up to a spacing short of
-  // the edge, the way is at the ground.
-  double highest = -1.0, highest_x = 0.0;
-  for (double px = 15.0; px <= edge_x - 0.5; px += 0.5) {
-    for (double pz = 39.5; pz <= 40.5; pz += 0.5) {
-      if (t.ElevationAt(px, pz) > highest) {
-        highest = t.ElevationAt(px, pz);
-        highest_x = px;
-      }
-    }
-  }
-  EXPECT_LT(highest, 0.02) << "at x " << highest_x;
-  // What the blade cut and could not carry lies ahead of it.
-  double ahead = -1.0;
-  for (double px = edge_x; px < edge_x + 3.0; px += 0.5)
-    ahead = std::max(ahead, t.ElevationAt(px, 40.0));
-  EXPECT_GT(ahead, 0.3);
-}
-
 TEST(BladeTest, BadDepthIsRefusedNamingTheValue) {
   Blade blade(BladeOf("bulldozer").value());
   const Status deep = blade.Lower(0.8);

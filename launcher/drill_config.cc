@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -10,6 +11,32 @@
 #include "runtime/toml_reader.h"
 
 namespace dt {
+
+std::vector<std::string> NamesUsed(std::string_view line) {
+  std::vector<std::string> out;
+  for (size_t open = line.find('{'); open != std::string_view::npos;
+       open = line.find('{', open + 1)) {
+    const size_t close = line.find('}', open);
+    if (close == std::string_view::npos) break;
+    out.emplace_back(line.substr(open + 1, close - open - 1));
+  }
+  return out;
+}
+
+std::string WithNames(std::string_view line, const std::map<std::string, std::string>& kept) {
+  std::string out;
+  size_t from = 0;
+  for (size_t open = line.find('{'); open != std::string_view::npos; open = line.find('{', from)) {
+    const size_t close = line.find('}', open);
+    if (close == std::string_view::npos) break;
+    out += line.substr(from, open - from);
+    const auto it = kept.find(std::string(line.substr(open + 1, close - open - 1)));
+    out += it != kept.end() ? it->second : std::string(line.substr(open, close - open + 1));
+    from = close + 1;
+  }
+  out += line.substr(from);
+  return out;
+}
 
 DrillConfig ParseDrillConfig(std::string_view toml_text, std::string_view source_name,
                              const std::filesystem::path& base_dir) {
@@ -77,6 +104,7 @@ DrillConfig ParseDrillConfig(std::string_view toml_text, std::string_view source
     } else if (kind == "command") {
       a.kind = DrillActionKind::kCommand;
       a.line = r.String("line");
+      a.as = r.String("as", "");
     } else if (kind == "vehicles_seen") {
       a.kind = DrillActionKind::kVehiclesSeen;
       a.owner = r.String("owner");
@@ -102,16 +130,59 @@ DrillConfig ParseDrillConfig(std::string_view toml_text, std::string_view source
         r.Fail("duration_s", fmt::format("sampling from {} s for {} s ends after deadline_s {}",
                                          a.at_s, a.duration_s, d.deadline_s));
       }
+    } else if (kind == "vehicle_reaches") {
+      a.kind = DrillActionKind::kVehicleReaches;
+      a.owner = r.String("owner");
+      a.vehicle = static_cast<int>(r.Int("vehicle", 0, 0, 60000));
+      a.within_s = r.Double("within_s", 15.0, 0.1, 3600.0);
+      a.x_min_m = r.Double("x_min_m", -1e300, -1e9, 1e9);
+      a.x_max_m = r.Double("x_max_m", 1e300, -1e9, 1e9);
+      a.z_min_m = r.Double("z_min_m", -1e300, -1e9, 1e9);
+      a.z_max_m = r.Double("z_max_m", 1e300, -1e9, 1e9);
+      if (!r.Has("x_min_m") && !r.Has("x_max_m") && !r.Has("z_min_m") && !r.Has("z_max_m")) {
+        r.Fail("do", "vehicle_reaches needs at least one of x_min_m, x_max_m, z_min_m, z_max_m");
+      }
+      if (a.x_min_m >= a.x_max_m) {
+        r.Fail("x_max_m", fmt::format("x_max_m {} is not above x_min_m {}", a.x_max_m, a.x_min_m));
+      }
+      if (a.z_min_m >= a.z_max_m) {
+        r.Fail("z_max_m", fmt::format("z_max_m {} is not above z_min_m {}", a.z_max_m, a.z_min_m));
+      }
+      if (!a.targets.empty()) {
+        r.Fail("targets", "vehicle_reaches watches the owner's own vehicle: no targets");
+      }
+    } else if (kind == "digest") {
+      a.kind = DrillActionKind::kDigest;
+      a.mark = r.String("mark");
+      a.within_s = r.Double("within_s", 15.0, 0.1, 3600.0);
+      if (!a.targets.empty()) r.Fail("targets", "digest asks every live process: no targets");
     } else {
       r.Fail("do",
              "expected random_ops, chaos, kill, stop, restart, loss, partition, heal, command, "
-             "vehicles_seen or sample_vehicles");
+             "vehicles_seen, sample_vehicles, vehicle_reaches or digest");
     }
     r.Finish();
     d.actions.push_back(std::move(a));
   }
   std::stable_sort(d.actions.begin(), d.actions.end(),
                    [](const DrillAction& x, const DrillAction& y) { return x.at_s < y.at_s; });
+  // A "{name}" in a command line must name what an earlier command kept `as`.
+  std::set<std::string> kept = {"run_dir"};  // the run directory, always known
+  for (const DrillAction& a : d.actions) {
+    if (a.kind != DrillActionKind::kCommand) continue;
+    for (const std::string& name : NamesUsed(a.line)) {
+      if (kept.count(name) == 0) {
+        throw std::invalid_argument(
+            fmt::format("{}: line \"{}\": {{{}}} is kept by no earlier command (as = \"{}\")",
+                        a.where, a.line, name, name));
+      }
+    }
+    if (!a.as.empty() && !kept.insert(a.as).second) {
+      throw std::invalid_argument(
+          fmt::format("{}: as = \"{}\" is kept by an earlier command already{}", a.where, a.as,
+                      a.as == "run_dir" ? " (run_dir is the run directory)" : ""));
+    }
+  }
   return d;
 }
 

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -22,6 +23,8 @@ enum class DrillActionKind {
   kChaos,           // rounds of SIGKILL on random processes, each restarted after a random downtime
   kVehiclesSeen,    // wait until some nodes hold (or no longer hold) a node's vehicles
   kSampleVehicles,  // sample nodes' remote vehicles: their tilt, their error against the owner
+  kVehicleReaches,  // wait until a node's vehicle is alive inside a box (past an obstacle)
+  kDigest,          // wait for one digest everywhere; remember it, or check it equals the one kept
 };
 
 struct DrillAction {
@@ -37,15 +40,20 @@ struct DrillAction {
   double down_min_s = 1.0;           // chaos: each kill's downtime, uniform in [min, max]
   double down_max_s = 5.0;
   double drop_probability = 0.0;  // loss
-  std::string line;               // command
-  std::string owner;              // vehicle actions: the node whose vehicles are watched
-  bool seen = true;               // vehicles_seen: held (true) or gone (false)
-  double within_s = 15.0;         // vehicles_seen: the time allowed
-  double not_before_s = 0.0;      // vehicles_seen: and not sooner than this
+  std::string line;   // command; "{name}": the ID a command kept `as` name; "{run_dir}": run_dir
+  std::string as;     // command: keep the reply's (first) feature ID under this name
+  std::string owner;  // vehicle actions: the node whose vehicles are watched
+  bool seen = true;   // vehicles_seen: held (true) or gone (false)
+  double within_s = 15.0;      // vehicles_seen, vehicle_reaches, digest: the time allowed
+  double not_before_s = 0.0;   // vehicles_seen: and not sooner than this
   double min_tilt_deg = -1.0;  // sample_vehicles: the largest |pitch| or |roll| seen; <0 unchecked
   double error_m = 1.0;        // sample_vehicles: a sample is within when its error is <= this
   double min_fraction = -1.0;  // sample_vehicles: of samples within error_m; <0 unchecked
-  std::string where;           // "<file> action <n>"
+  int vehicle = 0;             // vehicle_reaches: the owner's local index
+  double x_min_m = -1e300, x_max_m = 1e300;  // vehicle_reaches: the box (open sides unbounded)
+  double z_min_m = -1e300, z_max_m = 1e300;
+  std::string mark;   // digest: the name the digest is kept under
+  std::string where;  // "<file> action <n>"
 };
 
 struct DrillConfig {
@@ -63,6 +71,11 @@ struct DrillConfig {
 DrillConfig ParseDrillConfig(std::string_view toml_text, std::string_view source_name,
                              const std::filesystem::path& base_dir);
 DrillConfig LoadDrillConfig(const std::filesystem::path& path);
+
+// The names a command line refers to as "{name}", in order.
+std::vector<std::string> NamesUsed(std::string_view line);
+// The line with every "{name}" of `kept` replaced by its value (others left as they are).
+std::string WithNames(std::string_view line, const std::map<std::string, std::string>& kept);
 
 // Gives the k-th seeded action of the timeline (random_ops, chaos; in time order, from 0) the
 // seed `seed + k`, so one number reproduces a whole campaign's choices (dt_drill --seed).

@@ -227,18 +227,38 @@ void DrillRunner::RunAction(const DrillAction& a) {
     case DrillActionKind::kHeal:
       for (const std::string& n : Live()) (void)Call(n, "heal");
       return;
-    case DrillActionKind::kCommand:
+    case DrillActionKind::kCommand: {
+      std::map<std::string, std::string> names = kept_ids_;
+      names["run_dir"] = exercise_.run_dir.string();
+      const std::string line = WithNames(a.line, names);
       for (const std::string& n : Expand(a.targets)) {
-        Result<ControlReply> r = Call(n, a.line, kOpTimeoutMs);
-        Check(fmt::format("{} on {}", a.line, n), r && r.value().ok,
+        Result<ControlReply> r = Call(n, line, kOpTimeoutMs);
+        Check(fmt::format("{} on {}", line, n), r && r.value().ok,
               r ? r.value().error : r.error().message);
         // A create's IDs count like those of random operations (no ID issued twice, etc.).
-        if (r && r.value().ok) RecordAccepted(n, a.line, r.value());
-        if (!r) RecordUnanswered(n, a.line, r.error().message);
+        if (r && r.value().ok) RecordAccepted(n, line, r.value());
+        if (!r) RecordUnanswered(n, line, r.error().message);
+        if (!a.as.empty() && r && r.value().ok) {
+          // The first ID of the reply, for the later lines that name it.
+          const std::string first = r.value().body.substr(0, r.value().body.find('\n'));
+          if (ParseFeatureId(first)) {
+            kept_ids_[a.as] = first;
+          } else {
+            Check(fmt::format("{} on {} gives an ID to keep as {}", line, n, a.as), false,
+                  r.value().body);
+          }
+        }
       }
       return;
+    }
     case DrillActionKind::kVehiclesSeen:
       VehiclesSeen(a);
+      return;
+    case DrillActionKind::kVehicleReaches:
+      VehicleReaches(a);
+      return;
+    case DrillActionKind::kDigest:
+      DigestMark(a);
       return;
     case DrillActionKind::kSampleVehicles: {
       Sampling v;
@@ -257,36 +277,39 @@ bool DrillRunner::Converge(std::string& detail) {
   }
   const double until_s = std::min(ElapsedS() + drill_.settle_s, drill_.deadline_s);
   for (;;) {
-    std::map<std::string, std::string> digests;
-    bool all_caught_up = true;
-    bool all_acked = true;
-    for (const std::string& n : Live()) {
-      auto st = Status(n);
-      if (st.empty()) {
-        all_caught_up = false;
-        continue;
-      }
-      digests[n] = st["digest"];
-      dropped_[n] = std::stoull(st["fault_dropped"].empty() ? "0" : st["fault_dropped"]);
-      all_caught_up &= st["caught_up"] == "1";
-      if (st["role"] == "node") {
-        all_acked &= st["acknowledged_change_seq"] == st["own_change_seq"];
-      }
-    }
-    std::set<std::string> distinct;
-    for (const auto& [n, d] : digests) distinct.insert(d);
-    digests_equal_ = distinct.size() == 1;
-    last_digests_ = digests;
-    detail.clear();
-    for (const auto& [n, d] : digests) detail += fmt::format("\n    {:10} {}", n, d);
-    if (distinct.size() == 1 && all_caught_up && all_acked) return true;
-    if (ElapsedS() >= until_s) {
-      detail += fmt::format("\n    caught_up everywhere: {}, every change acknowledged: {}",
-                            all_caught_up, all_acked);
-      return false;
-    }
+    if (AgreeOnce(detail)) return true;
+    if (ElapsedS() >= until_s) return false;
     if (sup_.Poll(250)) return false;  // interrupted
   }
+}
+
+bool DrillRunner::AgreeOnce(std::string& detail) {
+  std::map<std::string, std::string> digests;
+  bool all_caught_up = true;
+  bool all_acked = true;
+  for (const std::string& n : Live()) {
+    auto st = Status(n);
+    if (st.empty()) {
+      all_caught_up = false;
+      continue;
+    }
+    digests[n] = st["digest"];
+    dropped_[n] = std::stoull(st["fault_dropped"].empty() ? "0" : st["fault_dropped"]);
+    all_caught_up &= st["caught_up"] == "1";
+    if (st["role"] == "node") {
+      all_acked &= st["acknowledged_change_seq"] == st["own_change_seq"];
+    }
+  }
+  std::set<std::string> distinct;
+  for (const auto& [n, d] : digests) distinct.insert(d);
+  digests_equal_ = distinct.size() == 1;
+  last_digests_ = digests;
+  detail.clear();
+  for (const auto& [n, d] : digests) detail += fmt::format("\n    {:10} {}", n, d);
+  if (distinct.size() == 1 && all_caught_up && all_acked) return true;
+  detail += fmt::format("\n    caught_up everywhere: {}, every change acknowledged: {}",
+                        all_caught_up, all_acked);
+  return false;
 }
 
 std::set<FeatureId> DrillRunner::Features(const std::string& name) {

@@ -123,8 +123,20 @@ class DrillRunner {
   bool SampleStep(Sampling& s, double& next_due_s);
   void SampleRound(Sampling& s);
   void FinishSampling(Sampling& s);
+  // What a blocking action's wait does: due sampling rounds, then the children's output for up
+  // to timeout_ms (less when a round falls due sooner). True if interrupted.
+  bool PollBeside(int timeout_ms);
+  // Blocks until the owner's vehicle is alive inside the action's box (within_s).
+  void VehicleReaches(const DrillAction& a);
+
+  // drill_digest_mark.cc: the digest action.
+  void DigestMark(const DrillAction& a);
 
   bool Converge(std::string& detail);
+  // One round of status replies: true when every live process holds one digest, is caught up,
+  // and every node's own changes are acknowledged; `detail` lists the digests (and, when not,
+  // what is missing).
+  bool AgreeOnce(std::string& detail);
   // Checks 2-4 (docs/launcher.md "Checks") against the features a live process holds.
   void CheckFeatures();
   // The live feature IDs a process holds (empty if the call fails).
@@ -156,9 +168,15 @@ class DrillRunner {
   std::vector<Burst> bursts_;
   std::vector<Chaos> chaos_;
   std::vector<Sampling> samplings_;
-  int kills_ = 0;               // SIGKILLs sent by the drill (kill actions and chaos)
-  int restarts_ = 0;            // starts after the first
-  bool digests_equal_ = false;  // at the last convergence poll
+  std::map<std::string, std::string> kept_ids_;  // command `as` name -> the ID it gave
+  struct Mark {
+    std::string digest;
+    double at_s = 0.0;
+  };
+  std::map<std::string, Mark> marks_;  // digest action: mark -> the digest first agreed on
+  int kills_ = 0;                      // SIGKILLs sent by the drill (kill actions and chaos)
+  int restarts_ = 0;                   // starts after the first
+  bool digests_equal_ = false;         // at the last convergence poll
   std::map<std::string, std::string> last_digests_;  // per live process, at that poll
   size_t acked_ops_ = 0;   // operations found acknowledged (CheckFeatures)
   size_t lost_count_ = 0;  // acknowledged operations found undone (CheckFeatures)

@@ -1,10 +1,11 @@
-// The drill's vehicle actions: vehicles_seen and sample_vehicles (docs/launcher.md "Vehicle
-// actions"), read from the nodes' `vehicles` replies.
+// The drill's vehicle actions: vehicles_seen, sample_vehicles and vehicle_reaches
+// (docs/launcher.md "Vehicle actions"), read from the nodes' `vehicles` replies.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <set>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -92,7 +93,7 @@ void DrillRunner::VehiclesSeen(const DrillAction& a) {
       Check(what, false, fmt::format("not after {:.1f} s: {}", t_s, last_problem));
       return;
     }
-    if (sup_.Poll(100)) {
+    if (PollBeside(100)) {
       Check(what, false, "interrupted");
       return;
     }
@@ -105,6 +106,66 @@ void DrillRunner::VehiclesSeen(const DrillAction& a) {
   }
   Check(a.not_before_s > 0.0 ? fmt::format("{}, not before {} s", what, a.not_before_s) : what,
         !too_soon, fmt::format("{}", fmt::join(times, ", ")));
+}
+
+void DrillRunner::VehicleReaches(const DrillAction& a) {
+  std::string box;  // the bounds given, as "x >= 70 m, z 30..50 m"
+  for (const auto& [axis, lo, hi] :
+       {std::tuple{"x", a.x_min_m, a.x_max_m}, std::tuple{"z", a.z_min_m, a.z_max_m}}) {
+    const bool has_lo = lo > -1e299, has_hi = hi < 1e299;
+    if (!has_lo && !has_hi) continue;
+    box += box.empty() ? "" : ", ";
+    box += has_lo && has_hi ? fmt::format("{} {}..{} m", axis, lo, hi)
+           : has_lo         ? fmt::format("{} >= {} m", axis, lo)
+                            : fmt::format("{} <= {} m", axis, hi);
+  }
+  const std::string what =
+      fmt::format("{}'s vehicle {} alive at {} within {} s", a.owner, a.vehicle, box, a.within_s);
+  const double start_s = ElapsedS();
+  std::string last = "no reply yet";
+  for (;;) {
+    const double t_s = ElapsedS() - start_s;
+    Result<std::vector<ListedVehicle>> listed =
+        sup_.running(a.owner)
+            ? Vehicles(a.owner)
+            : Result<std::vector<ListedVehicle>>(Error{a.owner + " is not running"});
+    if (listed) {
+      const auto it = std::find_if(listed.value().begin(), listed.value().end(),
+                                   [&](const ListedVehicle& v) { return v.index == a.vehicle; });
+      if (it == listed.value().end()) {
+        last = fmt::format("{} has no vehicle {}", a.owner, a.vehicle);
+      } else {
+        last = fmt::format(
+            "{} {} at x {:.1f} z {:.1f} y {:.2f}, heading {:.0f}, pitch {:.1f}, "
+            "roll {:.1f} degrees, {:.1f} m/s, alive {}",
+            it->type, it->entity, it->x_m, it->z_m, it->y_m, it->heading_deg, it->pitch_deg,
+            it->roll_deg, it->speed_mps, it->alive ? 1 : 0);
+        if (!it->alive) break;  // it will not get there
+        if (it->x_m >= a.x_min_m && it->x_m <= a.x_max_m && it->z_m >= a.z_min_m &&
+            it->z_m <= a.z_max_m) {
+          Check(what, true, fmt::format("after {:.1f} s: {}", t_s, last));
+          return;
+        }
+      }
+    } else {
+      last = listed.error().message;
+    }
+    if (t_s > a.within_s || Expired()) break;
+    if (PollBeside(100)) {
+      Check(what, false, "interrupted");
+      return;
+    }
+  }
+  Check(what, false, fmt::format("not after {:.1f} s: {}", ElapsedS() - start_s, last));
+}
+
+bool DrillRunner::PollBeside(int timeout_ms) {
+  // A sampling started before a blocking action goes on while it waits: it is meant to see what
+  // the vehicles do meanwhile (a tank crossing a crater while the drill waits for another).
+  double next_due_s = 1e300;
+  for (Sampling& v : samplings_) (void)SampleStep(v, next_due_s);
+  const double wait_s = std::min(next_due_s - ElapsedS(), timeout_ms / 1000.0);
+  return sup_.Poll(static_cast<int>(std::clamp(wait_s, 0.0, timeout_ms / 1000.0) * 1000.0));
 }
 
 bool DrillRunner::SampleStep(Sampling& s, double& next_due_s) {

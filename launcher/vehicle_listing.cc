@@ -38,7 +38,14 @@ Result<std::vector<ListedVehicle>> ParseVehicleListing(std::string_view body) {
     ListedVehicle v;
     // local <index> <entity> <type> ...; remote <entity> <type> ...
     if (!positional.empty() && positional[0] == "local" && positional.size() == 4) {
+      double index = 0.0;
+      if (!ParseNumber(positional[1], index) || index < 0.0 || index != std::floor(index) ||
+          index > 1e6) {
+        return Error{
+            fmt::format("index \"{}\" is not a vehicle index in \"{}\"", positional[1], line)};
+      }
       v.local = true;
+      v.index = static_cast<int>(index);
       v.entity = positional[2];
       v.type = positional[3];
     } else if (!positional.empty() && positional[0] == "remote" && positional.size() == 3) {
@@ -62,6 +69,11 @@ Result<std::vector<ListedVehicle>> ParseVehicleListing(std::string_view body) {
         return Error{fmt::format("{}= missing or not a finite number in \"{}\"", key, line)};
       }
     }
+    const auto alive = keys.find("alive");
+    if (alive == keys.end() || (alive->second != "0" && alive->second != "1")) {
+      return Error{fmt::format("alive= missing or not 0 or 1 in \"{}\"", line)};
+    }
+    v.alive = alive->second == "1";
     if (!v.local) {
       const auto age = keys.find("age_s");
       if (age == keys.end() || !ParseNumber(age->second, v.age_s)) {

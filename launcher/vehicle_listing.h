@@ -12,6 +12,7 @@ namespace dt {
 
 struct ListedVehicle {
   bool local = false;  // the node's own (a "local" line) or another node's ("remote")
+  int index = -1;      // local: the vehicle's index on its node (drive, blade); remote: -1
   std::string entity;  // site:host:number
   std::string type;
   std::string owner;  // site:host
@@ -20,6 +21,7 @@ struct ListedVehicle {
   double speed_mps = 0.0;
   double model_error_m = 0.0;
   double age_s = 0.0;  // remote: since the last state arrived (0 for a local vehicle)
+  bool alive = true;
 };
 
 // One entry per line; an error naming the line for anything that is not a vehicle line with

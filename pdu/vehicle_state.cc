@@ -12,12 +12,15 @@ struct KnownType {
   EntityType type;
 };
 // Platform (1), land (1), USA (225). The tank is SISO-REF-010's M1A2 (category 1 tank,
-// subcategory 1 M1 Abrams, specific 3); the truck and the jeep are named by category alone
-// (7 large wheeled utility vehicle, 6 small wheeled utility vehicle; subcategory 0).
-constexpr std::array<KnownType, 3> kKnownTypes = {{
+// subcategory 1 M1 Abrams, specific 3); the truck, the jeep and the bulldozer are named by
+// category alone (7 large wheeled utility vehicle, 6 small wheeled utility vehicle, 18 engineer
+// equipment; subcategory 0). Without a type a vehicle is not shared: a bulldozer's blade work
+// reached every node while the bulldozer itself stayed unseen.
+constexpr std::array<KnownType, 4> kKnownTypes = {{
     {"tank", {1, 1, 225, 1, 1, 3, 0}},
     {"truck", {1, 1, 225, 7, 0, 0, 0}},
     {"jeep", {1, 1, 225, 6, 0, 0, 0}},
+    {"bulldozer", {1, 1, 225, 18, 0, 0, 0}},
 }};
 
 }  // namespace

@@ -34,7 +34,7 @@ struct EntityType {
 };
 
 // SISO-REF-010 types of the built-in vehicle types (docs/pdu.md "Entity types"): "tank",
-// "truck", "jeep". nullopt for another name.
+// "truck", "jeep", "bulldozer". nullopt for another name.
 std::optional<EntityType> EntityTypeOfVehicle(std::string_view type_name);
 // The built-in vehicle type name of an entity type; empty for a type no built-in has.
 std::string_view VehicleNameOfEntityType(const EntityType& type);

@@ -71,7 +71,12 @@ std::vector<PostDelta> Blade::Step(const Terrain& terrain, const FrictionTable& 
   const double half = spec_.width_m / 2.0;
   constexpr int kMarginPosts = 3;
   double min_x = edge_x, max_x = edge_x, min_z = edge_z, max_z = edge_z;
-  for (double a : {-travel - s, 2.0 * s}) {
+  // The cut reaches a spacing ahead of the edge: the surface under the edge interpolates the
+  // posts either side of it, so with only the posts behind it cut, the front of the running gear
+  // (which reaches the edge) stood on the slope up to the next, uncut post, and a bulldozer in a
+  // berm climbed it (pitched 10-23 degrees, a fifth of its speed).
+  const double reach = s;
+  for (double a : {reach - travel - s, reach + 2.0 * s}) {
     for (double c : {-half, half}) {
       const double px = edge_x + fx * a + rx * c, pz = edge_z + fz * a + rz * c;
       min_x = std::min(min_x, px);
@@ -95,8 +100,8 @@ std::vector<PostDelta> Blade::Step(const Terrain& terrain, const FrictionTable& 
       const double dx = i * s - edge_x, dz = j * s - edge_z;
       const double along = dx * fx + dz * fz, across = dx * rx + dz * rz;
       if (std::abs(across) > half) continue;
-      if (along <= 0.0 && along > -travel) swept.emplace_back(i, j);
-      if (along > 0.0 && along <= 1.5 * s) ahead.emplace_back(i, j);
+      if (along <= reach && along > reach - travel) swept.emplace_back(i, j);
+      if (along > reach && along <= reach + 1.5 * s) ahead.emplace_back(i, j);
     }
   }
 

@@ -27,8 +27,10 @@ struct BladeSpec {
 Result<BladeSpec> BladeOf(std::string_view vehicle_type_name);
 
 // One blade on one vehicle. Step is called once a tick with the vehicle's pose; it returns the
-// post changes of that tick: with the blade down, every post the blade's edge passed over since
-// the last tick whose surface stood above the edge is cut down to it and its soil joins the load.
+// post changes of that tick: with the blade down, every post the cut passed over since the last
+// tick whose surface stood above the edge is cut down to it and its soil joins the load. The cut
+// runs a post spacing ahead of the edge, so the surface under the edge (where the running gear
+// ends) is cut, not the slope up to the next post.
 // The edge is held level, as on a grader's laser: at the surface under the edge when the blade
 // was lowered, less the depth (over rising ground and through a berm it cuts deeper and fills,
 // over falling ground it carries); beyond the capacity the load spills

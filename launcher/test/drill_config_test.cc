@@ -166,6 +166,81 @@ TEST(DrillConfigTest, RefusesBadVehicleActions) {
             std::string::npos);
 }
 
+TEST(DrillConfigTest, ReadsVehicleReachesAndDigestMarks) {
+  const DrillConfig d = ParseDrillConfig(
+      kHead +
+          "[[action]]\nat_s = 2\ndo = \"vehicle_reaches\"\nowner = \"node-2\"\nvehicle = 1\n"
+          "x_min_m = 70\nz_min_m = 30\nz_max_m = 50\nwithin_s = 20\n"
+          "[[action]]\nat_s = 3\ndo = \"digest\"\nmark = \"works\"\n",
+      "d.toml", "/base");
+  ASSERT_EQ(d.actions.size(), 2u);
+  const DrillAction& v = d.actions[0];
+  EXPECT_EQ(v.kind, DrillActionKind::kVehicleReaches);
+  EXPECT_EQ(v.owner, "node-2");
+  EXPECT_EQ(v.vehicle, 1);
+  EXPECT_DOUBLE_EQ(v.x_min_m, 70.0);
+  EXPECT_GT(v.x_max_m, 1e299);  // open on that side
+  EXPECT_DOUBLE_EQ(v.z_min_m, 30.0);
+  EXPECT_DOUBLE_EQ(v.z_max_m, 50.0);
+  EXPECT_DOUBLE_EQ(v.within_s, 20.0);
+  EXPECT_EQ(d.actions[1].kind, DrillActionKind::kDigest);
+  EXPECT_EQ(d.actions[1].mark, "works");
+  EXPECT_DOUBLE_EQ(d.actions[1].within_s, 15.0);
+}
+
+TEST(DrillConfigTest, RefusesBadVehicleReachesAndDigestMarks) {
+  const std::string reaches = "[[action]]\ndo = \"vehicle_reaches\"\nowner = \"node-1\"\n";
+  EXPECT_NE(ErrorOf(kHead + reaches).find("needs at least one of x_min_m"), std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + reaches + "x_min_m = 5\nx_max_m = 5\n")
+                .find("x_max_m 5 is not above x_min_m 5"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + reaches + "z_min_m = 9\nz_max_m = 1\n")
+                .find("z_max_m 1 is not above z_min_m 9"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + reaches + "x_min_m = 5\nvehicle = -1\n").find("vehicle"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + reaches + "x_min_m = 5\ntargets = \"node-2\"\n").find("no targets"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"vehicle_reaches\"\nx_min_m = 5\n").find("owner"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"digest\"\n").find("mark"), std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"digest\"\nmark = \"m\"\ntargets = \"s\"\n")
+                .find("no targets"),
+            std::string::npos);
+}
+
+TEST(DrillConfigTest, ACommandNamesTheIdAnEarlierOneKept) {
+  const DrillConfig d = ParseDrillConfig(
+      kHead +
+          "[[action]]\nat_s = 4\ndo = \"command\"\ntargets = \"node-1\"\n"
+          "line = \"breach {ditch} 25 10\"\n"
+          "[[action]]\nat_s = 1\ndo = \"command\"\ntargets = \"node-1\"\n"
+          "line = \"ditch side_run_m=1.5 50,10,2.5,7 50,45,2.5,7\"\nas = \"ditch\"\n",
+      "d.toml", "/base");
+  ASSERT_EQ(d.actions.size(), 2u);
+  EXPECT_EQ(d.actions[0].as, "ditch");  // in time order: the create first
+  EXPECT_EQ(NamesUsed(d.actions[1].line), std::vector<std::string>{"ditch"});
+  EXPECT_EQ(WithNames(d.actions[1].line, {{"ditch", "1:1:257"}}), "breach 1:1:257 25 10");
+  EXPECT_EQ(WithNames("update {a} height_m={b}", {{"a", "1:2:3"}}), "update 1:2:3 height_m={b}");
+  EXPECT_EQ(WithNames("no names", {{"a", "x"}}), "no names");
+  // A name used before (in time) the command that keeps it, or never kept, or kept twice.
+  const std::string use = "[[action]]\nat_s = 1\ndo = \"command\"\nline = \"destroy {x}\"\n";
+  const std::string keep =
+      "[[action]]\nat_s = 2\ndo = \"command\"\nline = \"crater 5 5 2\"\nas = \"x\"\n";
+  EXPECT_NE(ErrorOf(kHead + use + keep).find("{x} is kept by no earlier command"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + use).find("action 1"), std::string::npos);
+  EXPECT_NE(ErrorOf(kHead + keep + keep).find("as = \"x\" is kept by an earlier command already"),
+            std::string::npos);
+  // The run directory is always known, and no command may keep an ID under its name.
+  EXPECT_EQ(ErrorOf(kHead + "[[action]]\ndo = \"command\"\nline = \"render {run_dir}/a.png\"\n"),
+            "");
+  EXPECT_NE(ErrorOf(kHead + "[[action]]\ndo = \"command\"\nline = \"crater 5 5 2\"\n"
+                            "as = \"run_dir\"\n")
+                .find("run_dir is the run directory"),
+            std::string::npos);
+}
+
 TEST(DrillConfigTest, ShippedDrillsParseAndNameRealProcesses) {
   const std::filesystem::path dir = std::filesystem::path(DT_SOURCE_DIR) / "configs/drills";
   int count = 0;

@@ -7,16 +7,18 @@ namespace {
 
 TEST(VehicleListingTest, ReadsLocalAndRemoteLines) {
   const auto v = ParseVehicleListing(
-      "local 0 1:1:1 tank owner=1:1 x_m=100.00 y_m=12.50 z_m=100.00 heading_deg=0.00 "
+      "local 3 1:1:1 tank owner=1:1 x_m=100.00 y_m=12.50 z_m=100.00 heading_deg=0.00 "
       "pitch_deg=-1.20 roll_deg=0.30 speed_mps=4.00 alive=1 model_error_m=0.120 sent=3\n"
       "remote 1:2:1 jeep owner=1:2 x_m=5.00 y_m=1.00 z_m=6.00 heading_deg=90.00 pitch_deg=2.00 "
-      "roll_deg=-17.50 speed_mps=0.00 alive=1 model_error_m=1.020 settled=1 age_s=0.40 "
+      "roll_deg=-17.50 speed_mps=0.00 alive=0 model_error_m=1.020 settled=1 age_s=0.40 "
       "updates=7\n");
   ASSERT_TRUE(v) << v.error().message;
   ASSERT_EQ(v.value().size(), 2u);
   const ListedVehicle& l = v.value()[0];
   EXPECT_TRUE(l.local);
   EXPECT_EQ(l.entity, "1:1:1");
+  EXPECT_EQ(l.index, 3);
+  EXPECT_TRUE(l.alive);
   EXPECT_EQ(l.type, "tank");
   EXPECT_EQ(l.owner, "1:1");
   EXPECT_DOUBLE_EQ(l.y_m, 12.5);
@@ -26,6 +28,8 @@ TEST(VehicleListingTest, ReadsLocalAndRemoteLines) {
   EXPECT_FALSE(r.local);
   EXPECT_EQ(r.entity, "1:2:1");
   EXPECT_EQ(r.owner, "1:2");
+  EXPECT_EQ(r.index, -1);
+  EXPECT_FALSE(r.alive);
   EXPECT_DOUBLE_EQ(r.heading_deg, 90.0);
   EXPECT_DOUBLE_EQ(r.age_s, 0.4);
   EXPECT_DOUBLE_EQ(l.age_s, 0.0);
@@ -42,8 +46,17 @@ TEST(VehicleListingTest, EmptyReplyIsNoVehicles) {
 TEST(VehicleListingTest, RefusesWhatIsNotAVehicleLine) {
   const std::string good_keys =
       " owner=1:1 x_m=1 y_m=1 z_m=1 heading_deg=0 pitch_deg=0 roll_deg=0 speed_mps=0 "
-      "model_error_m=0";
+      "model_error_m=0 alive=1";
   EXPECT_TRUE(ParseVehicleListing("local 0 1:1:1 tank" + good_keys));
+  EXPECT_NE(ParseVehicleListing("local x 1:1:1 tank" + good_keys).error().message.find("index"),
+            std::string::npos);
+  EXPECT_NE(ParseVehicleListing("local -1 1:1:1 tank" + good_keys).error().message.find("index"),
+            std::string::npos);
+  EXPECT_NE(ParseVehicleListing("remote 1:1:1 tank owner=1:1 x_m=1 y_m=1 z_m=1 heading_deg=0 "
+                                "pitch_deg=0 roll_deg=0 speed_mps=0 model_error_m=0 age_s=0")
+                .error()
+                .message.find("alive"),
+            std::string::npos);
   EXPECT_TRUE(ParseVehicleListing("remote 1:1:1 tank" + good_keys + " age_s=0.1"));
   EXPECT_NE(ParseVehicleListing("remote 1:1:1 tank" + good_keys).error().message.find("age_s"),
             std::string::npos);

@@ -115,6 +115,33 @@ TEST_F(VehicleSharingTest, APhysicalVehiclesStatesCarryItsOwnSmoothRates) {
   EXPECT_LT(a_.sent(), 20u);
 }
 
+// Every built-in type is shared with its own footprint: the bulldozer had no entity type, so
+// the other nodes saw its blade work and never the bulldozer.
+TEST_F(VehicleSharingTest, EveryBuiltInTypeIsSharedAsItself) {
+  const std::vector<std::string> types = {"tank", "truck", "jeep", "bulldozer"};
+  for (size_t k = 0; k < types.size(); ++k) {
+    auto type = BuiltInPhysicalType(types[k], ShippedFrictionTable());
+    ASSERT_TRUE(type) << types[k];
+    local_a_.push_back(SimulatedVehicle::Make(type.value(), terrain_,
+                                              100.0 + 60.0 * static_cast<double>(k), 300, 0.0,
+                                              VehicleModel::kLight)
+                           .value());
+    EXPECT_EQ(a_.AddLocal(local_a_.back()), (EntityId{1, 1, static_cast<uint16_t>(k + 1)}));
+  }
+  Tick(0, 0);
+  ASSERT_EQ(b_.remote().vehicles().size(), types.size());
+  size_t k = 0;
+  for (const auto& [id, seen] : b_.remote().vehicles()) {
+    EXPECT_EQ(id, (EntityId{1, 1, static_cast<uint16_t>(k + 1)}));
+    EXPECT_EQ(seen.type.name, types[k]);
+    EXPECT_DOUBLE_EQ(seen.type.length_m, local_a_[k].type().base.length_m) << types[k];
+    EXPECT_DOUBLE_EQ(seen.type.width_m, local_a_[k].type().base.width_m) << types[k];
+    ++k;
+  }
+  EXPECT_NE(b_.VehiclesText({}).find("remote 1:1:4 bulldozer owner=1:1"), std::string::npos)
+      << b_.VehiclesText({});
+}
+
 TEST_F(VehicleSharingTest, RemovalIsSeenAtOnce) {
   local_a_.push_back(LightTank(terrain_, 100, 300));
   a_.AddLocal(local_a_[0]);

@@ -55,8 +55,9 @@ TEST(VehicleState, BuiltInTypesHaveTheirDocumentedSisoTypes) {
   EXPECT_EQ(EntityTypeOfVehicle("tank")->ToString(), "1.1.225.1.1.3.0");
   EXPECT_EQ(EntityTypeOfVehicle("truck")->ToString(), "1.1.225.7.0.0.0");
   EXPECT_EQ(EntityTypeOfVehicle("jeep")->ToString(), "1.1.225.6.0.0.0");
+  EXPECT_EQ(EntityTypeOfVehicle("bulldozer")->ToString(), "1.1.225.18.0.0.0");
   EXPECT_EQ(EntityTypeOfVehicle("boat"), std::nullopt);
-  for (const char* name : {"tank", "truck", "jeep"}) {
+  for (const char* name : {"tank", "truck", "jeep", "bulldozer"}) {
     EXPECT_EQ(VehicleNameOfEntityType(*EntityTypeOfVehicle(name)), name);
   }
   EXPECT_EQ(VehicleNameOfEntityType({1, 2, 225, 1, 1, 3, 0}), "");

@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include "terrain/slump.h"
+#include "vehicle/physical_type.h"
 #include "vehicle/shipped_friction.h"
+#include "vehicle/simulated_vehicle.h"
 
 namespace dt {
 namespace {
@@ -70,6 +72,42 @@ TEST(BladeTest, BeyondTheCapacityTheBladeSpills) {
   EXPECT_LE(blade.load_mm(), static_cast<int64_t>(capacity_mm));
   EXPECT_GT(blade.LoadM3(0.5), 0.9 * blade.spec().capacity_m3);
   EXPECT_EQ(TotalMm(t) + blade.load_mm(), 0);
+}
+
+// The front of a bulldozer's running gear reaches the blade's edge, so the cut must reach the
+// surface under the edge: with only the posts behind the edge cut, the gear's front stood on the
+// slope up to the next post, still uncut, and the bulldozer climbed the berm it was cutting
+// (the earthworks drill: pitched 10 degrees, 8 m in 14 s at a demand of 3 m/s).
+TEST(BladeTest, APhysicalBulldozerCutsThroughABermWithoutClimbingIt) {
+  // 1 m posts, as the earthworks drill's; a berm across the path at x 39..42 (edges on posts),
+  // 1.5 m high on a 3 m base: its sides (56 degrees) are beyond any vehicle's grip.
+  Terrain t(HeightGrid(81, 1.0, 0.0f, Material::kGrass));
+  ASSERT_TRUE(t.Add({1, 1, 1}, FeatureParams::Berm(40.5, 20.0, M_PI / 2, 40.0, 3.0, 1.5)).ok());
+  auto type = BuiltInPhysicalType("bulldozer", ShippedFrictionTable());
+  ASSERT_TRUE(type);
+  auto made = SimulatedVehicle::Make(type.value(), t, 30.0, 40.5, 0.0, VehicleModel::kPhysical);
+  ASSERT_TRUE(made) << made.error().message;
+  SimulatedVehicle dozer = std::move(made).value();
+  Blade blade(BladeOf("bulldozer").value());
+  ASSERT_TRUE(blade.Lower(0.0).ok());
+  ASSERT_TRUE(dozer.Command(3.0, 0.0).ok());
+  uint32_t number = 1;
+  double max_pitch_deg = 0.0;
+  for (int k = 0; k < 8 * 30; ++k) {  // 8 s at 30 Hz, as a node ticks
+    ASSERT_TRUE(dozer.Advance(t, 1.0 / 30).ok());
+    const VehiclePose p = dozer.pose();
+    max_pitch_deg = std::max(max_pitch_deg, std::abs(p.pitch_rad) * 180.0 / M_PI);
+    for (const auto& piece :
+         SplitEarthMove(blade.Step(t, ShippedFrictionTable(), p.x_m, p.z_m, p.heading_rad, 5.9))) {
+      ASSERT_TRUE(t.Add({1, 1, ++number}, FeatureParams::EarthMove(piece)).ok());
+    }
+  }
+  // Through the berm (its rear, 2.95 m behind its centre, past the far foot) near the speed it
+  // was told: at x 51.8 m after 8 s (pitched up to 8.3 degrees by the spill it pushes); with the
+  // cut behind the edge alone it was still in the berm, at x 36.6 m.
+  EXPECT_GT(dozer.pose().x_m, 46.0) << "pitched up to " << max_pitch_deg << " degrees";
+  EXPECT_TRUE(dozer.alive());
+  EXPECT_EQ(TotalMm(t) + blade.load_mm(), 0) << "soil made or lost";
 }
 
 TEST(BladeTest, BadDepthIsRefusedNamingTheValue) {

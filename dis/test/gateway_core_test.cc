@@ -11,35 +11,25 @@
 #include "dis/dis_codec.h"
 #include "dis/entity_translation.h"
 #include "dis/object_types.h"
+#include "dis/test/gateway_samples.h"
 
 namespace dt::dis {
 namespace {
 
 constexpr NodeAddress kNode{1, 1};
-constexpr NodeAddress kGateway{1, 60};
+constexpr NodeAddress kGateway = kSampleGateway;
 
 GatewaySettings Settings(bool import_craters = false) {
-  GatewaySettings s;
-  s.origin = {36.6, -121.9, 20.0};
-  s.exercise_id = 9;
-  s.terrain_size_m = 640.0;
-  s.feature_period_s = 5.0;
+  GatewaySettings s = SampleSettings(9, 640.0, kNode);
   s.import_craters = import_craters;
-  s.self = kGateway;
-  s.members = {{1, 100}, kNode, kGateway};
+  s.members.insert({1, 100});
   return s;
 }
 
 VehicleStateFields Tank(double x_m) {
-  VehicleStateFields s;
-  s.id = {1, 1, 3};
-  s.type = *EntityTypeOfVehicle("tank");
-  s.location_m = {x_m, 12.5, 200.0};
-  s.velocity_mps = {0.0, 0.0, 0.0};
-  s.heading_rad = 0.7;
+  VehicleStateFields s = SampleTank({1, 1, 3}, x_m, 200.0, 0.7);
   s.algorithm = dt::DeadReckoningAlgorithm::kRvw;
   s.appearance = appearance::kOnBridge;  // the exercise's own bit: never sent to DIS
-  s.marking = "tank-3";
   return s;
 }
 

@@ -22,15 +22,14 @@ Exits 77 (skipped) when tshark or opendis is not installed. Run inside tests/run
 """
 import math
 import os
-import re
 import shutil
 import signal
 import socket
-import struct
 import subprocess
 import sys
-import time
-from io import BytesIO
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../tests/pylib"))
+from exercise_processes import ExerciseProcesses  # noqa: E402
 
 
 def skip(why):
@@ -42,75 +41,36 @@ TSHARK = shutil.which("tshark")
 if TSHARK is None:
     skip("tshark is not installed (Debian package tshark; scripts/setup.sh installs it)")
 try:
-    from opendis.DataOutputStream import DataOutputStream
-    from opendis.dis7 import EntityStatePdu
     from opendis.RangeCoordinates import GPS
+    import opendis_pdus
 except ImportError:
     skip("the opendis Python module is not installed (scripts/setup.sh installs it)")
 
-programs = dict(zip(["dt_server", "dt_node", "dt_dis", "dt_ctl"], sys.argv[1:5]))
-exercise, run_dir = sys.argv[5], sys.argv[6]
-shutil.rmtree(run_dir, ignore_errors=True)
-os.makedirs(run_dir)
+ex = ExerciseProcesses(dict(zip(["dt_server", "dt_node", "dt_dis", "dt_ctl"], sys.argv[1:5])),
+                       sys.argv[5], sys.argv[6])
+ctl, status, poll, fail = ex.ctl, ex.status, ex.poll, ex.fail
 # From dis-test.toml.
 DIS_EXERCISE, ORIGIN = 3, (36.6, -121.9, 20.0)
 GATEWAY = "1:60"
-procs = {}
 
 
-def stop_all():
-    for p in procs.values():
-        if p.poll() is None:
-            p.send_signal(signal.SIGTERM)
-    for p in procs.values():
-        try:
-            p.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            p.kill()
+def start_exercise():
+    ex.start("server", "dt_server")
+    ex.start("node-1", "dt_node")
+    ex.start("node-2", "dt_node")
+    ex.start("dis", "dt_dis")
 
 
-def fail(what):
-    print(f"FAIL: {what}")
-    stop_all()
-    sys.exit(1)
-
-
-def start(name, program):
-    args = [programs[program], "--config", exercise, "--run-dir", run_dir, "--name", name]
-    log = open(os.path.join(run_dir, f"{name}.log"), "ab")
-    p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=log)
-    procs[name] = p
-    deadline = time.time() + 60
-    for line in p.stdout:  # readiness: the process's own READY line
-        log.write(line)
-        log.flush()
-        if line.strip() == f"READY {name}".encode():
-            return p
-        if time.time() > deadline:
-            break
-    fail(f"{name} never printed READY {name}")
-
-
-def ctl(name, *command):
-    r = subprocess.run([programs["dt_ctl"], "--config", exercise, "--run-dir", run_dir,
-                        "--name", name, *command], capture_output=True, text=True, timeout=10)
-    if r.returncode != 0:
-        fail(f"dt_ctl {name} {' '.join(command)}: {r.stderr.strip()}")
-    return r.stdout.strip()
-
-
-def status(name):
-    return dict(line.split(" ", 1) for line in ctl(name, "status").splitlines() if " " in line)
-
-
-def poll(what, check, timeout_s=15.0):
-    deadline = time.time() + timeout_s
-    while time.time() < deadline:
-        got = check()
-        if got:
-            return got
-        time.sleep(0.1)
-    fail(f"timed out waiting for {what}")
+def finish(failures, passed):
+    """Stops every process (each must exit 0) and reports: the test's exit code."""
+    for name, rc in ex.stop_all().items():
+        if rc != 0:
+            failures.append(f"{name} exited {rc}")
+    for f in failures:
+        print("FAIL:", f)
+    if not failures:
+        print(passed)
+    return 1 if failures else 0
 
 
 # The tangent plane at the origin (x east, y up, z north), from opendis's WGS-84 conversion.
@@ -135,11 +95,8 @@ def vehicle_line(text, kind, entity):
 
 
 def import_craters(tool):
-    start("server", "dt_server")
-    start("node-1", "dt_node")
-    start("node-2", "dt_node")
-    start("dis", "dt_dis")
-    path = os.path.join(run_dir, "crater.bin")
+    start_exercise()
+    path = os.path.join(ex.run_dir, "crater.bin")
     subprocess.run([tool, "crater", path], check=True, capture_output=True)
     crater = bytearray(open(path, "rb").read())
     crater[1] = DIS_EXERCISE  # the sample tool's exercise is another
@@ -168,32 +125,21 @@ def import_craters(tool):
         poll(f"{n} dropping the deactivated crater", lambda: not features_after(gone, n))
     if status("dis").get("dis_craters_removed") != "1":
         failures.append("the gateway did not count the removal")
-    stop_all()
-    for name, p in procs.items():
-        if p.returncode != 0:
-            failures.append(f"{name} exited {p.returncode}")
-    for f in failures:
-        print("FAIL:", f)
-    if not failures:
-        print("an outside crater became the gateway's feature on both nodes, and went with its "
-              "deactivation")
-    return 1 if failures else 0
+    return finish(failures, "an outside crater became the gateway's feature on both nodes, and "
+                            "went with its deactivation")
 
 
 def main():
     if len(sys.argv) > 8 and sys.argv[7] == "--import":
         return import_craters(sys.argv[8])
-    start("server", "dt_server")
-    start("node-1", "dt_node")
-    start("node-2", "dt_node")
-    start("dis", "dt_dis")
+    start_exercise()
 
     # (a) tshark on lo, until the gateway has sent the tank's Entity State a few times.
-    pcap = os.path.join(run_dir, "gateway.pcap")
+    pcap = os.path.join(ex.run_dir, "gateway.pcap")
     cap = subprocess.Popen([TSHARK, "-i", "lo", "-f", "udp port 3000", "-a", "duration:20",
                             "-c", "400", "-w", pcap], stdout=subprocess.DEVNULL,
                            stderr=subprocess.PIPE, text=True)
-    procs["tshark"] = cap
+    ex.procs["tshark"] = cap
     for line in cap.stderr:
         if "Capturing on" in line:
             break
@@ -207,7 +153,7 @@ def main():
         fail("node-1 does not list its tank 1:1:1")
     cap.send_signal(signal.SIGINT)  # tshark writes the file out and ends
     cap.wait(timeout=15)
-    del procs["tshark"]
+    del ex.procs["tshark"]
     fields = ["dis.exer_id", "dis.pdu_type", "dis.entity_id_site", "dis.entity_id_application",
               "dis.entity_id_entity", "dis.entity_location.x", "dis.entity_location.y",
               "dis.entity_location.z", "dis.entity_marking_character_set"]
@@ -244,23 +190,7 @@ def main():
 
     # (b) opendis sends an Entity State 30 m east of the tank.
     x, y, z = float(node["x_m"]) + 30.0, float(node["y_m"]), float(node["z_m"])
-    pdu = EntityStatePdu()
-    # opendis 1.0's defaults (docs/dis.md "Outside peers"): PDU type and family 0, a PDU
-    # status object and bytes appearance that do not serialise, length 0.
-    pdu.pduType, pdu.protocolFamily, pdu.protocolVersion = 1, 1, 7
-    pdu.exerciseID = DIS_EXERCISE
-    pdu.pduStatus, pdu.entityAppearance, pdu.capabilities = 0, 0, 0
-    pdu.entityID.siteID, pdu.entityID.applicationID, pdu.entityID.entityID = 31, 5, 777
-    pdu.forceId = 2
-    pdu.entityType.entityKind, pdu.entityType.domain, pdu.entityType.country = 1, 1, 222
-    pdu.entityLocation.x, pdu.entityLocation.y, pdu.entityLocation.z = to_ecef(x, y, z)
-    pdu.deadReckoningParameters.deadReckoningAlgorithm = 1
-    pdu.marking.characterSet = 1
-    pdu.marking.characters = list(b"OUTSIDE") + [0] * 4
-    pdu.length = 144
-    buf = BytesIO()
-    pdu.serialize(DataOutputStream(buf))
-    data = buf.getvalue()
+    data = opendis_pdus.entity_state(DIS_EXERCISE, (31, 5, 777), to_ecef(x, y, z), 1)
     sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
 
     def sent_and_seen(node_name):
@@ -295,16 +225,9 @@ def main():
     after = poll("the gateway counting the bad datagrams", counted)
     if int(after["dis_in_vehicles_published"]) - int(before["dis_in_vehicles_published"]) != 0:
         failures.append("a bad datagram was published as a vehicle")
-    stop_all()
-    for name, p in procs.items():
-        if p.returncode != 0:
-            failures.append(f"{name} exited {p.returncode}")
-    for f in failures:
-        print("FAIL:", f)
-    if not failures:
-        print("tshark decoded the gateway's Entity State as node-1 reports it; opendis's Entity "
-              "State is a remote vehicle on both nodes; bad DIS input was counted, not applied")
-    return 1 if failures else 0
+    return finish(failures, "tshark decoded the gateway's Entity State as node-1 reports it; "
+                            "opendis's Entity State is a remote vehicle on both nodes; bad DIS "
+                            "input was counted, not applied")
 
 
 if __name__ == "__main__":

@@ -94,8 +94,13 @@ void GatewayApp::DrainDis(int64_t now_ms) {
   }
 }
 
+std::optional<ControlReply> GatewayApp::HandleOwn(const ControlCommand& command) {
+  if (command.verb != ControlVerb::kVehicles) return std::nullopt;
+  return ControlReply::Ok(core_->VehiclesText(Seconds(MonotonicMs())));
+}
+
 std::string GatewayApp::RefusalText() const {
-  return "the DIS gateway runs no feature or vehicle commands (send them to a node)";
+  return "the DIS gateway runs no feature commands and drives no vehicles (send them to a node)";
 }
 
 std::string GatewayApp::StopSummary() const {

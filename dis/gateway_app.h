@@ -32,6 +32,8 @@ class GatewayApp : public ObserverProcess {
   void OnTick(int64_t now_ms) override;
   void AddPollFds(std::vector<pollfd>& fds) const override;
   void OnWoken(int64_t now_ms) override { DrainDis(now_ms); }
+  // vehicles: the exercise's vehicles it sends to DIS and the outside entities it imported.
+  std::optional<ControlReply> HandleOwn(const ControlCommand& command) override;
   std::string StatusLines() const override { return core_->StatusLines(); }
   std::string RefusalText() const override;
   std::string StopSummary() const override;

@@ -99,14 +99,16 @@ void BM_GatewayOut(benchmark::State& state) {
   GatewayCore core(
       Settings(), [&](std::span<const uint8_t> d) { return e->Send(d); },
       [](const VehicleStateFields&) { return Status(); });
+  // 2 m on each time: beyond the 1 m threshold, so every state is sent. Made before the timed
+  // loop: the states are the node's, not the gateway's work.
+  const VehicleStateFields states[2] = {Tank(100.0), Tank(102.0)};
   double now_s = 0.0;
   int64_t lost = 0;
   for (auto _ : state) {
     const auto t0 = Clock::now();
     for (int i = 0; i < kBatch; ++i) {
       now_s += 0.01;
-      // 2 m on each time: beyond the 1 m threshold, so every state is sent.
-      core.OnVehicleState(kNode, Tank((i & 1) ? 102.0 : 100.0), now_s);
+      core.OnVehicleState(kNode, states[i & 1], now_s);
     }
     state.SetIterationTime(Clock::now() - t0);
     lost += kBatch - Drain(*e);

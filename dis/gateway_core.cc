@@ -3,10 +3,13 @@
 #include <fmt/format.h>
 
 #include <cctype>
+#include <cmath>
+#include <numbers>
 
 #include "dis/entity_translation.h"
 #include "log/log.h"
 #include "pdu/dis_time.h"
+#include "runtime/vehicle_listing.h"
 #include "vehicle/dead_reckoning.h"
 
 namespace dt::dis {
@@ -17,6 +20,7 @@ namespace {
 constexpr int kRemovalResends = 2;
 // Warnings about outside input at most this often.
 constexpr double kErrorLogPeriodS = 5.0;
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 PduContext Context(uint8_t exercise_id) { return {exercise_id, DisTimestampNow()}; }
 
@@ -82,6 +86,7 @@ void GatewayCore::OnVehicleState(NodeAddress sender, const VehicleStateFields& s
              .first;
   }
   OutVehicle& v = it->second;
+  ++v.updates;
   v.state = state;
   v.received_s = now_s;
   if (v.dr.Due(state, now_s)) SendVehicle(v, state, now_s);
@@ -137,8 +142,8 @@ void GatewayCore::Tick(const std::map<FeatureId, FeatureParams>& live, const Ter
     ++it;
   }
   for (auto it = imported_.begin(); it != imported_.end();) {
-    it =
-        now_s - it->second > settings_.thresholds.timeout_s() ? imported_.erase(it) : std::next(it);
+    it = now_s - it->second.heard_s > settings_.thresholds.timeout_s() ? imported_.erase(it)
+                                                                       : std::next(it);
   }
 
   for (const auto& [id, params] : live) {
@@ -236,7 +241,10 @@ void GatewayCore::OnEntityState(const EntityStatePdu& pdu, double now_s) {
   if ((s.value().appearance & appearance::kDeactivated) != 0) {
     imported_.erase(s.value().id);
   } else {
-    imported_[s.value().id] = now_s;
+    Imported& held = imported_[s.value().id];
+    held.state = s.value();
+    held.heard_s = now_s;
+    ++held.published;
   }
 }
 
@@ -281,6 +289,44 @@ void GatewayCore::OnPointObject(const PointObjectStatePdu& pdu) {
   craters_[outside] = made.value();
   ++counters_.craters_imported;
   DT_LOG_INFO("crater from DIS object {} made as {}", outside.ToString(), made.value().ToString());
+}
+
+std::string GatewayCore::VehiclesText(double now_s) const {
+  std::string s;
+  auto line = [&](const VehicleStateFields& state, double dt_s, ListedVehicle v) {
+    const VehicleStateFields now = ExtrapolatedTo(state, dt_s);
+    v.entity = state.id.ToString();
+    v.type = std::string(VehicleNameOfEntityType(state.type));
+    v.x_m = now.location_m[0];
+    v.y_m = now.location_m[1];
+    v.z_m = now.location_m[2];
+    v.heading_deg = now.heading_rad * kRadToDeg;
+    v.pitch_deg = now.pitch_rad * kRadToDeg;
+    v.roll_deg = now.roll_rad * kRadToDeg;
+    v.speed_mps = std::hypot(now.velocity_mps[0], now.velocity_mps[1], now.velocity_mps[2]);
+    v.alive = (state.appearance & appearance::kDamageMask) != appearance::kDestroyed;
+    if (!s.empty()) s += '\n';
+    s += VehicleLine(v);
+  };
+  size_t index = 0;
+  for (const auto& [id, held] : imported_) {
+    ListedVehicle v;
+    v.local = true;
+    v.index = index++;
+    v.owner = settings_.self.ToString();
+    v.sent = held.published;
+    line(held.state, now_s - held.heard_s, std::move(v));
+  }
+  for (const auto& [id, out] : vehicles_) {
+    ListedVehicle v;
+    v.owner = out.owner.ToString();
+    v.model_error_m =
+        out.dr.PositionErrorM(ExtrapolatedTo(out.state, now_s - out.received_s), now_s);
+    v.age_s = now_s - out.received_s;
+    v.updates = out.updates;
+    line(out.state, now_s - out.received_s, std::move(v));
+  }
+  return s;
 }
 
 std::string GatewayCore::StatusLines() const {

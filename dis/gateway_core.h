@@ -84,6 +84,12 @@ class GatewayCore {
   const GeodeticFrame& frame() const { return frame_; }
   // "key value" lines for the control socket's status.
   std::string StatusLines() const;
+  // `dt_ctl vehicles` at now_s (runtime/vehicle_listing.h, the node's format): a "local" line
+  // per outside entity it imported (it owns them in the exercise: index in entity ID order,
+  // model_error_m 0 since every state is published as it came, sent the states published), then
+  // a "remote" line per exercise vehicle it sends to DIS (its last state dead reckoned to now_s,
+  // not settled on the terrain; model_error_m how far DIS receivers' copy is off).
+  std::string VehiclesText(double now_s) const;
 
  private:
   struct OutVehicle {
@@ -91,6 +97,12 @@ class GatewayCore {
     VehicleStateFields state;  // the last received
     double received_s = 0.0;
     DeadReckoningOwner dr;
+    uint64_t updates = 0;  // states received
+  };
+  struct Imported {
+    VehicleStateFields state;  // the last published
+    double heard_s = 0.0;
+    uint64_t published = 0;
   };
   struct OutFeature {
     FeatureParams params;
@@ -125,8 +137,8 @@ class GatewayCore {
   std::map<dt::EntityId, OutVehicle> vehicles_;
   std::map<FeatureId, OutFeature> features_;
   std::map<FeatureId, Removal> removals_;
-  std::map<dt::EntityId, double> imported_;  // outside entities and when last heard
-  std::map<FeatureId, FeatureId> craters_;   // outside object ID -> the feature made for it
+  std::map<dt::EntityId, Imported> imported_;  // outside entities
+  std::map<FeatureId, FeatureId> craters_;     // outside object ID -> the feature made for it
   double last_error_log_s_ = -1e300;
 };
 

@@ -133,7 +133,7 @@ DrillConfig ParseDrillConfig(std::string_view toml_text, std::string_view source
     } else if (kind == "vehicle_reaches") {
       a.kind = DrillActionKind::kVehicleReaches;
       a.owner = r.String("owner");
-      a.vehicle = static_cast<int>(r.Int("vehicle", 0, 0, 60000));
+      a.vehicle = static_cast<size_t>(r.Int("vehicle", 0, 0, 60000));
       a.within_s = r.Double("within_s", 15.0, 0.1, 3600.0);
       a.x_min_m = r.Double("x_min_m", -1e300, -1e9, 1e9);
       a.x_max_m = r.Double("x_max_m", 1e300, -1e9, 1e9);

@@ -49,7 +49,7 @@ struct DrillAction {
   double min_tilt_deg = -1.0;  // sample_vehicles: the largest |pitch| or |roll| seen; <0 unchecked
   double error_m = 1.0;        // sample_vehicles: a sample is within when its error is <= this
   double min_fraction = -1.0;  // sample_vehicles: of samples within error_m; <0 unchecked
-  int vehicle = 0;             // vehicle_reaches: the owner's local index
+  size_t vehicle = 0;          // vehicle_reaches: the owner's local index
   double x_min_m = -1e300, x_max_m = 1e300;  // vehicle_reaches: the box (open sides unbounded)
   double z_min_m = -1e300, z_max_m = 1e300;
   std::string mark;   // digest: the name the digest is kept under

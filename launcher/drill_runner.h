@@ -14,7 +14,7 @@
 #include "launcher/drill_config.h"
 #include "launcher/exercise_commands.h"
 #include "launcher/supervisor.h"
-#include "launcher/vehicle_listing.h"
+#include "runtime/vehicle_listing.h"
 #include "runtime/control_protocol.h"
 #include "runtime/exercise_config.h"
 #include "terrain/feature_id.h"

@@ -9,6 +9,7 @@
 #include "log/log.h"
 #include "pdu/conversion.h"
 #include "runtime/simulated_vehicle_sprite.h"
+#include "runtime/vehicle_listing.h"
 #include "vehicle/observed_motion.h"
 
 namespace dt {
@@ -121,34 +122,50 @@ void VehicleSharing::Tick(const std::vector<SimulatedVehicle>& local, const Terr
 
 std::string VehicleSharing::VehiclesText(const std::vector<SimulatedVehicle>& local) const {
   std::string s;
-  auto line = [&](std::string text) {
+  auto line = [&](const ListedVehicle& v) {
     if (!s.empty()) s += '\n';
-    s += text;
+    s += VehicleLine(v);
   };
   for (size_t i = 0; i < owned_.size() && i < local.size(); ++i) {
     const Owned& o = owned_[i];
     const VehiclePose p = local[i].pose();
-    line(fmt::format(
-        "local {} {} {} owner={} x_m={:.2f} y_m={:.2f} z_m={:.2f} heading_deg={:.2f} "
-        "pitch_deg={:.2f} roll_deg={:.2f} speed_mps={:.2f} alive={} model_error_m={:.3f} "
-        "sent={}",
-        i, o.id.ToString(), local[i].type_name(), local_.ToString(), p.x_m, p.elevation_m, p.z_m,
-        p.heading_rad * kRadToDeg, p.pitch_rad * kRadToDeg, p.roll_rad * kRadToDeg, p.speed_mps,
-        local[i].alive() ? 1 : 0, o.owner.PositionErrorM(o.last_truth, now_s_),
-        o.owner.sent_count()));
+    ListedVehicle v;
+    v.local = true;
+    v.index = i;
+    v.entity = o.id.ToString();
+    v.type = local[i].type_name();
+    v.owner = local_.ToString();
+    v.x_m = p.x_m;
+    v.y_m = p.elevation_m;
+    v.z_m = p.z_m;
+    v.heading_deg = p.heading_rad * kRadToDeg;
+    v.pitch_deg = p.pitch_rad * kRadToDeg;
+    v.roll_deg = p.roll_rad * kRadToDeg;
+    v.speed_mps = p.speed_mps;
+    v.alive = local[i].alive();
+    v.model_error_m = o.owner.PositionErrorM(o.last_truth, now_s_);
+    v.sent = o.owner.sent_count();
+    line(v);
   }
-  for (const auto& [id, v] : remote_.vehicles()) {
-    const double speed =
-        std::hypot(v.state.velocity_mps[0], v.state.velocity_mps[1], v.state.velocity_mps[2]);
-    line(fmt::format(
-        "remote {} {} owner={} x_m={:.2f} y_m={:.2f} z_m={:.2f} heading_deg={:.2f} "
-        "pitch_deg={:.2f} roll_deg={:.2f} speed_mps={:.2f} alive={} model_error_m={:.3f} "
-        "settled={} age_s={:.2f} updates={}",
-        id.ToString(), v.type.name, v.owner.ToString(), v.pose.location_m[0], v.pose.location_m[1],
-        v.pose.location_m[2], v.pose.heading_rad * kRadToDeg, v.pose.pitch_rad * kRadToDeg,
-        v.pose.roll_rad * kRadToDeg, speed,
-        (v.state.appearance & appearance::kDamageMask) == appearance::kDestroyed ? 0 : 1,
-        v.correction_m, v.settled ? 1 : 0, now_s_ - v.received_s, v.updates));
+  for (const auto& [id, r] : remote_.vehicles()) {
+    ListedVehicle v;
+    v.entity = id.ToString();
+    v.type = r.type.name;
+    v.owner = r.owner.ToString();
+    v.x_m = r.pose.location_m[0];
+    v.y_m = r.pose.location_m[1];
+    v.z_m = r.pose.location_m[2];
+    v.heading_deg = r.pose.heading_rad * kRadToDeg;
+    v.pitch_deg = r.pose.pitch_rad * kRadToDeg;
+    v.roll_deg = r.pose.roll_rad * kRadToDeg;
+    v.speed_mps =
+        std::hypot(r.state.velocity_mps[0], r.state.velocity_mps[1], r.state.velocity_mps[2]);
+    v.alive = (r.state.appearance & appearance::kDamageMask) != appearance::kDestroyed;
+    v.model_error_m = r.correction_m;
+    v.settled = r.settled;
+    v.age_s = now_s_ - r.received_s;
+    v.updates = r.updates;
+    line(v);
   }
   return s;
 }

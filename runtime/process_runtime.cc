@@ -183,10 +183,19 @@ Status RenderMapPng(const Terrain& terrain, const std::vector<VehicleSprite>& sp
   try {
     static Renderer* renderer = new Renderer();  // one OSMesa context for the process's life
     const double size_m = terrain.ground().size_m();
-    const Camera camera = Camera::MapOf(Rect{0.0, 0.0, size_m, size_m}, 512);
+    const Camera camera = Camera::MapOf(Rect{0.0, 0.0, size_m, size_m}, kMapRenderPx);
+    // A vehicle narrower than a pixel can cover no pixel centre and vanish from the map (a
+    // 2.4 m truck on a 1280 m terrain's 2.5 m pixels): each is drawn at least two pixels long
+    // and wide, so every vehicle shows.
+    const double min_side_m = 2.0 * size_m / kMapRenderPx;
+    std::vector<VehicleSprite> shown = sprites;
+    for (VehicleSprite& v : shown) {
+      v.length_m = std::max(v.length_m, min_side_m);
+      v.width_m = std::max(v.width_m, min_side_m);
+    }
     RenderOptions options;
     options.grid_spacing_m = 0.0;
-    return WritePng(renderer->Render(terrain, sprites, camera, options), path);
+    return WritePng(renderer->Render(terrain, shown, camera, options), path);
   } catch (const std::exception& e) {
     return Error{fmt::format("cannot render {}: {}", path, e.what())};
   }

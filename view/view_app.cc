@@ -9,8 +9,6 @@
 
 #include "log/log.h"
 #include "runtime/control_client.h"
-#include "runtime/control_command.h"
-#include "terrain/random_terrain.h"
 #include "view/operator_command.h"
 
 namespace dt {
@@ -33,13 +31,9 @@ const ViewConfig& FindView(const ExerciseConfig& exercise, const std::string& na
 }  // namespace
 
 ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOptions options)
-    : exercise_(exercise),
+    : ObserverProcess(exercise, FindView(exercise, name).process, NodeRole::kObserver),
       view_(FindView(exercise, name)),
-      options_(std::move(options)),
-      transport_(MakeProcessTransport(exercise, view_.process)) {
-  replica_ =
-      std::make_unique<Replica>(MakeReplicaConfig(exercise, view_.process, NodeRole::kObserver),
-                                MakeRandomTerrain(exercise.terrain), *transport_.bus);
+      options_(std::move(options)) {
   MemberNames names;
   std::vector<PolledProcess> polled;
   for (const ProcessConfig* p : exercise.Processes()) {
@@ -81,11 +75,6 @@ std::string ViewApp::url() const {
   return fmt::format("http://{}:{}/", view_.http_address, view_.http_port);
 }
 
-void ViewApp::Start(int64_t now_ms) {
-  replica_->SignOn(now_ms);
-  RenderRelief(now_ms);
-}
-
 void ViewApp::RenderRelief(int64_t now_ms) {
   if (auto png = relief_->Take()) {
     web_->SetRelief(std::move(*png));
@@ -99,8 +88,7 @@ void ViewApp::RenderRelief(int64_t now_ms) {
   relief_digest_ = digest;
 }
 
-void ViewApp::Tick(int64_t now_ms) {
-  replica_->Tick(now_ms);
+void ViewApp::OnTick(int64_t now_ms) {
   std::vector<ProcessRow> rows = poller_->Rows();
   for (ProcessRow& r : rows) {
     const ProcessConfig* p = exercise_.FindProcess(r.name);
@@ -150,20 +138,12 @@ std::string ViewApp::OnMessage(const std::string& text) {
   return reply.dump();
 }
 
-ControlReply ViewApp::Handle(std::string_view line) {
-  static const std::vector<SimulatedVehicle> kNoVehicles;  // it drives none
-  Result<ControlCommand> c = ParseControlCommand(line);
-  if (!c) return ControlReply::Fail(c.error().message);
-  if (c.value().verb == ControlVerb::kQuit) {
-    quit_ = true;
-    return ControlReply::Ok("bye");
-  }
-  if (auto r = AnswerCommonCommand(c.value(), view_.process.name, NodeRole::kObserver, *replica_,
-                                   transport_, kNoVehicles)) {
-    return *r;
-  }
-  return ControlReply::Fail(fmt::format(
-      "\"{}\": the view is an observer and runs no feature commands (send them to a node)", line));
+std::string ViewApp::RefusalText() const {
+  return "the view is an observer and runs no feature commands (send them to a node)";
+}
+
+std::string ViewApp::StopSummary() const {
+  return fmt::format("{} features, digest {}", replica_->live_feature_count(), replica_->Digest());
 }
 
 }  // namespace dt

@@ -6,40 +6,32 @@
 
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include "dis/dis_codec.h"
 #include "dis/entity_translation.h"
 #include "dis/object_types.h"
+#include "dis/test/gateway_samples.h"
+#include "runtime/vehicle_listing.h"
 
 namespace dt::dis {
 namespace {
 
 constexpr NodeAddress kNode{1, 1};
-constexpr NodeAddress kGateway{1, 60};
+constexpr NodeAddress kGateway = kSampleGateway;
 
 GatewaySettings Settings(bool import_craters = false) {
-  GatewaySettings s;
-  s.origin = {36.6, -121.9, 20.0};
-  s.exercise_id = 9;
-  s.terrain_size_m = 640.0;
-  s.feature_period_s = 5.0;
+  GatewaySettings s = SampleSettings(9, 640.0, kNode);
   s.import_craters = import_craters;
-  s.self = kGateway;
-  s.members = {{1, 100}, kNode, kGateway};
+  s.members.insert({1, 100});
   return s;
 }
 
 VehicleStateFields Tank(double x_m) {
-  VehicleStateFields s;
-  s.id = {1, 1, 3};
-  s.type = *EntityTypeOfVehicle("tank");
-  s.location_m = {x_m, 12.5, 200.0};
-  s.velocity_mps = {0.0, 0.0, 0.0};
-  s.heading_rad = 0.7;
+  VehicleStateFields s = SampleTank({1, 1, 3}, x_m, 200.0, 0.7);
   s.algorithm = dt::DeadReckoningAlgorithm::kRvw;
   s.appearance = appearance::kOnBridge;  // the exercise's own bit: never sent to DIS
-  s.marking = "tank-3";
   return s;
 }
 
@@ -176,6 +168,45 @@ TEST(GatewayCoreTest, OutsideEntityStateIsPublishedAsVehicleState) {
   h.core->OnDatagram(Encode(Outside(5000.0, h.core->frame())), 1.2);
   EXPECT_EQ(h.published.size(), 1u);
   EXPECT_EQ(h.core->counters().entities_unmapped, 1u);
+}
+
+TEST(GatewayCoreTest, ListsItsVehiclesInTheNodesFormat) {
+  Harness h;
+  EXPECT_EQ(h.core->VehiclesText(0.0), "");
+  VehicleStateFields moving = Tank(100.0);
+  moving.velocity_mps = {2.0, 0.0, 0.0};
+  moving.algorithm = dt::DeadReckoningAlgorithm::kFpw;
+  h.core->OnVehicleState(kNode, moving, 10.0);
+  moving.location_m[0] = 101.0;  // where it drove in 0.5 s: as DIS receivers reckon
+  h.core->OnVehicleState(kNode, moving, 10.5);
+  h.core->OnDatagram(Encode(Outside(250.0, h.core->frame())), 10.5);
+  // Read back with the parser the drills use for a node's reply.
+  const auto listed = ParseVehicleListing(h.core->VehiclesText(11.0));
+  ASSERT_TRUE(listed) << listed.error().message;
+  ASSERT_EQ(listed.value().size(), 2u);
+  const ListedVehicle& outside = listed.value()[0];
+  EXPECT_TRUE(outside.local);  // the gateway owns what it imports
+  EXPECT_EQ(outside.entity, "31:5:777");
+  EXPECT_EQ(outside.type, "truck");
+  EXPECT_EQ(outside.owner, "1:60");
+  // Its RVW state (2 m/s east, 1 m/s south) dead reckoned 0.5 s.
+  EXPECT_NEAR(outside.x_m, 251.0, 0.01);
+  EXPECT_NEAR(outside.z_m, 199.5, 0.01);
+  EXPECT_NEAR(outside.speed_mps, std::sqrt(5.0), 0.01);
+  const ListedVehicle& tank = listed.value()[1];
+  EXPECT_FALSE(tank.local);
+  EXPECT_EQ(tank.entity, "1:1:3");
+  EXPECT_EQ(tank.type, "tank");
+  EXPECT_EQ(tank.owner, "1:1");
+  EXPECT_NEAR(tank.x_m, 102.0, 0.01);  // the last state (10.5 s) dead reckoned to 11 s
+  EXPECT_NEAR(tank.y_m, 12.5, 0.01);
+  EXPECT_NEAR(tank.heading_deg, 0.7 * 180.0 / std::numbers::pi, 0.01);
+  EXPECT_NEAR(tank.age_s, 0.5, 1e-9);
+  // Sent once at 10 s and dead reckoned by DIS receivers as FPW: where it is.
+  EXPECT_NEAR(tank.model_error_m, 0.0, 0.001);
+  const std::string text = h.core->VehiclesText(11.0);
+  EXPECT_NE(text.find(" updates=2"), std::string::npos) << text;
+  EXPECT_NE(text.find(" sent=1"), std::string::npos) << text;
 }
 
 TEST(GatewayCoreTest, BadDisInputIsDroppedAndCountedNeverApplied) {

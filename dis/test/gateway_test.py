@@ -8,7 +8,9 @@ its READY line), then:
       node-1 reports (dt_ctl vehicles; the location converted by opendis's own WGS-84 geodesy
       and the tangent plane at the exercise's origin, not by the gateway's code);
   (b) PyPI opendis encodes an Entity State and sends it to port 3000: both nodes list it as a
-      remote vehicle owned by the gateway's address (dt_ctl vehicles);
+      remote vehicle owned by the gateway's address (dt_ctl vehicles) and draw it on their
+      render where it is, against a render taken before it came; the gateway lists it as its
+      own and the tank as node-1's;
   (c) bad DIS datagrams (short, foreign exercise, unknown PDU type) are counted in the
       gateway's status and change nothing.
 With --import (an exercise whose [dis] says import_craters = true) it checks instead that an
@@ -22,15 +24,15 @@ Exits 77 (skipped) when tshark or opendis is not installed. Run inside tests/run
 """
 import math
 import os
-import re
 import shutil
 import signal
 import socket
-import struct
 import subprocess
 import sys
-import time
-from io import BytesIO
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../tests/pylib"))
+from exercise_processes import ExerciseProcesses  # noqa: E402
+from png_image import PngImage  # noqa: E402
 
 
 def skip(why):
@@ -42,75 +44,38 @@ TSHARK = shutil.which("tshark")
 if TSHARK is None:
     skip("tshark is not installed (Debian package tshark; scripts/setup.sh installs it)")
 try:
-    from opendis.DataOutputStream import DataOutputStream
-    from opendis.dis7 import EntityStatePdu
     from opendis.RangeCoordinates import GPS
+    import opendis_pdus
 except ImportError:
     skip("the opendis Python module is not installed (scripts/setup.sh installs it)")
 
-programs = dict(zip(["dt_server", "dt_node", "dt_dis", "dt_ctl"], sys.argv[1:5]))
-exercise, run_dir = sys.argv[5], sys.argv[6]
-shutil.rmtree(run_dir, ignore_errors=True)
-os.makedirs(run_dir)
-# From dis-test.toml.
+ex = ExerciseProcesses(dict(zip(["dt_server", "dt_node", "dt_dis", "dt_ctl"], sys.argv[1:5])),
+                       sys.argv[5], sys.argv[6])
+ctl, status, poll, fail = ex.ctl, ex.status, ex.poll, ex.fail
+# From dis-test.toml: its DIS exercise, origin, gateway address and terrain side (65 posts 10 m
+# apart); a node's render is a 512-pixel map of the whole terrain (docs/rendering.md).
 DIS_EXERCISE, ORIGIN = 3, (36.6, -121.9, 20.0)
 GATEWAY = "1:60"
-procs = {}
+TERRAIN_M, RENDER_PX = 640.0, 512
 
 
-def stop_all():
-    for p in procs.values():
-        if p.poll() is None:
-            p.send_signal(signal.SIGTERM)
-    for p in procs.values():
-        try:
-            p.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            p.kill()
+def start_exercise():
+    ex.start("server", "dt_server")
+    ex.start("node-1", "dt_node")
+    ex.start("node-2", "dt_node")
+    ex.start("dis", "dt_dis")
 
 
-def fail(what):
-    print(f"FAIL: {what}")
-    stop_all()
-    sys.exit(1)
-
-
-def start(name, program):
-    args = [programs[program], "--config", exercise, "--run-dir", run_dir, "--name", name]
-    log = open(os.path.join(run_dir, f"{name}.log"), "ab")
-    p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=log)
-    procs[name] = p
-    deadline = time.time() + 60
-    for line in p.stdout:  # readiness: the process's own READY line
-        log.write(line)
-        log.flush()
-        if line.strip() == f"READY {name}".encode():
-            return p
-        if time.time() > deadline:
-            break
-    fail(f"{name} never printed READY {name}")
-
-
-def ctl(name, *command):
-    r = subprocess.run([programs["dt_ctl"], "--config", exercise, "--run-dir", run_dir,
-                        "--name", name, *command], capture_output=True, text=True, timeout=10)
-    if r.returncode != 0:
-        fail(f"dt_ctl {name} {' '.join(command)}: {r.stderr.strip()}")
-    return r.stdout.strip()
-
-
-def status(name):
-    return dict(line.split(" ", 1) for line in ctl(name, "status").splitlines() if " " in line)
-
-
-def poll(what, check, timeout_s=15.0):
-    deadline = time.time() + timeout_s
-    while time.time() < deadline:
-        got = check()
-        if got:
-            return got
-        time.sleep(0.1)
-    fail(f"timed out waiting for {what}")
+def finish(failures, passed):
+    """Stops every process (each must exit 0) and reports: the test's exit code."""
+    for name, rc in ex.stop_all().items():
+        if rc != 0:
+            failures.append(f"{name} exited {rc}")
+    for f in failures:
+        print("FAIL:", f)
+    if not failures:
+        print(passed)
+    return 1 if failures else 0
 
 
 # The tangent plane at the origin (x east, y up, z north), from opendis's WGS-84 conversion.
@@ -127,19 +92,56 @@ def to_ecef(x, y, z):
 
 
 def vehicle_line(text, kind, entity):
+    """The keys of the `vehicles` line of `entity` ("local <index> <id> <type> ..." or "remote
+    <id> <type> ..."), with its id and type; None if it has none of that kind."""
     for line in text.splitlines():
         f = line.split()
-        if len(f) > 2 and f[0] == kind and entity in f:
-            return dict(kv.split("=", 1) for kv in f if "=" in kv) | {"id": entity, "type": f[2]}
+        if len(f) > 3 and f[0] == kind and entity in f:
+            type_name = f[3] if kind == "local" else f[2]
+            return dict(kv.split("=", 1) for kv in f if "=" in kv) | {"id": entity,
+                                                                      "type": type_name}
+    return None
+
+
+def render(name, tag):
+    """Process `name`'s `render` (its own and remote vehicles, in their owners' colours)."""
+    path = os.path.join(ex.run_dir, f"{name}-{tag}.png")
+    ctl(name, "render", path)
+    return PngImage.read(path)
+
+
+def drawn_at(before, after, x_m, z_m, reach_px=8):
+    """Where `after` differs from `before`: a failure text unless it does, only within reach of
+    the map pixel of (x_m, z_m), around it (the centroid of the changed pixels within 2 px)."""
+    mpp = TERRAIN_M / RENDER_PX
+    column, row = x_m / mpp, (TERRAIN_M - z_m) / mpp  # north up, row 0 at the top
+    if (after.width, after.height) != (RENDER_PX, RENDER_PX):
+        return f"the render is {after.width} x {after.height} px, want {RENDER_PX}"
+    near, far = [], 0
+    for r in range(after.height):
+        if before.rows[r] == after.rows[r]:
+            continue
+        for c in range(after.width):
+            if before.pixel(c, r) != after.pixel(c, r):
+                if abs(c + 0.5 - column) <= reach_px and abs(r + 0.5 - row) <= reach_px:
+                    near.append((c + 0.5, r + 0.5))
+                else:
+                    far += 1
+    print(f"  {len(near)} pixels changed within {reach_px} px of ({column:.1f}, {row:.1f}), "
+          f"{far} farther away")
+    if len(near) < 4:
+        return f"{len(near)} pixels changed at ({column:.1f}, {row:.1f}): no vehicle drawn there"
+    centre = (sum(c for c, _ in near) / len(near), sum(r for _, r in near) / len(near))
+    if math.dist(centre, (column, row)) > 2.0:
+        return f"the change is centred at {centre}, want ({column:.1f}, {row:.1f})"
+    if far:
+        return f"{far} pixels changed away from ({column:.1f}, {row:.1f})"
     return None
 
 
 def import_craters(tool):
-    start("server", "dt_server")
-    start("node-1", "dt_node")
-    start("node-2", "dt_node")
-    start("dis", "dt_dis")
-    path = os.path.join(run_dir, "crater.bin")
+    start_exercise()
+    path = os.path.join(ex.run_dir, "crater.bin")
     subprocess.run([tool, "crater", path], check=True, capture_output=True)
     crater = bytearray(open(path, "rb").read())
     crater[1] = DIS_EXERCISE  # the sample tool's exercise is another
@@ -168,32 +170,21 @@ def import_craters(tool):
         poll(f"{n} dropping the deactivated crater", lambda: not features_after(gone, n))
     if status("dis").get("dis_craters_removed") != "1":
         failures.append("the gateway did not count the removal")
-    stop_all()
-    for name, p in procs.items():
-        if p.returncode != 0:
-            failures.append(f"{name} exited {p.returncode}")
-    for f in failures:
-        print("FAIL:", f)
-    if not failures:
-        print("an outside crater became the gateway's feature on both nodes, and went with its "
-              "deactivation")
-    return 1 if failures else 0
+    return finish(failures, "an outside crater became the gateway's feature on both nodes, and "
+                            "went with its deactivation")
 
 
 def main():
     if len(sys.argv) > 8 and sys.argv[7] == "--import":
         return import_craters(sys.argv[8])
-    start("server", "dt_server")
-    start("node-1", "dt_node")
-    start("node-2", "dt_node")
-    start("dis", "dt_dis")
+    start_exercise()
 
     # (a) tshark on lo, until the gateway has sent the tank's Entity State a few times.
-    pcap = os.path.join(run_dir, "gateway.pcap")
+    pcap = os.path.join(ex.run_dir, "gateway.pcap")
     cap = subprocess.Popen([TSHARK, "-i", "lo", "-f", "udp port 3000", "-a", "duration:20",
                             "-c", "400", "-w", pcap], stdout=subprocess.DEVNULL,
                            stderr=subprocess.PIPE, text=True)
-    procs["tshark"] = cap
+    ex.procs["tshark"] = cap
     for line in cap.stderr:
         if "Capturing on" in line:
             break
@@ -207,7 +198,7 @@ def main():
         fail("node-1 does not list its tank 1:1:1")
     cap.send_signal(signal.SIGINT)  # tshark writes the file out and ends
     cap.wait(timeout=15)
-    del procs["tshark"]
+    del ex.procs["tshark"]
     fields = ["dis.exer_id", "dis.pdu_type", "dis.entity_id_site", "dis.entity_id_application",
               "dis.entity_id_entity", "dis.entity_location.x", "dis.entity_location.y",
               "dis.entity_location.z", "dis.entity_marking_character_set"]
@@ -242,25 +233,14 @@ def main():
     if "Malformed" in verbose:
         failures.append("tshark calls a captured gateway datagram malformed")
 
-    # (b) opendis sends an Entity State 30 m east of the tank.
+    # (b) opendis sends an Entity State 30 m east of the tank; each node's render before it.
+    before = {n: render(n, "before") for n in ("node-1", "node-2")}
     x, y, z = float(node["x_m"]) + 30.0, float(node["y_m"]), float(node["z_m"])
-    pdu = EntityStatePdu()
-    # opendis 1.0's defaults (docs/dis.md "Outside peers"): PDU type and family 0, a PDU
-    # status object and bytes appearance that do not serialise, length 0.
-    pdu.pduType, pdu.protocolFamily, pdu.protocolVersion = 1, 1, 7
-    pdu.exerciseID = DIS_EXERCISE
-    pdu.pduStatus, pdu.entityAppearance, pdu.capabilities = 0, 0, 0
-    pdu.entityID.siteID, pdu.entityID.applicationID, pdu.entityID.entityID = 31, 5, 777
-    pdu.forceId = 2
-    pdu.entityType.entityKind, pdu.entityType.domain, pdu.entityType.country = 1, 1, 222
-    pdu.entityLocation.x, pdu.entityLocation.y, pdu.entityLocation.z = to_ecef(x, y, z)
-    pdu.deadReckoningParameters.deadReckoningAlgorithm = 1
-    pdu.marking.characterSet = 1
-    pdu.marking.characters = list(b"OUTSIDE") + [0] * 4
-    pdu.length = 144
-    buf = BytesIO()
-    pdu.serialize(DataOutputStream(buf))
-    data = buf.getvalue()
+    # Upright and heading east, in DIS's Euler angles by opendis's own geodesy (its yaw a compass
+    # heading): all zero would be an entity on its back, hidden in the ground on a render.
+    _, _, _, psi, theta, phi = GPS().llarpy2ecef(lat, lon, ORIGIN[2], 0.0, 0.0, math.pi / 2)
+    data = opendis_pdus.entity_state(DIS_EXERCISE, (31, 5, 777), to_ecef(x, y, z), 1,
+                                     orientation=(psi, theta, phi))
     sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
 
     def sent_and_seen(node_name):
@@ -277,6 +257,33 @@ def main():
         off = math.hypot(float(remote["x_m"]) - x, float(remote["z_m"]) - z)
         if off > 0.05:
             failures.append(f"{n}: outside entity at {remote['x_m']}, {remote['z_m']}: {off} m off")
+        if abs(math.remainder(float(remote["heading_deg"]), 360.0)) > 0.05:
+            failures.append(f"{n}: outside entity heading {remote['heading_deg']} deg, want 0")
+        # Drawn on the node's render (issue 12: "shows up on every node's render"), at its place
+        # and nowhere else; drawn while its state is fresh, well inside the receivers' timeout.
+        poll(f"{n} holding a fresh state of the outside entity",
+             lambda: float((sent_and_seen(n) or {"age_s": "inf"})["age_s"]) < 0.5)
+        print(f"{n}'s render against the one before the outside entity came:")
+        if (why := drawn_at(before[n], render(n, "outside"), x, z)) is not None:
+            failures.append(f"{n}'s render: {why}")
+
+    # The gateway lists what it holds like a node: the outside entity as its own, the tank as
+    # node-1's.
+    held = ctl("dis", "vehicles")
+    print(f"dis: vehicles\n{held}")
+    outside = vehicle_line(held, "local", "31:5:777")
+    tank = vehicle_line(held, "remote", "1:1:1")
+    if outside is None or outside.get("owner") != GATEWAY or outside.get("type") != "truck":
+        failures.append(f"the gateway lists the outside entity as {outside}, want its own truck")
+    elif math.hypot(float(outside["x_m"]) - x, float(outside["z_m"]) - z) > 0.05:
+        failures.append(f"the gateway has the outside entity at {outside['x_m']}, "
+                        f"{outside['z_m']}, want {x:.2f}, {z:.2f}")
+    if tank is None or tank.get("owner") != "1:1" or tank.get("type") != "tank":
+        failures.append(f"the gateway lists the tank as {tank}, want node-1's (1:1) tank")
+    elif math.hypot(float(tank["x_m"]) - float(node["x_m"]),
+                    float(tank["z_m"]) - float(node["z_m"])) > 0.05:
+        failures.append(f"the gateway has the tank at {tank['x_m']}, {tank['z_m']}, node-1 at "
+                        f"{node['x_m']}, {node['z_m']}")
 
     # (c) Bad input: counted, and nothing of it reaches the exercise.
     before = status("dis")
@@ -295,16 +302,9 @@ def main():
     after = poll("the gateway counting the bad datagrams", counted)
     if int(after["dis_in_vehicles_published"]) - int(before["dis_in_vehicles_published"]) != 0:
         failures.append("a bad datagram was published as a vehicle")
-    stop_all()
-    for name, p in procs.items():
-        if p.returncode != 0:
-            failures.append(f"{name} exited {p.returncode}")
-    for f in failures:
-        print("FAIL:", f)
-    if not failures:
-        print("tshark decoded the gateway's Entity State as node-1 reports it; opendis's Entity "
-              "State is a remote vehicle on both nodes; bad DIS input was counted, not applied")
-    return 1 if failures else 0
+    return finish(failures, "tshark decoded the gateway's Entity State as node-1 reports it; "
+                            "opendis's Entity State is a remote vehicle on both nodes; bad DIS "
+                            "input was counted, not applied")
 
 
 if __name__ == "__main__":

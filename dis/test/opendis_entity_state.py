@@ -14,15 +14,13 @@ import os
 import struct
 import subprocess
 import sys
-from io import BytesIO
 
 
 def main():
     tool, work = sys.argv[1], sys.argv[2]
     try:
-        from opendis.DataOutputStream import DataOutputStream
         from opendis.PduFactory import createPdu
-        from opendis.dis7 import EntityStatePdu
+        import opendis_pdus
     except ImportError:
         print("python module opendis not found (scripts/setup.sh installs it): skipped")
         return 77
@@ -80,34 +78,8 @@ def main():
         check(f"{name} from opendis's llarpy2ecef", delta, 0.0, 1e-6)
 
     # 2. We read what opendis encodes.
-    es = EntityStatePdu()
-    # opendis 1.0: a default PDU serialises with PDU type 0 and family 0.
-    es.pduType = 1
-    es.protocolFamily = 1
-    es.protocolVersion = 7
-    es.exerciseID = 7
-    # ... its PDU status is an object written as a byte (struct.error): use the plain byte.
-    es.pduStatus = 0
-    # ... appearance and capabilities default to bytes b'0000' (struct.error): use integers.
-    es.entityAppearance = 0
-    es.capabilities = 0
-    es.entityID.siteID, es.entityID.applicationID, es.entityID.entityID = 31, 5, 777
-    es.forceId = 2
-    es.entityType.entityKind, es.entityType.domain, es.entityType.country = 1, 1, 222
-    es.entityLocation.x = -2706000.5
-    es.entityLocation.y = -4352000.25
-    es.entityLocation.z = 3784500.125
-    es.entityOrientation.psi, es.entityOrientation.theta, es.entityOrientation.phi = 0.5, -0.75, 1.25
-    es.entityLinearVelocity.x, es.entityLinearVelocity.y = 3.5, -1.5
-    es.deadReckoningParameters.deadReckoningAlgorithm = 2
-    # ... the marking's character set defaults to 0 (unspecified): say ASCII.
-    es.marking.characterSet = 1
-    es.marking.characters = list(b"OUTSIDE") + [0] * 4
-    # ... and the length field is left 0: set it to the PDU's size.
-    es.length = 144
-    buffer = BytesIO()
-    es.serialize(DataOutputStream(buffer))
-    data = buffer.getvalue()
+    data = opendis_pdus.entity_state(7, (31, 5, 777), (-2706000.5, -4352000.25, 3784500.125), 2,
+                                     orientation=(0.5, -0.75, 1.25), velocity=(3.5, -1.5, 0.0))
     check("opendis serialised size", len(data), 144)
     theirs = os.path.join(work, "theirs.bin")
     with open(theirs, "wb") as f:

@@ -19,9 +19,11 @@ import json
 import os
 import shutil
 import signal
-import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../tests/pylib"))
+from exercise_processes import ExerciseProcesses  # noqa: E402
 
 CHROMIUM = "/usr/bin/chromium"
 
@@ -38,40 +40,13 @@ except ImportError:
 if not os.access(CHROMIUM, os.X_OK):
     skip(f"{CHROMIUM} is not installed (Debian package chromium; scripts/setup.sh installs it)")
 
-programs = dict(zip(["dt_server", "dt_node", "dt_view", "dt_ctl"], sys.argv[1:5]))
-exercise, run_dir = sys.argv[5], sys.argv[6]
+ex = ExerciseProcesses(dict(zip(["dt_server", "dt_node", "dt_view", "dt_ctl"], sys.argv[1:5])),
+                       sys.argv[5], sys.argv[6])
+exercise, run_dir, procs = ex.exercise, ex.run_dir, ex.procs
+start, ctl, fail = ex.start, ex.ctl, ex.fail
 docs_shot = sys.argv[7] if len(sys.argv) > 7 else None
-shutil.rmtree(run_dir, ignore_errors=True)
-os.makedirs(run_dir)
 URL = "http://127.0.0.1:8481/"
 LATENCY_CRATERS = 10
-procs = {}
-
-
-def fail(what):
-    print(f"FAIL: {what}")
-    for p in procs.values():
-        if p.poll() is None:
-            p.kill()
-    sys.exit(1)
-
-
-def start(name, program, *extra, config=None):
-    args = [programs[program], "--config", config or exercise, "--run-dir", run_dir,
-            "--name", name, *extra]
-    log = open(os.path.join(run_dir, f"{name}.log"), "ab")
-    p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=log)
-    procs[name] = p
-    # Readiness: the process's own READY line (docs/launcher.md), read as it comes.
-    deadline = time.time() + 60
-    for line in p.stdout:
-        log.write(line)
-        log.flush()
-        if line.strip() == f"READY {name}".encode():
-            return p
-        if time.time() > deadline:
-            break
-    fail(f"{name} never printed READY {name}")
 
 
 def other_terrain_exercise():
@@ -89,26 +64,13 @@ def other_terrain_exercise():
     return path
 
 
-def ctl(name, *command):
-    r = subprocess.run([programs["dt_ctl"], "--config", exercise, "--run-dir",
-                        run_dir, "--name", name, *command], capture_output=True, text=True,
-                       timeout=10)
-    if r.returncode != 0:
-        fail(f"dt_ctl {name} {' '.join(command)}: {r.stderr.strip()}")
-    return r.stdout.strip()
-
-
 def server_features():
     return set(ctl("server", "features").split())
 
 
 def until(condition, what, timeout_s=10):
     """Polls the server's state (asked by dt_ctl) until `condition` holds; a timeout fails."""
-    deadline = time.time() + timeout_s
-    while not condition():
-        if time.time() > deadline:
-            fail(what)
-        time.sleep(0.05)  # polling a condition, bounded by the deadline
+    ex.poll(what, condition, timeout_s, period_s=0.05)
 
 
 start("server", "dt_server")
@@ -121,9 +83,7 @@ made = [ctl("node-1", "crater", "150", "200", "12"),
         ctl("node-1", "bridge", "400", "150", "90", "8", "15", "40", "15", "5", "5")]
 
 def stop_all_on_error(kind, value, tb):
-    for p in procs.values():
-        if p.poll() is None:
-            p.kill()
+    ex.kill_all()
     sys.__excepthook__(kind, value, tb)
 
 
@@ -299,15 +259,7 @@ with sync_playwright() as pw:
     print("without --allow-commands: no operator panel, and a sent command is refused")
     browser.close()
 
-for name, p in procs.items():
-    if p.poll() is None:
-        p.send_signal(signal.SIGTERM)
-for name, p in procs.items():
-    try:
-        rc = p.wait(timeout=15)
-    except subprocess.TimeoutExpired:
-        p.kill()
-        fail(f"{name} did not stop on SIGTERM")
+for name, rc in ex.stop_all(timeout_s=15).items():
     if name != "node-2" and rc != 0:
         fail(f"{name} exited {rc} on SIGTERM")
 print("PASS")

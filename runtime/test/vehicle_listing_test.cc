@@ -1,4 +1,4 @@
-#include "launcher/vehicle_listing.h"
+#include "runtime/vehicle_listing.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +17,7 @@ TEST(VehicleListingTest, ReadsLocalAndRemoteLines) {
   const ListedVehicle& l = v.value()[0];
   EXPECT_TRUE(l.local);
   EXPECT_EQ(l.entity, "1:1:1");
-  EXPECT_EQ(l.index, 3);
+  EXPECT_EQ(l.index, 3u);
   EXPECT_TRUE(l.alive);
   EXPECT_EQ(l.type, "tank");
   EXPECT_EQ(l.owner, "1:1");
@@ -28,13 +28,57 @@ TEST(VehicleListingTest, ReadsLocalAndRemoteLines) {
   EXPECT_FALSE(r.local);
   EXPECT_EQ(r.entity, "1:2:1");
   EXPECT_EQ(r.owner, "1:2");
-  EXPECT_EQ(r.index, -1);
   EXPECT_FALSE(r.alive);
   EXPECT_DOUBLE_EQ(r.heading_deg, 90.0);
   EXPECT_DOUBLE_EQ(r.age_s, 0.4);
   EXPECT_DOUBLE_EQ(l.age_s, 0.0);
   EXPECT_DOUBLE_EQ(TiltDeg(r), 17.5);
   EXPECT_DOUBLE_EQ(TiltDeg(l), 1.2);
+}
+
+TEST(VehicleListingTest, ReadsBackTheLinesItWrites) {
+  ListedVehicle local;
+  local.local = true;
+  local.index = 2;
+  local.entity = "1:1:3";
+  local.type = "bulldozer";
+  local.owner = "1:1";
+  local.x_m = 10.004;
+  local.y_m = -2.5;
+  local.z_m = 300.0;
+  local.heading_deg = 359.99;
+  local.pitch_deg = -4.25;
+  local.roll_deg = 0.5;
+  local.speed_mps = 1.75;
+  local.model_error_m = 0.125;
+  local.alive = false;
+  local.sent = 12;
+  EXPECT_EQ(VehicleLine(local),
+            "local 2 1:1:3 bulldozer owner=1:1 x_m=10.00 y_m=-2.50 z_m=300.00 heading_deg=359.99 "
+            "pitch_deg=-4.25 roll_deg=0.50 speed_mps=1.75 alive=0 model_error_m=0.125 sent=12");
+  ListedVehicle remote = local;
+  remote.local = false;
+  remote.entity = "31:5:777";
+  remote.owner = "1:60";
+  remote.alive = true;
+  remote.settled = true;
+  remote.age_s = 0.25;
+  remote.updates = 4;
+  EXPECT_EQ(VehicleLine(remote),
+            "remote 31:5:777 bulldozer owner=1:60 x_m=10.00 y_m=-2.50 z_m=300.00 "
+            "heading_deg=359.99 pitch_deg=-4.25 roll_deg=0.50 speed_mps=1.75 alive=1 "
+            "model_error_m=0.125 settled=1 age_s=0.25 updates=4");
+  const auto back = ParseVehicleListing(VehicleLine(local) + "\n" + VehicleLine(remote));
+  ASSERT_TRUE(back) << back.error().message;
+  ASSERT_EQ(back.value().size(), 2u);
+  EXPECT_TRUE(back.value()[0].local);
+  EXPECT_EQ(back.value()[0].index, 2u);
+  EXPECT_EQ(back.value()[0].entity, "1:1:3");
+  EXPECT_DOUBLE_EQ(back.value()[0].x_m, 10.0);
+  EXPECT_DOUBLE_EQ(back.value()[0].model_error_m, 0.125);
+  EXPECT_FALSE(back.value()[1].local);
+  EXPECT_EQ(back.value()[1].owner, "1:60");
+  EXPECT_DOUBLE_EQ(back.value()[1].age_s, 0.25);
 }
 
 TEST(VehicleListingTest, EmptyReplyIsNoVehicles) {
@@ -59,6 +103,8 @@ TEST(VehicleListingTest, RefusesWhatIsNotAVehicleLine) {
             std::string::npos);
   EXPECT_TRUE(ParseVehicleListing("remote 1:1:1 tank" + good_keys + " age_s=0.1"));
   EXPECT_NE(ParseVehicleListing("remote 1:1:1 tank" + good_keys).error().message.find("age_s"),
+            std::string::npos);
+  EXPECT_NE(ParseVehicleListing("local first 1:1:1 tank" + good_keys).error().message.find("first"),
             std::string::npos);
   EXPECT_NE(ParseVehicleListing("ghost 1:1:1 tank" + good_keys).error().message.find("ghost"),
             std::string::npos);

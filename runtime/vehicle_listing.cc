@@ -1,4 +1,4 @@
-#include "launcher/vehicle_listing.h"
+#include "runtime/vehicle_listing.h"
 
 #include <algorithm>
 #include <charconv>
@@ -38,14 +38,13 @@ Result<std::vector<ListedVehicle>> ParseVehicleListing(std::string_view body) {
     ListedVehicle v;
     // local <index> <entity> <type> ...; remote <entity> <type> ...
     if (!positional.empty() && positional[0] == "local" && positional.size() == 4) {
-      double index = 0.0;
-      if (!ParseNumber(positional[1], index) || index < 0.0 || index != std::floor(index) ||
-          index > 1e6) {
-        return Error{
-            fmt::format("index \"{}\" is not a vehicle index in \"{}\"", positional[1], line)};
-      }
       v.local = true;
-      v.index = static_cast<int>(index);
+      const std::string& index = positional[1];
+      const auto [ptr, ec] = std::from_chars(index.data(), index.data() + index.size(), v.index);
+      if (ec != std::errc() || ptr != index.data() + index.size()) {
+        return Error{
+            fmt::format("local vehicle index \"{}\" is not a number in \"{}\"", index, line)};
+      }
       v.entity = positional[2];
       v.type = positional[3];
     } else if (!positional.empty() && positional[0] == "remote" && positional.size() == 3) {
@@ -83,6 +82,19 @@ Result<std::vector<ListedVehicle>> ParseVehicleListing(std::string_view body) {
     out.push_back(std::move(v));
   }
   return out;
+}
+
+std::string VehicleLine(const ListedVehicle& v) {
+  const std::string head = v.local ? fmt::format("local {} {} {}", v.index, v.entity, v.type)
+                                   : fmt::format("remote {} {}", v.entity, v.type);
+  std::string line = fmt::format(
+      "{} owner={} x_m={:.2f} y_m={:.2f} z_m={:.2f} heading_deg={:.2f} pitch_deg={:.2f} "
+      "roll_deg={:.2f} speed_mps={:.2f} alive={} model_error_m={:.3f}",
+      head, v.owner, v.x_m, v.y_m, v.z_m, v.heading_deg, v.pitch_deg, v.roll_deg, v.speed_mps,
+      v.alive ? 1 : 0, v.model_error_m);
+  if (v.local) return line + fmt::format(" sent={}", v.sent);
+  return line +
+         fmt::format(" settled={} age_s={:.2f} updates={}", v.settled ? 1 : 0, v.age_s, v.updates);
 }
 
 double TiltDeg(const ListedVehicle& v) {

@@ -176,6 +176,44 @@ void ViewModel::NoteProcesses(int64_t now_ms, const std::vector<ProcessRow>& row
     if (r.diverged && !was_diverged) events.push_back({now_ms, "diverged", "", r.name, 0});
     if (!r.diverged && was_diverged) events.push_back({now_ms, "agrees", "", r.name, 0});
   }
+  NoteDiffering(now_ms, rows, events);
+}
+
+void ViewModel::NoteDiffering(int64_t now_ms, const std::vector<ProcessRow>& rows,
+                              std::vector<Event>& events) {
+  // The exercise's digest as the page shows it: the server's, else the most common.
+  std::map<std::string, int> counts;
+  const ProcessRow* server = nullptr;
+  for (const ProcessRow& r : rows) {
+    if (!r.reachable) continue;
+    ++counts[r.digest];
+    if (r.role == "server" && server == nullptr) server = &r;
+  }
+  std::string agreed;
+  if (server != nullptr) {
+    agreed = server->digest;
+  } else {
+    int most = 0;
+    for (const auto& [digest, n] : counts) {
+      if (n > most) agreed = digest, most = n;
+    }
+  }
+  for (const ProcessRow& r : rows) {
+    // An unreachable process has no digest to compare: it keeps its state until it answers.
+    if (!r.reachable) continue;
+    auto it = differing_.find(r.name);
+    if (r.digest == agreed) {
+      if (it == differing_.end()) continue;
+      if (it->second.reported) events.push_back({now_ms, "matches", "", r.name, 0});
+      differing_.erase(it);
+      continue;
+    }
+    if (it == differing_.end()) it = differing_.emplace(r.name, Differing{now_ms, false}).first;
+    if (!it->second.reported && now_ms - it->second.since_ms >= kDiffersAfterMs) {
+      it->second.reported = true;
+      events.push_back({now_ms, "differs", "", r.name, 0});
+    }
+  }
 }
 
 nlohmann::json ViewModel::Update(int64_t now_ms, const std::vector<ProcessRow>& processes,

@@ -29,6 +29,11 @@ class ViewModel {
   // `replica` must outlive the model. `events_kept` bounds the event log a late page receives.
   ViewModel(const Replica& replica, MemberNames names, size_t events_kept = 500);
 
+  // A digest that differs from the exercise's this long is an event ("differs"): a change takes
+  // well under this to reach every process, so a difference that lasts is a divergence the
+  // process may not know of (it was fed another terrain), not a change on its way.
+  static constexpr int64_t kDiffersAfterMs = 5000;
+
   // Looks at what changed since the last call (new changes in any log, repaired slots, process
   // rows, vehicles). Returns the delta message for the pages, or null when nothing changed: the
   // features, processes and vehicles that changed, the feature and vehicle IDs gone.
@@ -45,7 +50,8 @@ class ViewModel {
  private:
   struct Event {
     int64_t t_ms = 0;
-    std::string kind;     // create update destroy breach | joined silent back diverged agrees
+    // create update destroy breach | joined silent back diverged agrees differs matches
+    std::string kind;
     std::string feature;  // "site:host:number" or empty
     std::string by;       // the author's or the process's name
     int64_t change_seq = 0;
@@ -60,6 +66,10 @@ class ViewModel {
   // history, and their slots are noted again when a change fills them.
   void ForgetDropped();
   void NoteProcesses(int64_t now_ms, const std::vector<ProcessRow>& rows,
+                     std::vector<Event>& events);
+  // "differs" once a reachable process's digest has differed from the exercise's for
+  // kDiffersAfterMs; "matches" when it agrees again.
+  void NoteDiffering(int64_t now_ms, const std::vector<ProcessRow>& rows,
                      std::vector<Event>& events);
 
   const Replica& replica_;
@@ -76,6 +86,13 @@ class ViewModel {
   std::vector<Event> events_;  // the last events_kept_
   std::vector<ProcessRow> processes_;
   std::set<std::string> seen_live_;  // processes seen live once: the next time they are "back"
+  // Processes whose digest differs from the exercise's (the server's, else the most common), and
+  // since when; `reported` once it has differed for kDiffersAfterMs and the log said so.
+  struct Differing {
+    int64_t since_ms = 0;
+    bool reported = false;
+  };
+  std::map<std::string, Differing> differing_;
   // Vehicles as last sent, and the Update (counted by listings_) each was last listed in.
   struct HeldVehicle {
     VehicleView view;

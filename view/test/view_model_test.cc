@@ -154,6 +154,55 @@ TEST_F(ViewModelTest, ProcessesGoingSilentAndComingBackAreEvents) {
   EXPECT_TRUE(model.Update(5, {row}, {v}, 1).is_null());
 }
 
+TEST_F(ViewModelTest, ADigestThatKeepsDifferingFromTheServersIsAnEventOnceAndSoIsItsReturn) {
+  cluster_.Start(kView, NodeRole::kObserver);
+  ViewModel model(View(), Names());
+  ProcessRow server, node;
+  server.name = "server";
+  server.role = "server";
+  node.name = "node-a";
+  node.role = "node";
+  for (ProcessRow* r : {&server, &node}) {
+    r->reachable = true;
+    r->silent = false;
+    r->digest = "aaaa";
+  }
+  auto kinds = [](const nlohmann::json& d) {
+    std::vector<std::string> k;
+    if (d.is_null() || !d.contains("events")) return k;
+    for (const auto& e : d["events"]) k.push_back(e["kind"]);
+    return k;
+  };
+  const int64_t t0 = 1000, wait = ViewModel::kDiffersAfterMs;
+  EXPECT_EQ(kinds(model.Update(t0, {server, node}, {}, 1)),
+            (std::vector<std::string>{"joined", "joined"}));
+  // A change on its way: the node's digest differs for less than the wait, then agrees.
+  node.digest = "bbbb";
+  EXPECT_EQ(kinds(model.Update(t0 + 10, {server, node}, {}, 1)), std::vector<std::string>{});
+  node.digest = "aaaa";
+  EXPECT_EQ(kinds(model.Update(t0 + wait - 10, {server, node}, {}, 1)), std::vector<std::string>{});
+  // A lasting difference the node does not know of (its own flag stays down): one event.
+  node.digest = "cccc";
+  EXPECT_EQ(kinds(model.Update(t0 + wait, {server, node}, {}, 1)), std::vector<std::string>{});
+  EXPECT_EQ(kinds(model.Update(t0 + 2 * wait - 1, {server, node}, {}, 1)),
+            std::vector<std::string>{});
+  EXPECT_EQ(kinds(model.Update(t0 + 2 * wait, {server, node}, {}, 1)),
+            std::vector<std::string>{"differs"});
+  node.counters["received"] = 1;  // the row changes, the difference goes on: no new event
+  EXPECT_EQ(kinds(model.Update(t0 + 3 * wait, {server, node}, {}, 1)), std::vector<std::string>{});
+  // Unreachable, it has no digest to compare; back and agreeing, the log says so.
+  node.reachable = false;
+  EXPECT_EQ(kinds(model.Update(t0 + 4 * wait, {server, node}, {}, 1)), std::vector<std::string>{});
+  node.reachable = true;
+  node.digest = "aaaa";
+  EXPECT_EQ(kinds(model.Update(t0 + 5 * wait, {server, node}, {}, 1)),
+            std::vector<std::string>{"matches"});
+  const nlohmann::json snap = model.Snapshot(t0 + 5 * wait);
+  std::vector<std::string> logged;
+  for (const auto& e : snap["events"]) logged.push_back(e["kind"]);
+  EXPECT_EQ(logged, (std::vector<std::string>{"joined", "joined", "differs", "matches"}));
+}
+
 TEST_F(ViewModelTest, AVehicleDeltaCarriesTheVehiclesThatChangedAndTheIdsGone) {
   cluster_.Start(kView, NodeRole::kObserver);
   ViewModel model(View(), Names());

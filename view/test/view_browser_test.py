@@ -8,8 +8,8 @@ not asserted); the vehicle marker moves when node-1 drives it; a crater placed b
 (--allow-commands) runs as node-1's command and the page destroys it; a killed node's row turns
 silent and live again after its restart; a page opened late shows the current state at once;
 node-2 restarted on another terrain is flagged diverged while the server and node-1 look alike,
-and agrees again once back; without --allow-commands the page has no operator panel and a
-command sent anyway is refused. Screenshots go to <run_dir>. Exits 77 (skipped) when playwright
+and the event log says its digest differs, then matches once it is back; without
+--allow-commands the page has no operator panel and a command sent anyway is refused. Screenshots go to <run_dir>. Exits 77 (skipped) when playwright
 or chromium is not installed. Run inside tests/run_in_netns.sh.
 
   view_browser_test.py <dt_server> <dt_node> <dt_view> <dt_ctl> <exercise.toml> <run_dir>
@@ -226,6 +226,11 @@ with sync_playwright() as pw:
     shot = os.path.join(run_dir, "view-diverged.png")
     page.screenshot(path=shot)
     print(f"node-2 on another terrain is flagged diverged, server and node-1 alike: {shot}")
+    # Its own diverged flag stays down (its logs agree): the event log says so from its digest,
+    # once the difference has lasted (docs/view.md "The event log").
+    logged = ("(kind) => [...document.querySelectorAll(`#events li[data-kind=\"${kind}\"]`)]"
+              ".some(li => li.textContent.includes(' node-2 '))")
+    page.wait_for_function(f"({logged})('differs')", timeout=15000)
     # Back on the exercise's terrain it agrees again.
     procs["node-2"].send_signal(signal.SIGTERM)
     if procs["node-2"].wait(timeout=15) != 0:
@@ -234,7 +239,8 @@ with sync_playwright() as pw:
     page.wait_for_function(
         "[...document.querySelectorAll('#processes tbody tr')].every(r => r.dataset.diverged === '0'"
         " && r.dataset.state === 'live')", timeout=15000)
-    print("node-2 back on the exercise's terrain: every digest agrees again")
+    page.wait_for_function(f"({logged})('matches')", timeout=15000)
+    print("node-2 back on the exercise's terrain: every digest agrees again, and the log says so")
 
     # Without --allow-commands (the default) the page has no operator panel, and a command sent
     # anyway is refused by dt_view, so nothing reaches a node.

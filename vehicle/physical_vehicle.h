@@ -180,7 +180,9 @@ class PhysicalVehicle {
   int per_side_ = 0;                // gear points per side; as many belly centre-line points
   double grid_step_ahead_m_ = 0.0;  // belly grid spacing
   double grid_step_left_m_ = 0.0;
-  size_t always_count_ = 0;  // the running gear; the belly (centre line, then grid) follows
+  size_t always_count_ = 0;       // the running gear; the belly (centre line, then grid) follows
+  double half_diagonal_m_ = 0.0;  // of the footprint
+  double box_radius_m_ = 0.0;     // bounds the hull box's corners' distance from the centre
 
   Eigen::Vector3d x_;
   Eigen::Vector3d v_ = Eigen::Vector3d::Zero();
@@ -200,6 +202,7 @@ class PhysicalVehicle {
   // Those of them that the vehicle can reach in the current chunk of steps.
   std::vector<Solid> solids_;
   std::vector<NearEarthwork> earthworks_;
+  Rect earthworks_area_;  // every earthwork whose bounds overlap it is in earthworks_
   // Belly grid: each point's neighbours towards +ahead, -ahead, +left, -left (contact index, -1
   // where there is no grid point), and whether the point is near the surface this step.
   std::vector<std::array<int, 4>> grid_neighbours_;

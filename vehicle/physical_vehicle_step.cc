@@ -116,7 +116,7 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
   size_t count = 0;
   // The belly is sampled only where a crater, a berm or a bridge solid is near the footprint:
   // elsewhere the ground's triangles, far wider than the gear's spacing, cannot rise into it.
-  const double half_diagonal = 0.5 * std::hypot(type_.base.length_m, type_.base.width_m);
+  const double half_diagonal = half_diagonal_m_;
   forces.sampled =
       !solids.empty() ||
               AnyOverlaps(earthworks_, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(half_diagonal))
@@ -143,8 +143,8 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
       c.ground.valid = false;
       c.ground.stamp = terrain.stamp();
     }
-    const SurfaceSample s =
-        SampleSurface(terrain, solids, p.x(), p.z(), p.y() + c.reach_m, c.ground);
+    const SurfaceSample s = SampleSurface(terrain, solids, {earthworks_, earthworks_area_}, p.x(),
+                                          p.z(), p.y() + c.reach_m, c.ground);
     const double depth = (s.height_m - p.y()) * s.normal.y();
     if (depth <= 0.0) {
       c.air_steps = std::min(c.air_steps + 1, 1 << 20);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <numbers>
 
@@ -55,7 +56,9 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
                                  double heading_rad, double gear_bottom_m)
     : type_(type),
       x_(x_m, gear_bottom_m + type.cg_height_m, z_m),
-      q_(HeadingQuaternion(heading_rad)) {
+      q_(HeadingQuaternion(heading_rad)),
+      rotation_of_(q_),
+      rotation_(q_.toRotationMatrix()) {
   const double L = type.base.length_m, W = type.base.width_m, H = type.hull_height_m;
   const double cg = type.cg_height_m;
   const int per_side = type.gear == RunningGear::kTracked
@@ -127,6 +130,10 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
     }
   }
   half_diagonal_m_ = 0.5 * std::hypot(L, W);
+  for (size_t k = 0; k < grip_wall_factor_.size(); ++k) {
+    const double mu = type.grip[k].static_friction;
+    grip_wall_factor_[k] = std::sqrt(1.0 + mu * mu);
+  }
   // The farthest box corner from the centre of mass, with a margin far above the rounding of a
   // rotated corner's coordinates.
   const double tall = std::max(cg, H - cg);
@@ -272,6 +279,14 @@ bool PhysicalVehicle::OnTerrain(const Terrain& terrain) const {
     }
   }
   return true;
+}
+
+const Matrix3d& PhysicalVehicle::Rotation() {
+  if (std::memcmp(rotation_of_.coeffs().data(), q_.coeffs().data(), 4 * sizeof(double)) != 0) {
+    rotation_of_ = q_;
+    rotation_ = q_.toRotationMatrix();
+  }
+  return rotation_;
 }
 
 Matrix3d PhysicalVehicle::WorldInverseInertia(const Matrix3d& r) const {

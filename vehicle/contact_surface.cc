@@ -31,7 +31,17 @@ void RaiseToSolids(std::span<const Solid> solids, double x_m, double z_m, double
   }
 }
 
-SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlaneCache* cache) {
+// True if (x, z) lies where `known` says no feature raises or cuts the ground.
+bool KnownBare(const KnownEarthworks* known, double x_m, double z_m) {
+  if (known == nullptr || !known->area.Contains(x_m, z_m)) return false;
+  for (const NearEarthwork& e : known->near) {
+    if (e.bounds.Contains(x_m, z_m)) return false;
+  }
+  return true;
+}
+
+SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlaneCache* cache,
+                     const KnownEarthworks* known = nullptr) {
   const HeightGrid& g = terrain.ground();
   const HeightGrid::Location at = g.Locate(x_m, z_m);
   SurfaceSample out;
@@ -42,7 +52,9 @@ SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlane
   // Where no earthwork raises the surface (no feature in the cell, or none covering the point
   // above the ground) one ground triangle gives height, normal and soil.
   const double ground = g.ElevationAt(at);
-  const double surface = feature_cell ? terrain.ElevationAt(x_m, z_m) : ground;
+  // No feature covering the point, Terrain::ElevationAt would be the ground (plus zeros).
+  const double surface =
+      feature_cell && !KnownBare(known, x_m, z_m) ? terrain.ElevationAt(x_m, z_m) : ground;
   if (surface == ground) {
     const SquareIndex& s = at.square;
     const double h01 = g.post(s.i, s.j + 1), h10 = g.post(s.i + 1, s.j);
@@ -106,6 +118,13 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
 
 SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids, double x_m,
                             double z_m, double reach_m, GroundPlaneCache& c) {
+  return SampleSurface(terrain, solids, KnownEarthworks{{}, Rect{1.0, 1.0, 0.0, 0.0}}, x_m, z_m,
+                       reach_m, c);
+}
+
+SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids,
+                            const KnownEarthworks& known, double x_m, double z_m, double reach_m,
+                            GroundPlaneCache& c) {
   SurfaceSample out;
   // The cell's far edges belong to the next cell, as Locate's truncation decides.
   if (c.valid && x_m >= c.x0 && x_m < c.x1 && z_m >= c.z0 && z_m < c.z1 &&
@@ -116,7 +135,7 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
     out.material = c.material;
   } else {
     c.valid = false;
-    out = Sample(terrain, x_m, z_m, &c);
+    out = Sample(terrain, x_m, z_m, &c, &known);
   }
   RaiseToSolids(solids, x_m, z_m, reach_m, out);
   return out;

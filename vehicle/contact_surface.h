@@ -63,6 +63,20 @@ struct NearEarthwork {
   Rect bounds;
 };
 
+// The earthworks whose bounds overlap `area` (every one of them, as EarthworksNear gathers):
+// at a point inside `area` that none of their bounds holds, no feature raises or cuts the ground.
+struct KnownEarthworks {
+  std::span<const NearEarthwork> near;
+  Rect area;
+};
+
+// SampleSurface with `cache`, the same answer; in a bitgrid cell that features cover, a point
+// inside `known.area` outside every one of `known.near` is ground without asking the terrain's
+// features (which reaches into their scattered memory).
+SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids,
+                            const KnownEarthworks& known, double x_m, double z_m, double reach_m,
+                            GroundPlaneCache& cache);
+
 // Every crater and berm whose bounds overlap `area`, each once, into `out` (cleared first).
 void EarthworksNear(const Terrain& terrain, const Rect& area, std::vector<NearEarthwork>& out);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include <numbers>
 
@@ -55,7 +56,9 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
                                  double heading_rad, double gear_bottom_m)
     : type_(type),
       x_(x_m, gear_bottom_m + type.cg_height_m, z_m),
-      q_(HeadingQuaternion(heading_rad)) {
+      q_(HeadingQuaternion(heading_rad)),
+      rotation_of_(q_),
+      rotation_(q_.toRotationMatrix()) {
   const double L = type.base.length_m, W = type.base.width_m, H = type.hull_height_m;
   const double cg = type.cg_height_m;
   const int per_side = type.gear == RunningGear::kTracked
@@ -126,6 +129,15 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
       hull_points_.emplace_back(-L / 2.0, up - cg, left);
     }
   }
+  half_diagonal_m_ = 0.5 * std::hypot(L, W);
+  for (size_t k = 0; k < grip_wall_factor_.size(); ++k) {
+    const double mu = type.grip[k].static_friction;
+    grip_wall_factor_[k] = std::sqrt(1.0 + mu * mu);
+  }
+  // The farthest box corner from the centre of mass, with a margin far above the rounding of a
+  // rotated corner's coordinates.
+  const double tall = std::max(cg, H - cg);
+  box_radius_m_ = std::sqrt(L * L / 4.0 + W * W / 4.0 + tall * tall) * (1.0 + 1e-9) + 1e-6;
   const double m = type.mass_kg;
   inertia_ =
       Vector3d(m * (H * H + W * W) / 12.0, m * (L * L + W * W) / 12.0, m * (L * L + H * H) / 12.0);
@@ -248,7 +260,13 @@ std::vector<Vector3d> PhysicalVehicle::HullBottomPoints(double spacing_m) const 
 
 bool PhysicalVehicle::OnTerrain(const Terrain& terrain) const {
   // Every contact and hull point lies in the box from the gear's bottom to the roof over the
-  // footprint; the terrain is convex, so the box's eight corners decide.
+  // footprint; the terrain is convex, so the box's eight corners decide. They all lie within
+  // box_radius_m_ of the centre of mass: a centre that far inside every edge needs no corner
+  // (the answer is the same; this is asked every step).
+  const double size = terrain.ground().size_m();
+  if (x_.x() - box_radius_m_ >= 0.0 && x_.x() + box_radius_m_ <= size &&
+      x_.z() - box_radius_m_ >= 0.0 && x_.z() + box_radius_m_ <= size)
+    return true;
   const double L = type_.base.length_m / 2.0, W = type_.base.width_m / 2.0;
   const double lo = -type_.cg_height_m, hi = type_.hull_height_m - type_.cg_height_m;
   const Matrix3d r = q_.toRotationMatrix();
@@ -261,6 +279,14 @@ bool PhysicalVehicle::OnTerrain(const Terrain& terrain) const {
     }
   }
   return true;
+}
+
+const Matrix3d& PhysicalVehicle::Rotation() {
+  if (std::memcmp(rotation_of_.coeffs().data(), q_.coeffs().data(), 4 * sizeof(double)) != 0) {
+    rotation_of_ = q_;
+    rotation_ = q_.toRotationMatrix();
+  }
+  return rotation_;
 }
 
 Matrix3d PhysicalVehicle::WorldInverseInertia(const Matrix3d& r) const {
@@ -296,8 +322,7 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
     const char* end = reinterpret_cast<const char*>(contacts_.data() + always_count_ + per_side_);
     for (const char* p = begin; p < end; p += 64) __builtin_prefetch(p);
   }
-  const double reach =
-      std::hypot(type_.base.length_m, type_.base.width_m) / 2.0 + type_.hull_height_m + 2.0;
+  const double reach = half_diagonal_m_ + type_.hull_height_m + 2.0;
   // Solids are gathered for chunks of steps, over the area the vehicle can reach in one.
   constexpr int64_t kChunkSteps = 40;
   for (int64_t done = 0; done < steps && !frozen_;) {
@@ -318,6 +343,7 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
     for (size_t i = 0; i < near_solids_.size(); ++i) {
       if (near_solid_bounds_[i].Intersects(area)) solids_.push_back(near_solids_[i]);
     }
+    earthworks_area_ = area;
     earthworks_.clear();
     for (const NearEarthwork& e : near_earthworks_) {
       if (e.bounds.Intersects(area)) earthworks_.push_back(e);

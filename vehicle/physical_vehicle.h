@@ -169,6 +169,9 @@ class PhysicalVehicle {
   bool NearRampFoot(const Terrain& terrain, FeatureId bridge) const;
   void Damaged(Damage damage, std::string cause, PhysicalReport& report);
   Eigen::Matrix3d WorldInverseInertia(const Eigen::Matrix3d& r) const;
+  // q_.toRotationMatrix(), computed again only once q_'s bits have changed: the phases of a step
+  // ask it three times and the orientation mostly changes once.
+  const Eigen::Matrix3d& Rotation();
 
   PhysicalVehicleType type_;
   std::vector<Contact> contacts_;
@@ -180,12 +183,18 @@ class PhysicalVehicle {
   int per_side_ = 0;                // gear points per side; as many belly centre-line points
   double grid_step_ahead_m_ = 0.0;  // belly grid spacing
   double grid_step_left_m_ = 0.0;
-  size_t always_count_ = 0;  // the running gear; the belly (centre line, then grid) follows
+  size_t always_count_ = 0;       // the running gear; the belly (centre line, then grid) follows
+  double half_diagonal_m_ = 0.0;  // of the footprint
+  double box_radius_m_ = 0.0;     // bounds the hull box's corners' distance from the centre
+  // Per material: sqrt(1 + static friction^2), the grip's wall test (ApplyGrip).
+  std::array<double, kMaterialCount> grip_wall_factor_{};
 
   Eigen::Vector3d x_;
   Eigen::Vector3d v_ = Eigen::Vector3d::Zero();
   Eigen::Quaterniond q_;
   Eigen::Vector3d w_ = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond rotation_of_;  // the q_ that rotation_ was computed from
+  Eigen::Matrix3d rotation_;
   double cmd_speed_mps_ = 0.0;
   double cmd_rate_rad_s_ = 0.0;
   int64_t pending_ns_ = 0;
@@ -200,6 +209,7 @@ class PhysicalVehicle {
   // Those of them that the vehicle can reach in the current chunk of steps.
   std::vector<Solid> solids_;
   std::vector<NearEarthwork> earthworks_;
+  Rect earthworks_area_;  // every earthwork whose bounds overlap it is in earthworks_
   // Belly grid: each point's neighbours towards +ahead, -ahead, +left, -left (contact index, -1
   // where there is no grid point), and whether the point is near the surface this step.
   std::vector<std::array<int, 4>> grid_neighbours_;

@@ -83,7 +83,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
                            PhysicalReport& report) {
   const Vector3d x0 = x_, v0 = v_;
   const Quaterniond q0 = q_;
-  const Matrix3d R = q_.toRotationMatrix();
+  const Matrix3d R = Rotation();
   std::array<Touch, kMaxTouches> touches;
   StepForces forces;
   forces.F = Vector3d(0.0, -kGravityMps2 * type_.mass_kg, 0.0);
@@ -116,7 +116,7 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
   size_t count = 0;
   // The belly is sampled only where a crater, a berm or a bridge solid is near the footprint:
   // elsewhere the ground's triangles, far wider than the gear's spacing, cannot rise into it.
-  const double half_diagonal = 0.5 * std::hypot(type_.base.length_m, type_.base.width_m);
+  const double half_diagonal = half_diagonal_m_;
   forces.sampled =
       !solids.empty() ||
               AnyOverlaps(earthworks_, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(half_diagonal))
@@ -143,8 +143,8 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
       c.ground.valid = false;
       c.ground.stamp = terrain.stamp();
     }
-    const SurfaceSample s =
-        SampleSurface(terrain, solids, p.x(), p.z(), p.y() + c.reach_m, c.ground);
+    const SurfaceSample s = SampleSurface(terrain, solids, {earthworks_, earthworks_area_}, p.x(),
+                                          p.z(), p.y() + c.reach_m, c.ground);
     const double depth = (s.height_m - p.y()) * s.normal.y();
     if (depth <= 0.0) {
       c.air_steps = std::min(c.air_steps + 1, 1 << 20);
@@ -327,7 +327,8 @@ void PhysicalVehicle::ApplyGrip(const Matrix3d& R, double h, std::span<const Tou
       // A face steeper than the grip's angle (tan > static friction) is a wall to the running
       // gear: pressing into it gives no drive up it.
       const double mu = t.grip->static_friction;
-      if (t.n.y() * std::sqrt(1.0 + mu * mu) >= 1.0) cg += mu * t.normal_n;
+      const double wall = grip_wall_factor_[static_cast<size_t>(t.grip - type_.grip.data())];
+      if (t.n.y() * wall >= 1.0) cg += mu * t.normal_n;
     }
   }
   nbar.normalize();
@@ -399,14 +400,15 @@ void PhysicalVehicle::ApplyHardStops(std::span<const Touch> touches) {
   const double m = type_.mass_kg;
   for (int pass = 0; pass < 4; ++pass) {
     bool corrected = false;
-    Matrix3d Rn = q_.toRotationMatrix();
-    Matrix3d Iw = WorldInverseInertia(Rn);
+    Matrix3d Rn = Rotation();
     for (const Touch& t : touches) {
       const Vector3d r = Rn * t.body;
       const double travel = t.gear ? kGearTravelM : kBellyTravelM;
       const double depth = (t.plane_point - (x_ + r)).dot(t.n);
       if (depth <= travel) continue;
       corrected = true;
+      // Only for a contact beyond its travel (most steps have none); the rotation changes below.
+      const Matrix3d Iw = WorldInverseInertia(Rn);
       const Vector3d rn = r.cross(t.n);
       const double w = 1.0 / m + rn.dot(Iw * rn);
       const double p = (depth - travel) / w;
@@ -418,8 +420,7 @@ void PhysicalVehicle::ApplyHardStops(std::span<const Touch> touches) {
         v_ += t.n * (j / m);
         w_ += Iw * rn * j;
       }
-      Rn = q_.toRotationMatrix();
-      Iw = WorldInverseInertia(Rn);
+      Rn = Rotation();
     }
     if (!corrected) break;
   }
@@ -480,7 +481,7 @@ void PhysicalVehicle::CheckDamage(const Terrain& terrain, bool touched, Physical
   // Static stability, for a wreck too: the hull has no contacts on its sides and roof, so one
   // destroyed by a landing that then rolled over would sink into the ground on its side.
   // |pitch| > limit is |forward.y| > sin(limit); |roll| > limit is |left.y| > tan(limit) up.y.
-  const Matrix3d Rn = q_.toRotationMatrix();
+  const Matrix3d& Rn = Rotation();
   const double up_y = Rn(1, 1);
   if (up_y <= 0.0 || std::abs(Rn(1, 0)) > sin_pitch_limit_ ||
       std::abs(Rn(1, 2)) > tan_roll_limit_ * up_y) {

@@ -267,18 +267,24 @@ bool PhysicalVehicle::OnTerrain(const Terrain& terrain) const {
   if (x_.x() - box_radius_m_ >= 0.0 && x_.x() + box_radius_m_ <= size &&
       x_.z() - box_radius_m_ >= 0.0 && x_.z() + box_radius_m_ <= size)
     return true;
+  for (const Vector3d& p : HullBoxCorners()) {
+    if (!terrain.Contains(p.x(), p.z())) return false;
+  }
+  return true;
+}
+
+std::array<Vector3d, 8> PhysicalVehicle::HullBoxCorners() const {
   const double L = type_.base.length_m / 2.0, W = type_.base.width_m / 2.0;
   const double lo = -type_.cg_height_m, hi = type_.hull_height_m - type_.cg_height_m;
   const Matrix3d r = q_.toRotationMatrix();
+  std::array<Vector3d, 8> out;
+  size_t k = 0;
   for (const double a : {-L, L}) {
     for (const double l : {-W, W}) {
-      for (const double u : {lo, hi}) {
-        const Vector3d p = x_ + r * Vector3d(a, u, l);
-        if (!terrain.Contains(p.x(), p.z())) return false;
-      }
+      for (const double u : {lo, hi}) out[k++] = x_ + r * Vector3d(a, u, l);
     }
   }
-  return true;
+  return out;
 }
 
 const Matrix3d& PhysicalVehicle::Rotation() {

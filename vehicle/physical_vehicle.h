@@ -143,6 +143,11 @@ class PhysicalVehicle {
   // One fixed step (physical_vehicle_step.cc), in the order of these phases.
   void Step(const Terrain& terrain, std::span<const Solid> solids, double h_s,
             PhysicalReport& report);
+  // A contact at depth_m below the surface s, its point moving at vn_mps along the normal: its
+  // spring-damper force joins `forces` and it joins `touches`. Returns its normal force, N.
+  double AddTouch(const Eigen::Vector3d& r, const Eigen::Vector3d& p, const Eigen::Vector3d& body,
+                  const SurfaceSample& s, double depth_m, double vn_mps, bool gear,
+                  StepForces& forces, std::span<Touch> touches, size_t& count);
   size_t GatherTouches(const Terrain& terrain, std::span<const Solid> solids,
                        const Eigen::Matrix3d& R, std::span<Touch> touches, StepForces& forces,
                        PhysicalReport& report);
@@ -161,6 +166,8 @@ class PhysicalVehicle {
   // The hull against bridge solids (physical_vehicle_hull.cc).
   void ResolveHull(std::span<const Solid> solids, PhysicalReport& report);
   bool OnTerrain(const Terrain& terrain) const;
+  // The corners of the box from the gear's bottom to the roof over the footprint, world.
+  std::array<Eigen::Vector3d, 8> HullBoxCorners() const;
   // True if a corner of the box from the gear's bottom to the roof is at or below the ground.
   bool HullCornerAtGround(const Terrain& terrain) const;
   Status CheckClearOfSolids(const Terrain& terrain) const;

@@ -24,16 +24,8 @@ constexpr double kWedgeLevelExitMaxM = 0.3;
 }  // namespace
 
 bool PhysicalVehicle::HullCornerAtGround(const Terrain& terrain) const {
-  const double L = type_.base.length_m / 2.0, W = type_.base.width_m / 2.0;
-  const double lo = -type_.cg_height_m, hi = type_.hull_height_m - type_.cg_height_m;
-  const Matrix3d r = q_.toRotationMatrix();
-  for (const double a : {-L, L}) {
-    for (const double l : {-W, W}) {
-      for (const double u : {lo, hi}) {
-        const Vector3d p = x_ + r * Vector3d(a, u, l);
-        if (p.y() <= terrain.ElevationAt(p.x(), p.z())) return true;
-      }
-    }
+  for (const Vector3d& p : HullBoxCorners()) {
+    if (p.y() <= terrain.ElevationAt(p.x(), p.z())) return true;
   }
   return false;
 }

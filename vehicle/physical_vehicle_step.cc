@@ -110,6 +110,24 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   CheckDamage(terrain, count > 0, report);
 }
 
+double PhysicalVehicle::AddTouch(const Vector3d& r, const Vector3d& p, const Vector3d& body,
+                                 const SurfaceSample& s, double depth_m, double vn_mps, bool gear,
+                                 StepForces& forces, std::span<Touch> touches, size_t& count) {
+  const double normal_n = std::max(0.0, spring_n_per_m_ * depth_m - damper_n_s_per_m_ * vn_mps);
+  forces.F += normal_n * s.normal;
+  forces.tau += r.cross(normal_n * s.normal);
+  forces.total_n += normal_n;
+  if (!gear && s.bridge.number != 0) forces.hull_deck = s.bridge;
+  touches[count++] = {r,
+                      s.normal,
+                      Vector3d(p.x(), s.height_m, p.z()),
+                      normal_n,
+                      &type_.grip[static_cast<size_t>(s.material)],
+                      gear,
+                      body};
+  return normal_n;
+}
+
 size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const Solid> solids,
                                       const Matrix3d& R, std::span<Touch> touches,
                                       StepForces& forces, PhysicalReport& report) {
@@ -154,11 +172,7 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
     if (c.air_steps >= kLandingAirSteps)
       report.max_landing_mps = std::max(report.max_landing_mps, -vn);
     c.air_steps = 0;
-    const double normal_n = std::max(0.0, spring_n_per_m_ * depth - damper_n_s_per_m_ * vn);
-    forces.F += normal_n * s.normal;
-    forces.tau += r.cross(normal_n * s.normal);
-    forces.total_n += normal_n;
-    if (!c.gear && s.bridge.number != 0) forces.hull_deck = s.bridge;
+    const double normal_n = AddTouch(r, p, c.body, s, depth, vn, c.gear, forces, touches, count);
     if (c.gear) {
       forces.gear_touching = true;
       if (s.bridge.number != 0 && normal_n >= forces.deck_n) {
@@ -167,13 +181,6 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
         forces.deck_point = p;
       }
     }
-    touches[count++] = {r,
-                        s.normal,
-                        Vector3d(p.x(), s.height_m, p.z()),
-                        normal_n,
-                        &type_.grip[static_cast<size_t>(s.material)],
-                        c.gear,
-                        c.body};
   }
   return count;
 }
@@ -207,19 +214,8 @@ size_t PhysicalVehicle::GatherRefinedBellyTouches(const Terrain& terrain,
           SampleSurface(terrain, solids, p.x(), p.z(), p.y() + c.reach_m, cache);
       const double depth = (s.height_m - p.y()) * s.normal.y();
       if (depth <= 0.0) continue;
-      const double vn = (v_ + w_.cross(r)).dot(s.normal);
-      const double normal_n = std::max(0.0, spring_n_per_m_ * depth - damper_n_s_per_m_ * vn);
-      forces.F += normal_n * s.normal;
-      forces.tau += r.cross(normal_n * s.normal);
-      forces.total_n += normal_n;
-      if (s.bridge.number != 0) forces.hull_deck = s.bridge;
-      touches[count++] = {r,
-                          s.normal,
-                          Vector3d(p.x(), s.height_m, p.z()),
-                          normal_n,
-                          &type_.grip[static_cast<size_t>(s.material)],
-                          false,
-                          mid};
+      AddTouch(r, p, mid, s, depth, (v_ + w_.cross(r)).dot(s.normal), false, forces, touches,
+               count);
     }
   }
   return count;
@@ -289,19 +285,8 @@ size_t PhysicalVehicle::GatherSolidEdgeTouches(const Terrain& terrain,
             SampleSurface(terrain, solids, p.x(), p.z(), p.y() + kBellyTravelM, cache);
         const double depth = (sample.height_m - p.y()) * sample.normal.y();
         if (depth <= 0.0) continue;
-        const double vn = (v_ + w_.cross(r)).dot(sample.normal);
-        const double normal_n = std::max(0.0, spring_n_per_m_ * depth - damper_n_s_per_m_ * vn);
-        forces.F += normal_n * sample.normal;
-        forces.tau += r.cross(normal_n * sample.normal);
-        forces.total_n += normal_n;
-        if (sample.bridge.number != 0) forces.hull_deck = sample.bridge;
-        touches[count++] = {r,
-                            sample.normal,
-                            Vector3d(p.x(), sample.height_m, p.z()),
-                            normal_n,
-                            &type_.grip[static_cast<size_t>(sample.material)],
-                            false,
-                            body};
+        AddTouch(r, p, body, sample, depth, (v_ + w_.cross(r)).dot(sample.normal), false, forces,
+                 touches, count);
       }
     }
   }

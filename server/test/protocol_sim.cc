@@ -425,6 +425,39 @@ void SimRun::GhostSendsOneChange() {
   }
 }
 
+namespace {
+
+// Changes a field the feature's kind uses, so the copy differs from the issued one in the terrain
+// and in the record hash, and stays within the documented ranges.
+void AlterUsedField(FeatureParams& p) {
+  switch (p.type) {
+    case FeatureType::kCrater:  // radius
+    case FeatureType::kBerm:    // length
+    case FeatureType::kBridge:  // span
+    case FeatureType::kDitch:   // side run
+      p.length_m[0] += 0.5;
+      return;
+    case FeatureType::kBermLine:  // crest height at the first point
+      p.points.front().height_m += 0.5;
+      return;
+    case FeatureType::kArea:  // the water level, or the soil of a dry area
+      if (p.material == Material::kWater) {
+        p.height_m[0] += 0.5;
+      } else {
+        p.material = p.material == Material::kMud ? Material::kSand : Material::kMud;
+      }
+      return;
+    case FeatureType::kEarthMove: {  // the first post's change, kept nonzero and in range
+      int32_t& d = p.post_deltas.front().delta_mm;
+      d = d >= kMaxPostDeltaMm ? d - 1 : (d == -1 ? 1 : d + 1);
+      return;
+    }
+  }
+  std::abort();
+}
+
+}  // namespace
+
 void SimRun::CorruptOneSlot() {
   // A slot the server holds durably, so its copy (the repair rule's winner) is the issued one.
   if (!cluster_->alive(kServer)) return;
@@ -449,7 +482,10 @@ void SimRun::CorruptOneSlot() {
   if (bad.kind == ChangeKind::kDestruct) {
     bad.stamp.lamport += 1;  // invisible in the terrain: only the logs' hashes show it
   } else {
-    bad.params.length_m[0] += 0.5;  // crater radius, berm length or bridge span
+    AlterUsedField(bad.params);
+    // Still a valid change, so a repair that re-sends this copy is refused by nothing but the
+    // repair rule.
+    if (!ValidateFeatureParams(bad.params).ok()) std::abort();
   }
   if (!r.anti_entropy().Overwrite(bad).ok()) std::abort();  // the slot is held
   corruption_ = Corruption{victim, author, seq, crashes_[victim]};

@@ -20,9 +20,13 @@
 namespace dt {
 
 // The fixed internal step: every Advance runs whole steps of this length, whatever the caller's
-// tick, and keeps the remainder for the next call (docs/vehicles.md "Time step").
-inline constexpr int64_t kPhysicsStepNs = 10'000'000;
-inline constexpr double kPhysicsStepS = 0.010;
+// tick, and keeps the remainder for the next call. Where the running gear can meet a feature (a
+// bridge solid near, an earthwork under the footprint) a step runs as kFineSubsteps substeps of
+// 10 ms: the contacts with features' edges and slopes are resolved at that step, the bare
+// ground's wide triangles at the whole one (docs/vehicles.md "Time step").
+inline constexpr int64_t kPhysicsStepNs = 20'000'000;
+inline constexpr double kPhysicsStepS = 0.020;
+inline constexpr int kFineSubsteps = 2;
 inline constexpr double kGravityMps2 = 9.81;
 // Static sag of the running gear under the vehicle's weight; the springs follow from it.
 inline constexpr double kStaticSagM = 0.05;
@@ -30,8 +34,11 @@ inline constexpr double kStaticSagM = 0.05;
 inline constexpr double kGearTravelM = 0.2;
 // The most a body point moves in one (sub)step: half the thinnest solid (deck slab 0.5 m).
 inline constexpr double kMaxMovePerStepM = 0.2;
-// A contact that was clear of the ground this long and touches again is a landing.
-inline constexpr int kLandingAirSteps = static_cast<int>(20'000'000 / kPhysicsStepNs);
+// A contact that was clear of the ground this long and touches again is a landing. The latches
+// add up the (sub)steps' lengths, so they hold the same time whatever the step.
+inline constexpr double kLandingAirS = 0.020;
+// Sums of steps under a latch's duration by no more than this (rounding) reach it.
+inline constexpr double kLatchSlackS = 1e-6;
 
 enum class Damage : uint8_t { kNone = 0, kImmobilised = 1, kDestroyed = 2 };
 std::string_view DamageName(Damage damage);  // "none", "immobilised", "destroyed"
@@ -100,7 +107,7 @@ class PhysicalVehicle {
   // The deck the running gear stands on (number 0: none).
   FeatureId bridge() const { return bridge_; }
   bool on_bridge() const { return bridge_.number != 0; }
-  bool airborne() const { return air_steps_ > 0; }
+  bool airborne() const { return air_s_ > 0.0; }
 
   // World points of the hull box's bottom face on a grid at most `spacing_m` apart, and the
   // bottom of the running gear at its contacts: for checks of penetration.
@@ -109,10 +116,10 @@ class PhysicalVehicle {
 
  private:
   struct Contact {
-    Eigen::Vector3d body;  // from the centre of mass, body frame
-    bool gear = true;      // running gear (drives) or belly (slides)
-    double reach_m = 0.0;  // a solid top this far above the point still carries it
-    int air_steps = 0;
+    Eigen::Vector3d body;     // from the centre of mass, body frame
+    bool gear = true;         // running gear (drives) or belly (slides)
+    double reach_m = 0.0;     // a solid top this far above the point still carries it
+    double air_s = 0.0;       // time clear of the ground
     bool dense = false;       // belly grid: only sampled where features lie under the footprint
     GroundPlaneCache ground;  // valid while the terrain's stamp is the one it was filled under
   };
@@ -149,8 +156,8 @@ class PhysicalVehicle {
                   const SurfaceSample& s, double depth_m, double vn_mps, bool gear,
                   StepForces& forces, std::span<Touch> touches, size_t& count);
   size_t GatherTouches(const Terrain& terrain, std::span<const Solid> solids,
-                       const Eigen::Matrix3d& R, std::span<Touch> touches, StepForces& forces,
-                       PhysicalReport& report);
+                       const Eigen::Matrix3d& R, double h, std::span<Touch> touches,
+                       StepForces& forces, PhysicalReport& report);
   size_t GatherRefinedBellyTouches(const Terrain& terrain, std::span<const Solid> solids,
                                    const Eigen::Matrix3d& R, std::span<Touch> touches, size_t count,
                                    StepForces& forces);
@@ -161,7 +168,8 @@ class PhysicalVehicle {
                  StepForces& forces, PhysicalReport& report);
   void Integrate(const StepForces& forces, const Eigen::Matrix3d& R, double h_s);
   void ApplyHardStops(std::span<const Touch> touches);
-  void UpdateBridgeTag(const Terrain& terrain, const StepForces& forces, PhysicalReport& report);
+  void UpdateBridgeTag(const Terrain& terrain, const StepForces& forces, double h,
+                       PhysicalReport& report);
   void CheckDamage(const Terrain& terrain, bool touched, PhysicalReport& report);
   // The hull against bridge solids (physical_vehicle_hull.cc).
   void ResolveHull(std::span<const Solid> solids, PhysicalReport& report);
@@ -227,8 +235,8 @@ class PhysicalVehicle {
   FeatureId bridge_;
   FeatureId fell_from_;  // a fall from this bridge was reported; cleared on the ground
   double last_deck_x_m_ = 0.0, last_deck_z_m_ = 0.0;  // where the deck last carried the gear
-  int air_steps_ = 0;       // steps since the running gear last touched anything
-  int off_deck_steps_ = 0;  // steps since a deck last carried the running gear
+  double air_s_ = 0.0;       // time since the running gear last touched anything
+  double off_deck_s_ = 0.0;  // time since a deck last carried the running gear
 };
 
 }  // namespace dt

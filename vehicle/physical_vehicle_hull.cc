@@ -17,8 +17,8 @@ using physical_internal::kBellyTravelM;
 using physical_internal::kLevelBottomMinCos;
 using physical_internal::Rotate;
 
-// A wedge's level exit is at most the way a step drives in at top speed (25 m/s x 10 ms) with
-// margin; a deeper one is a roof pushed up into a flat ceiling, left to the impulse below.
+// A wedge's level exit is at most the way a substep drives in near a solid (kMaxMovePerStepM)
+// with margin; a deeper one is a roof pushed up into a flat ceiling, left to the impulse below.
 constexpr double kWedgeLevelExitMaxM = 0.3;
 
 }  // namespace

@@ -23,9 +23,11 @@ using physical_internal::kBellyTravelM;
 using physical_internal::kLevelBottomMinCos;
 using physical_internal::Rotate;
 
-// The tag leaves after this many steps without the deck (0.1 s); a fall stays latched for 1 s.
-constexpr int kLeaveDeckSteps = static_cast<int>(100'000'000 / kPhysicsStepNs);
-constexpr int kFallLatchSteps = static_cast<int>(1'000'000'000 / kPhysicsStepNs);
+// The tag leaves after 0.1 s without the deck; a fall stays latched for 1 s.
+constexpr double kLeaveDeckS = 0.1;
+constexpr double kFallLatchS = 1.0;
+// Latch times stop growing here, so that adding a step still changes them.
+constexpr double kLatchCapS = 1e3;
 // A belly grid point this close to the surface also samples half-way to its neighbours: a crease
 // of an earthwork (a crater ring, a berm's top edge) between two grid points can rise above the
 // line joining them by a quarter of the spacing times the slopes' sum, more than the 0.1 m the
@@ -87,7 +89,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   std::array<Touch, kMaxTouches> touches;
   StepForces forces;
   forces.F = Vector3d(0.0, -kGravityMps2 * type_.mass_kg, 0.0);
-  size_t count = GatherTouches(terrain, solids, R, touches, forces, report);
+  size_t count = GatherTouches(terrain, solids, R, h, touches, forces, report);
   count = GatherRefinedBellyTouches(terrain, solids, R, touches, count, forces);
   if (!solids.empty()) count = GatherSolidEdgeTouches(terrain, solids, R, touches, count, forces);
   const std::span<const Touch> touched(touches.data(), count);
@@ -106,7 +108,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
     cmd_speed_mps_ = 0.0;
     cmd_rate_rad_s_ = 0.0;
   }
-  UpdateBridgeTag(terrain, forces, report);
+  UpdateBridgeTag(terrain, forces, h, report);
   CheckDamage(terrain, count > 0, report);
 }
 
@@ -129,7 +131,7 @@ double PhysicalVehicle::AddTouch(const Vector3d& r, const Vector3d& p, const Vec
 }
 
 size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const Solid> solids,
-                                      const Matrix3d& R, std::span<Touch> touches,
+                                      const Matrix3d& R, double h, std::span<Touch> touches,
                                       StepForces& forces, PhysicalReport& report) {
   size_t count = 0;
   // The belly is sampled only where a crater, a berm or a bridge solid is near the footprint:
@@ -153,7 +155,7 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
       const bool over = EarthworkElevationAt(terrain, earthworks_, p.x(), p.z(), e);
       grid_near_[k] = over && e > p.y() - kBellyRefineGapM;
       if (solids.empty() && (!over || e <= p.y())) {
-        c.air_steps = std::min(c.air_steps + 1, 1 << 20);
+        c.air_s = std::min(c.air_s + h, kLatchCapS);
         continue;
       }
     }
@@ -165,13 +167,13 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
                                           p.z(), p.y() + c.reach_m, c.ground);
     const double depth = (s.height_m - p.y()) * s.normal.y();
     if (depth <= 0.0) {
-      c.air_steps = std::min(c.air_steps + 1, 1 << 20);
+      c.air_s = std::min(c.air_s + h, kLatchCapS);
       continue;
     }
     const double vn = (v_ + w_.cross(r)).dot(s.normal);
-    if (c.air_steps >= kLandingAirSteps)
+    if (c.air_s >= kLandingAirS - kLatchSlackS)
       report.max_landing_mps = std::max(report.max_landing_mps, -vn);
-    c.air_steps = 0;
+    c.air_s = 0.0;
     const double normal_n = AddTouch(r, p, c.body, s, depth, vn, c.gear, forces, touches, count);
     if (c.gear) {
       forces.gear_touching = true;
@@ -411,16 +413,16 @@ void PhysicalVehicle::ApplyHardStops(std::span<const Touch> touches) {
   }
 }
 
-void PhysicalVehicle::UpdateBridgeTag(const Terrain& terrain, const StepForces& forces,
+void PhysicalVehicle::UpdateBridgeTag(const Terrain& terrain, const StepForces& forces, double h,
                                       PhysicalReport& report) {
   // Bridge tag: the deck carrying the running gear (docs/vehicles.md "Bridge events"). The tag
-  // goes only after kLeaveDeckSteps without the deck, so a vehicle bouncing or tipping on a deck
+  // goes only after kLeaveDeckS without the deck, so a vehicle bouncing or tipping on a deck
   // edge leaves once; after a fall, touching the same deck again is not getting on it until the
-  // vehicle has been off it for kFallLatchSteps.
-  air_steps_ = forces.gear_touching ? 0 : air_steps_ + 1;
+  // vehicle has been off it for kFallLatchS.
+  air_s_ = forces.gear_touching ? 0.0 : std::min(air_s_ + h, kLatchCapS);
   const FeatureId deck = forces.deck;
   if (deck.number != 0) {
-    off_deck_steps_ = 0;
+    off_deck_s_ = 0.0;
     if (deck != bridge_) {
       if (on_bridge() && bridge_ != fell_from_) report.drove_off = bridge_;
       if (deck != fell_from_) report.mounted = deck;
@@ -430,10 +432,10 @@ void PhysicalVehicle::UpdateBridgeTag(const Terrain& terrain, const StepForces& 
     last_deck_z_m_ = forces.deck_point.z();
   } else if (on_bridge() && forces.hull_deck == bridge_) {
     // The running gear lifted (a bounce) while the hull rests on the deck: still on it.
-    off_deck_steps_ = 0;
+    off_deck_s_ = 0.0;
   } else {
-    off_deck_steps_ = std::min(off_deck_steps_ + 1, 1 << 20);
-    if (on_bridge() && off_deck_steps_ >= kLeaveDeckSteps) {
+    off_deck_s_ = std::min(off_deck_s_ + h, kLatchCapS);
+    if (on_bridge() && off_deck_s_ >= kLeaveDeckS - kLatchSlackS) {
       if (bridge_ != fell_from_) {
         if (NearRampFoot(terrain, bridge_)) {
           report.drove_off = bridge_;
@@ -444,7 +446,7 @@ void PhysicalVehicle::UpdateBridgeTag(const Terrain& terrain, const StepForces& 
       }
       bridge_ = FeatureId{};
     }
-    if (off_deck_steps_ >= kFallLatchSteps) fell_from_ = FeatureId{};
+    if (off_deck_s_ >= kFallLatchS - kLatchSlackS) fell_from_ = FeatureId{};
   }
 }
 

@@ -1,5 +1,5 @@
 // Benchmarks of the vehicle models on a terrain holding 10^6 craters: one 30 Hz tick per vehicle
-// under the physical model (its 5 ms internal steps included) and under the light model, and one
+// under the physical model (its internal steps included) and under the light model, and one
 // contact-surface query against one elevation query at the same points.
 #include <cmath>
 #include <cstdlib>

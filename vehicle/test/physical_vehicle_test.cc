@@ -74,7 +74,8 @@ TEST(PhysicalVehicle, InternalStepDoesNotDependOnTheCallersTick) {
   for (int i = 0; i < kSteps; ++i) ASSERT_TRUE(b.Advance(*t, kPhysicsStepS).ok());
   int steps = 0;
   for (int i = 0; i < 90; ++i) steps += c.Advance(*t, 1.0 / 30.0).value().steps;
-  EXPECT_EQ(steps, kSteps - 1);  // 1/30 s is 33 333 333 ns: the last step waits for the next call
+  // 1/30 s is 33 333 333 ns: what is left of the last step waits for the next call.
+  EXPECT_EQ(steps, 90 * int64_t{33'333'333} / kPhysicsStepNs);
   steps += c.Advance(*t, 1e-6).value().steps;
   EXPECT_EQ(steps, kSteps);
   for (const PhysicalVehicle* v : {&b, &c}) {
@@ -218,7 +219,7 @@ TEST(PhysicalVehicle, FallDamageFollowsTheTypesThresholds) {
     EXPECT_NEAR(log.max_landing_mps, std::sqrt(2 * kGravityMps2 * c.height_m), 0.15);
     EXPECT_EQ(v.damage(), c.expected);
     // The fall took time: no tick dropped more than free fall allows by the end of the fall, over
-    // the time the tick ran (whole internal steps: 1/30 s runs 3 or 4 of 10 ms).
+    // the time the tick ran (whole internal steps: 1/30 s runs 1 or 2 of 20 ms).
     const double longest_tick_s = std::ceil(kTick / kPhysicsStepS) * kPhysicsStepS;
     EXPECT_LE(lowest_drop_tick, std::sqrt(2 * kGravityMps2 * c.height_m) * longest_tick_s + 0.01);
   }

@@ -107,8 +107,8 @@ Worst RandomDrive(const Terrain& t, uint64_t seed, double seconds) {
     worst.solid_m = std::max(worst.solid_m, in.depth_m);
     // Free fall from the last tick's vertical speed bounds how far the centre of mass can drop.
     const double y = v.position_m().y();
-    // A tick runs whole internal steps (3 or 4 of 10 ms), and semi-implicit Euler falls
-    // g T (T + h) / 2 in T = n h from rest.
+    // A tick runs whole internal steps (1 or 2 of 20 ms), and semi-implicit Euler falls
+    // g T (T + h) / 2 in T = n h from rest (less with the 10 ms substeps near features).
     const double T = r.steps * kPhysicsStepS;
     const double allowed =
         std::max(0.0, -vy_prev) * T + 0.5 * kGravityMps2 * T * (T + kPhysicsStepS);

@@ -40,6 +40,37 @@ bool KnownBare(const KnownEarthworks* known, double x_m, double z_m) {
   return true;
 }
 
+// A rectangle of `cell` around (x, z), a point that KnownBare holds, inside the area whose
+// earthworks `known` holds all of and clear of each one's bounds: there no feature raises or
+// cuts the ground. Each earthwork in the way is cut off on the side the point is not on (of the
+// sides that leave the point, the one that leaves the most). Bridges do not count: their solids
+// are added to the ground afterwards (RaiseToSolids).
+Rect KnownBarePart(const KnownEarthworks& known, const Rect& cell, double x_m, double z_m) {
+  Rect part{std::max(cell.min_x, known.area.min_x), std::max(cell.min_z, known.area.min_z),
+            std::min(cell.max_x, known.area.max_x), std::min(cell.max_z, known.area.max_z)};
+  for (const NearEarthwork& e : known.near) {
+    const Rect& b = e.bounds;
+    if (!b.Intersects(part)) continue;
+    const Rect options[4] = {
+        {part.min_x, part.min_z, std::min(part.max_x, b.min_x), part.max_z},  // point west
+        {std::max(part.min_x, b.max_x), part.min_z, part.max_x, part.max_z},  // point east
+        {part.min_x, part.min_z, part.max_x, std::min(part.max_z, b.min_z)},  // point south
+        {part.min_x, std::max(part.min_z, b.max_z), part.max_x, part.max_z},  // point north
+    };
+    const bool keeps[4] = {x_m<b.min_x, x_m> b.max_x, z_m<b.min_z, z_m> b.max_z};
+    double best_area = -1.0;
+    for (int k = 0; k < 4; ++k) {
+      const double area =
+          (options[k].max_x - options[k].min_x) * (options[k].max_z - options[k].min_z);
+      if (keeps[k] && area > best_area) {
+        best_area = area;
+        part = options[k];
+      }
+    }
+  }
+  return part;
+}
+
 SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlaneCache* cache,
                      const KnownEarthworks* known = nullptr) {
   const HeightGrid& g = terrain.ground();
@@ -53,8 +84,8 @@ SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlane
   // above the ground) one ground triangle gives height, normal and soil.
   const double ground = g.ElevationAt(at);
   // No feature covering the point, Terrain::ElevationAt would be the ground (plus zeros).
-  const double surface =
-      feature_cell && !KnownBare(known, x_m, z_m) ? terrain.ElevationAt(x_m, z_m) : ground;
+  const bool known_bare = feature_cell && KnownBare(known, x_m, z_m);
+  const double surface = feature_cell && !known_bare ? terrain.ElevationAt(x_m, z_m) : ground;
   if (surface == ground) {
     const SquareIndex& s = at.square;
     const double h01 = g.post(s.i, s.j + 1), h10 = g.post(s.i + 1, s.j);
@@ -75,17 +106,28 @@ SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlane
     const double inv = 1.0 / g.spacing_m();
     out.normal = Eigen::Vector3d(-dh_du * inv, 1.0, -dh_dv * inv).normalized();
     out.material = g.soil(s, half);
-    if (cache != nullptr && !feature_cell) {
-      const double sp = g.spacing_m(), cell = sp / kBitgridCellsPerSide;
+    const double sp = g.spacing_m(), cell = sp / kBitgridCellsPerSide;
+    const double cell_x0 = s.i * sp + cx * cell, cell_z0 = s.j * sp + cz * cell;
+    Rect plane{cell_x0, cell_z0, cell_x0 + cell, cell_z0 + cell};
+    // In a cell that features cover, the ground plane holds where the earthworks gathered near
+    // the vehicle show that none of them reaches (most of a feature's bitgrid cells).
+    if (cache != nullptr && feature_cell) {
+      if (known_bare) {
+        plane = KnownBarePart(*known, plane, x_m, z_m);
+      } else {
+        cache = nullptr;
+      }
+    }
+    if (cache != nullptr) {
       GroundPlaneCache& c = *cache;
       c.valid = true;
       c.square_x0 = s.i * sp;
       c.square_z0 = s.j * sp;
       c.inverse_spacing = inv;
-      c.x0 = c.square_x0 + cx * cell;
-      c.z0 = c.square_z0 + cz * cell;
-      c.x1 = c.x0 + cell;
-      c.z1 = c.z0 + cell;
+      c.x0 = plane.min_x;
+      c.z0 = plane.min_z;
+      c.x1 = plane.max_x;
+      c.z1 = plane.max_z;
       c.upper = half == TriangleHalf::kUpper;
       c.slope_x = dh_du * inv;
       c.slope_z = dh_dv * inv;

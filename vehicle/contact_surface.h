@@ -33,8 +33,9 @@ struct SurfaceSample {
 SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids, double x_m,
                             double z_m, double reach_m);
 
-// The bare ground plane last found around one contact: a bitgrid cell no feature may cover,
-// clipped to one triangle. Valid while the terrain does not change (callers reset it between
+// The bare ground plane last found around one contact: a rectangle of a bitgrid cell where no
+// feature raises or cuts the ground (the whole cell where none covers it), clipped to one
+// triangle. Valid while the terrain does not change (callers reset it between
 // terrain updates); a point inside it needs no grid look-up.
 struct GroundPlaneCache {
   bool valid = false;
@@ -72,7 +73,8 @@ struct KnownEarthworks {
 
 // SampleSurface with `cache`, the same answer; in a bitgrid cell that features cover, a point
 // inside `known.area` outside every one of `known.near` is ground without asking the terrain's
-// features (which reaches into their scattered memory).
+// features (which reaches into their scattered memory), and the ground plane is kept in `cache`
+// over the part of the cell inside `known.area` when that part is clear of all of `known.near`.
 SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solids,
                             const KnownEarthworks& known, double x_m, double z_m, double reach_m,
                             GroundPlaneCache& cache);

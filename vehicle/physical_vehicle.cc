@@ -349,7 +349,6 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
     for (size_t i = 0; i < near_solids_.size(); ++i) {
       if (near_solid_bounds_[i].Intersects(area)) solids_.push_back(near_solids_[i]);
     }
-    earthworks_area_ = area;
     earthworks_.clear();
     for (const NearEarthwork& e : near_earthworks_) {
       if (e.bounds.Intersects(area)) earthworks_.push_back(e);

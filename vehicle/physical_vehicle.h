@@ -224,7 +224,6 @@ class PhysicalVehicle {
   // Those of them that the vehicle can reach in the current chunk of steps.
   std::vector<Solid> solids_;
   std::vector<NearEarthwork> earthworks_;
-  Rect earthworks_area_;  // every earthwork whose bounds overlap it is in earthworks_
   // Belly grid: each point's neighbours towards +ahead, -ahead, +left, -left (contact index, -1
   // where there is no grid point), and whether the point is near the surface this step.
   std::vector<std::array<int, 4>> grid_neighbours_;

@@ -163,7 +163,7 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
       c.ground.valid = false;
       c.ground.stamp = terrain.stamp();
     }
-    const SurfaceSample s = SampleSurface(terrain, solids, {earthworks_, earthworks_area_}, p.x(),
+    const SurfaceSample s = SampleSurface(terrain, solids, {near_earthworks_, near_area_}, p.x(),
                                           p.z(), p.y() + c.reach_m, c.ground);
     const double depth = (s.height_m - p.y()) * s.normal.y();
     if (depth <= 0.0) {

@@ -15,6 +15,25 @@ constexpr double kBoundsSlackM = 1e-6;
 
 namespace {
 
+// Terrain::ElevationAt's composition (docs/terrain.md "Composing the surface") over `near`, those
+// earthworks whose bounds hold (x, z): the highest raise and the deepest cut, which the caller
+// adds to the ground as `ground + raise + cut`, the order Terrain::ElevationAt sums them in, so
+// the same bits. False where no bounds hold the point.
+bool KnownRaiseAndCut(std::span<const NearEarthwork> near, double x_m, double z_m, double& raise_m,
+                      double& cut_m) {
+  raise_m = 0.0;
+  cut_m = 0.0;
+  bool over = false;
+  for (const NearEarthwork& e : near) {
+    if (!e.bounds.Contains(x_m, z_m)) continue;
+    over = true;
+    const double offset_m = e.feature->OffsetOrNotCovered(x_m, z_m);
+    raise_m = std::max(raise_m, offset_m);
+    cut_m = std::min(cut_m, offset_m == Feature::kNotCovered ? 0.0 : offset_m);
+  }
+  return over;
+}
+
 void RaiseToSolids(std::span<const Solid> solids, double x_m, double z_m, double reach_m,
                    SurfaceSample& out) {
   for (const Solid& s : solids) {
@@ -85,7 +104,15 @@ SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlane
   const double ground = g.ElevationAt(at);
   // No feature covering the point, Terrain::ElevationAt would be the ground (plus zeros).
   const bool known_bare = feature_cell && KnownBare(known, x_m, z_m);
-  const double surface = feature_cell && !known_bare ? terrain.ElevationAt(x_m, z_m) : ground;
+  // The surface over an earthwork from the earthworks gathered near the vehicle where they hold
+  // all of them, else from the terrain's index (which reaches into scattered feature memory).
+  auto surface_at = [&](double x, double z, double ground_m) {
+    double raise_m, cut_m;
+    if (known == nullptr || !known->area.Contains(x, z)) return terrain.ElevationAt(x, z);
+    if (!KnownRaiseAndCut(known->near, x, z, raise_m, cut_m)) return ground_m;
+    return ground_m + raise_m + cut_m;
+  };
+  const double surface = feature_cell && !known_bare ? surface_at(x_m, z_m, ground) : ground;
   if (surface == ground) {
     const SquareIndex& s = at.square;
     const double h01 = g.post(s.i, s.j + 1), h10 = g.post(s.i + 1, s.j);
@@ -141,8 +168,10 @@ SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlane
     const double dx = x_m + kNormalStepM <= size ? kNormalStepM : -kNormalStepM;
     const double dz = z_m + kNormalStepM <= size ? kNormalStepM : -kNormalStepM;
     out.height_m = surface;
-    const double sx = (terrain.ElevationAt(x_m + dx, z_m) - surface) / dx;
-    const double sz = (terrain.ElevationAt(x_m, z_m + dz) - surface) / dz;
+    const double sx =
+        (surface_at(x_m + dx, z_m, terrain.GroundElevationAt(x_m + dx, z_m)) - surface) / dx;
+    const double sz =
+        (surface_at(x_m, z_m + dz, terrain.GroundElevationAt(x_m, z_m + dz)) - surface) / dz;
     out.normal = Eigen::Vector3d(-sx, 1.0, -sz).normalized();
     out.material = terrain.SoilAt(x_m, z_m);
   }
@@ -236,15 +265,9 @@ bool AnyOverlaps(std::span<const NearEarthwork> near, const Rect& area) {
 
 bool EarthworkElevationAt(const Terrain& terrain, std::span<const NearEarthwork> near, double x_m,
                           double z_m, double& elevation_m) {
-  double highest_offset_m = 0.0;
-  bool over = false;
-  for (const NearEarthwork& e : near) {
-    if (!e.bounds.Contains(x_m, z_m)) continue;
-    over = true;
-    highest_offset_m = std::max(highest_offset_m, e.feature->OffsetOrNotCovered(x_m, z_m));
-  }
-  if (!over) return false;
-  elevation_m = terrain.GroundElevationAt(x_m, z_m) + highest_offset_m;
+  double raise_m, cut_m;
+  if (!KnownRaiseAndCut(near, x_m, z_m, raise_m, cut_m)) return false;
+  elevation_m = terrain.GroundElevationAt(x_m, z_m) + raise_m + cut_m;
   return true;
 }
 

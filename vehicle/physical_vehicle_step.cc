@@ -212,8 +212,8 @@ size_t PhysicalVehicle::GatherRefinedBellyTouches(const Terrain& terrain,
       const Vector3d r = R * mid;
       const Vector3d p = x_ + r;
       GroundPlaneCache cache;
-      const SurfaceSample s =
-          SampleSurface(terrain, solids, p.x(), p.z(), p.y() + c.reach_m, cache);
+      const SurfaceSample s = SampleSurface(terrain, solids, {near_earthworks_, near_area_}, p.x(),
+                                            p.z(), p.y() + c.reach_m, cache);
       const double depth = (s.height_m - p.y()) * s.normal.y();
       if (depth <= 0.0) continue;
       AddTouch(r, p, mid, s, depth, (v_ + w_.cross(r)).dot(s.normal), false, forces, touches,

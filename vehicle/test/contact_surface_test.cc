@@ -1,4 +1,4 @@
-// Unit tests of the contact surface: the ground plane a contact keeps answers as a fresh sample.
+// Unit tests of the contact surface: kept ground planes and gathered earthworks answer as the terrain.
 #include "vehicle/contact_surface.h"
 
 #include <random>
@@ -41,7 +41,7 @@ TEST(ContactSurface, KeptGroundPlaneAnswersAsAFreshSample) {
                   FeatureParams::Berm(pos(rng), pos(rng), 6.28 * unit(rng), 5 + 10 * unit(rng),
                                       3 + 3 * unit(rng), 0.5 + unit(rng)));
     }
-    int compared = 0, kept_in_feature_cells = 0;
+    int compared = 0, kept_in_feature_cells = 0, over_earthworks = 0;
     for (int walk = 0; walk < 200; ++walk) {
       const double cx = pos(rng), cz = pos(rng);
       // The vehicle's gathered earthworks: every one whose bounds overlap its area.
@@ -62,13 +62,23 @@ TEST(ContactSurface, KeptGroundPlaneAnswersAsAFreshSample) {
         ASSERT_NEAR(kept.height_m, fresh.height_m, 1e-9) << seed << " " << x << " " << z;
         ASSERT_NEAR((kept.normal - fresh.normal).norm(), 0.0, 1e-9) << seed << " " << x << " " << z;
         ASSERT_EQ(kept.material, fresh.material) << seed << " " << x << " " << z;
+        // Over an earthwork the gathered earthworks give the terrain's own surface, bit for bit
+        // (a crater's bowl is a cut below the ground).
+        double e = 0.0;
+        if (area.Contains(x, z) && EarthworkElevationAt(t, near, x, z, e)) {
+          ASSERT_EQ(e, t.ElevationAt(x, z)) << seed << " " << x << " " << z;
+          ++over_earthworks;
+        }
         ++compared;
         if (was_valid && cache.valid && InFeatureCell(t, x, z)) ++kept_in_feature_cells;
       }
     }
-    std::printf("seed %d: %d samples, %d answered by a plane kept in a cell that features cover\n",
-                static_cast<int>(seed), compared, kept_in_feature_cells);
+    std::printf(
+        "seed %d: %d samples, %d answered by a plane kept in a cell that features cover, %d over "
+        "earthworks\n",
+        static_cast<int>(seed), compared, kept_in_feature_cells, over_earthworks);
     EXPECT_GT(kept_in_feature_cells, compared / 100) << seed;
+    EXPECT_GT(over_earthworks, compared / 100) << seed;
   }
 }
 

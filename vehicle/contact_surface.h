@@ -87,8 +87,9 @@ void EarthworksNear(const Terrain& terrain, const Rect& area, std::vector<NearEa
 bool AnyOverlaps(std::span<const NearEarthwork> near, const Rect& area);
 
 // Terrain::ElevationAt(x, z), the same bits, where the bounds of one of `near` (gathered over an
-// area holding the point) hold the point: the ground plus the highest earthwork offset over it
-// (into `elevation_m`, true); false, and nothing asked of the ground, elsewhere.
+// area holding the point) hold the point: the ground plus the highest raise plus the deepest cut
+// of the earthworks over it (into `elevation_m`, true); false, and nothing asked of the ground,
+// elsewhere.
 bool EarthworkElevationAt(const Terrain& terrain, std::span<const NearEarthwork> near, double x_m,
                           double z_m, double& elevation_m);
 

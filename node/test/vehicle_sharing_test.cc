@@ -93,7 +93,7 @@ TEST_F(VehicleSharingTest, ARemoteVehicleFollowsItsOwnerWithinTheThreshold) {
 }
 
 // The owner reports a physical vehicle's own velocities, not differences of its poses: those
-// jitter with its fixed 10 ms steps sampled at 33 ms ticks, and a receiver that lost the next
+// jitter with its fixed internal steps sampled at 33 ms ticks, and a receiver that lost the next
 // state dead reckoned their accelerations of tens of m/s^2 (the loss drill saw copies 100 m off).
 TEST_F(VehicleSharingTest, APhysicalVehiclesStatesCarryItsOwnSmoothRates) {
   auto type = BuiltInPhysicalType("jeep", ShippedFrictionTable());

@@ -149,7 +149,8 @@ TEST(VehicleProperty, RoofUnderASlopingUndersideIsNotDrivenDownFasterThanItFalls
   for (const int s : {239, 275, 281}) CheckSeed(s);
 }
 // 288: a tank's belly 0.101 m into an earthwork; 295: a tick 2 mm past free fall near a bridge.
-// Both pass since the 10 ms step (kept near features as substeps) and the belly's queries of the gathered earthworks.
+// Both pass since the 10 ms step (kept near features as substeps) and the belly's queries of the
+// gathered earthworks.
 TEST(VehicleProperty, EarlierFailuresNearEarthworksAndBridges) {
   for (const int s : {288, 295}) CheckSeed(s);
 }

@@ -354,20 +354,10 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
       if (e.bounds.Intersects(area)) earthworks_.push_back(e);
     }
     for (int64_t k = 0; k < n && !frozen_; ++k) {
-      // Near a feature the step is cut into fine substeps, and near a solid also into substeps
-      // that keep every move under kMaxMovePerStepM, so none is tunnelled through; the bare
-      // ground is a height field, met at any move.
+      // Substeps keep every move under kMaxMovePerStepM, so no solid is tunnelled through.
       const double fastest = v_.norm() + w_.norm() * reach;
-      const bool near_feature =
-          !solids_.empty() ||
-          AnyOverlaps(earthworks_, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(
-                                       half_diagonal_m_ + fastest * kPhysicsStepS));
       const int sub =
-          !near_feature ? 1
-          : solids_.empty()
-              ? kFineSubsteps
-              : std::max(kFineSubsteps,
-                         static_cast<int>(std::ceil(fastest * kPhysicsStepS / kMaxMovePerStepM)));
+          std::max(1, static_cast<int>(std::ceil(fastest * kPhysicsStepS / kMaxMovePerStepM)));
       for (int s = 0; s < sub; ++s) Step(terrain, solids_, kPhysicsStepS / sub, report);
       ++report.steps;
     }

@@ -20,13 +20,9 @@
 namespace dt {
 
 // The fixed internal step: every Advance runs whole steps of this length, whatever the caller's
-// tick, and keeps the remainder for the next call. Where the running gear can meet a feature (a
-// bridge solid near, an earthwork under the footprint) a step runs as kFineSubsteps substeps of
-// 10 ms: the contacts with features' edges and slopes are resolved at that step, the bare
-// ground's wide triangles at the whole one (docs/vehicles.md "Time step").
-inline constexpr int64_t kPhysicsStepNs = 20'000'000;
-inline constexpr double kPhysicsStepS = 0.020;
-inline constexpr int kFineSubsteps = 2;
+// tick, and keeps the remainder for the next call (docs/vehicles.md "Time step").
+inline constexpr int64_t kPhysicsStepNs = 10'000'000;
+inline constexpr double kPhysicsStepS = 0.010;
 inline constexpr double kGravityMps2 = 9.81;
 // Static sag of the running gear under the vehicle's weight; the springs follow from it.
 inline constexpr double kStaticSagM = 0.05;

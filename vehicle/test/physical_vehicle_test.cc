@@ -219,7 +219,7 @@ TEST(PhysicalVehicle, FallDamageFollowsTheTypesThresholds) {
     EXPECT_NEAR(log.max_landing_mps, std::sqrt(2 * kGravityMps2 * c.height_m), 0.15);
     EXPECT_EQ(v.damage(), c.expected);
     // The fall took time: no tick dropped more than free fall allows by the end of the fall, over
-    // the time the tick ran (whole internal steps: 1/30 s runs 1 or 2 of 20 ms).
+    // the time the tick ran (whole internal steps: 1/30 s runs 3 or 4 of 10 ms).
     const double longest_tick_s = std::ceil(kTick / kPhysicsStepS) * kPhysicsStepS;
     EXPECT_LE(lowest_drop_tick, std::sqrt(2 * kGravityMps2 * c.height_m) * longest_tick_s + 0.01);
   }

@@ -107,8 +107,8 @@ Worst RandomDrive(const Terrain& t, uint64_t seed, double seconds) {
     worst.solid_m = std::max(worst.solid_m, in.depth_m);
     // Free fall from the last tick's vertical speed bounds how far the centre of mass can drop.
     const double y = v.position_m().y();
-    // A tick runs whole internal steps (1 or 2 of 20 ms), and semi-implicit Euler falls
-    // g T (T + h) / 2 in T = n h from rest (less with the 10 ms substeps near features).
+    // A tick runs whole internal steps (3 or 4 of 10 ms), and semi-implicit Euler falls
+    // g T (T + h) / 2 in T = n h from rest.
     const double T = r.steps * kPhysicsStepS;
     const double allowed =
         std::max(0.0, -vy_prev) * T + 0.5 * kGravityMps2 * T * (T + kPhysicsStepS);
@@ -149,8 +149,7 @@ TEST(VehicleProperty, RoofUnderASlopingUndersideIsNotDrivenDownFasterThanItFalls
   for (const int s : {239, 275, 281}) CheckSeed(s);
 }
 // 288: a tank's belly 0.101 m into an earthwork; 295: a tick 2 mm past free fall near a bridge.
-// Both pass since the 10 ms step (kept near features as substeps) and the belly's queries of the
-// gathered earthworks.
+// Both pass since the 10 ms step and the belly's queries of the gathered earthworks.
 TEST(VehicleProperty, EarlierFailuresNearEarthworksAndBridges) {
   for (const int s : {288, 295}) CheckSeed(s);
 }

@@ -327,11 +327,16 @@ DecodeResult DecodeLinearObjectState(std::span<const uint8_t> in, const Header& 
 }  // namespace
 
 std::vector<uint8_t> Encode(const EntityStatePdu& p) {
+  std::vector<uint8_t> out;
+  EncodeInto(p, out);
+  return out;
+}
+
+void EncodeInto(const EntityStatePdu& p, std::vector<uint8_t>& out) {
   if (p.variable_parameters.size() > 255) {
     throw std::invalid_argument(fmt::format("DIS encode: {} variable parameters (at most 255)",
                                             p.variable_parameters.size()));
   }
-  std::vector<uint8_t> out;
   BigEndianWriter w(out, kEntityStateSize + p.variable_parameters.size() * kVariableParameterSize);
   PutHeader(w, p.header, PduType::kEntityState, kFamilyEntityInformation);
   PutEntityId(w, p.entity_id);
@@ -356,7 +361,6 @@ std::vector<uint8_t> Encode(const EntityStatePdu& p) {
   }
   if (!w.complete()) std::abort();  // the layout's size and the fields written disagree
   PatchLength(out);
-  return out;
 }
 
 std::vector<uint8_t> Encode(const PointObjectStatePdu& p) {

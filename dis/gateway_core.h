@@ -43,6 +43,8 @@ struct GatewayCounters {
   uint64_t entity_state_sent = 0, entity_removals_sent = 0, point_sent = 0, linear_sent = 0,
            object_removals_sent = 0, send_failed = 0, features_unmapped = 0, vehicles_timed_out = 0,
            vehicle_conflicts = 0;
+  // Exercise states with no Entity State (a value not finite or too large for the PDU): dropped.
+  uint64_t entity_states_unmapped = 0;
   // In, from DIS (decode counters are the decoder's).
   uint64_t own_dropped = 0, entities_unmapped = 0, vehicles_published = 0, publish_failed = 0,
            objects_ignored = 0, objects_unmapped = 0, craters_imported = 0, craters_removed = 0,
@@ -140,6 +142,7 @@ class GatewayCore {
   std::map<dt::EntityId, Imported> imported_;  // outside entities
   std::map<FeatureId, FeatureId> craters_;     // outside object ID -> the feature made for it
   double last_error_log_s_ = -1e300;
+  std::vector<uint8_t> datagram_;  // each Entity State encoded here: no allocation per PDU
 };
 
 }  // namespace dt::dis

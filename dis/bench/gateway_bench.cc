@@ -54,7 +54,7 @@ VehicleStateFields Tank(double x_m) {
 std::vector<uint8_t> OutsideBytes(const GeodeticFrame& frame) {
   VehicleStateFields s = Tank(500.0);
   s.id = {31, 5, 777};
-  EntityStatePdu pdu = EntityStateOfVehicle(s, frame, {3, 0});
+  EntityStatePdu pdu = EntityStateOfVehicle(s, frame, {3, 0}).value();
   return Encode(pdu);
 }
 
@@ -74,7 +74,7 @@ void BM_RawUdpOut(benchmark::State& state) {
   auto e = Loopback();
   GatewayCore core(Settings(), [](std::span<const uint8_t>) { return true; }, {});
   const std::vector<uint8_t> bytes =
-      Encode(EntityStateOfVehicle(Tank(100.0), core.frame(), {3, 0}));
+      Encode(EntityStateOfVehicle(Tank(100.0), core.frame(), {3, 0}).value());
   sockaddr_in to{};
   to.sin_family = AF_INET;
   to.sin_port = htons(kPort);
@@ -201,7 +201,8 @@ void BM_StateToDatagram(benchmark::State& state, bool gateway) {
   GatewayCore core(
       Settings(), [&](std::span<const uint8_t> d) { return e->Send(d); },
       [](const VehicleStateFields&) { return Status(); });
-  const std::vector<uint8_t> es = Encode(EntityStateOfVehicle(Tank(100.0), core.frame(), {3, 0}));
+  const std::vector<uint8_t> es =
+      Encode(EntityStateOfVehicle(Tank(100.0), core.frame(), {3, 0}).value());
   double now_s = 0.0;
   int64_t heard = 0;
   bus.Subscribe<dtpdu::vehicle_state_t>([&](const dtpdu::vehicle_state_t& pdu) {

@@ -53,7 +53,8 @@ GatewayCore::GatewayCore(GatewaySettings settings, SendDatagram send, PublishVeh
       send_(std::move(send)),
       publish_(std::move(publish)),
       author_(std::move(author)),
-      decoder_(settings_.exercise_id) {}
+      decoder_(settings_.exercise_id),
+      members_(settings_.members.begin(), settings_.members.end()) {}
 
 void GatewayCore::SendVehicle(OutVehicle& v, const VehicleStateFields& state, double now_s) {
   // The angles' cosines and sines serve the DIS orientation and the dead-reckoning matrix.
@@ -261,7 +262,7 @@ void GatewayCore::OnEntityState(const EntityStatePdu& pdu, double now_s) {
     imported_.erase(s.value().id);
   } else {
     Imported& held = imported_[s.value().id];
-    held.state = s.value();
+    held.state = std::move(s).value();  // published already: the state is not needed here again
     held.heard_s = now_s;
     ++held.published;
   }

@@ -120,7 +120,13 @@ class GatewayCore {
     double next_s = 0.0;
   };
 
-  bool Own(const EntityId& id) const { return settings_.members.count({id.site, id.application}); }
+  bool Own(const EntityId& id) const {
+    const NodeAddress a{id.site, id.application};
+    for (const NodeAddress& m : members_) {
+      if (m == a) return true;
+    }
+    return false;
+  }
   void SendVehicle(OutVehicle& v, const VehicleStateFields& state, double now_s);
   bool SendObject(const ObjectStatePdu& pdu);
   // changed: a new state (the update number goes up), else a periodic resend of the same.
@@ -142,6 +148,8 @@ class GatewayCore {
   std::map<dt::EntityId, Imported> imported_;  // outside entities
   std::map<FeatureId, FeatureId> craters_;     // outside object ID -> the feature made for it
   double last_error_log_s_ = -1e300;
+  // settings_.members as a flat array: an exercise has few members, and every PDU in asks.
+  std::vector<NodeAddress> members_;
   std::vector<uint8_t> datagram_;  // each Entity State encoded here: no allocation per PDU
 };
 

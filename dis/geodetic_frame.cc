@@ -43,11 +43,13 @@ LocalAttitude AttitudeOf(const Vec& forward, const Vec& right) {
   LocalAttitude a;
   const double up = std::clamp(forward[2], -1.0, 1.0);
   a.pitch_rad = std::asin(up);
-  const double horizontal = std::hypot(forward[0], forward[1]);
+  // forward is a unit vector, so its ground part cannot overflow: no need for hypot.
+  const double horizontal = std::sqrt(forward[0] * forward[0] + forward[1] * forward[1]);
   Vec level_right;
   if (horizontal > 1e-12) {
     a.heading_rad = std::atan2(forward[1], forward[0]);
-    level_right = {std::sin(a.heading_rad), -std::cos(a.heading_rad), 0.0};
+    // The heading's sine and cosine are the ground direction itself: no sin/cos of the angle.
+    level_right = {forward[1] / horizontal, -forward[0] / horizontal, 0.0};
   } else {
     // Straight up or down: heading 0 and the whole rotation about the vertical goes to roll.
     a.heading_rad = 0.0;

@@ -14,6 +14,11 @@ namespace {
 
 // ---- Encoding -----------------------------------------------------------------------------
 
+// The field writers and readers are inlined into each encoder and decoder, so the writer or
+// reader never leaves it: otherwise every byte stored through a uint8_t* may alias their
+// members, which are then reloaded per byte.
+#define DT_FIELD_INLINE [[gnu::always_inline]] inline
+
 // The throw out of line, so the check itself inlines into every field's write.
 [[noreturn, gnu::cold, gnu::noinline]] void NotFinite(double v, const char* field) {
   throw std::invalid_argument(fmt::format("DIS encode: {} is {}", field, v));
@@ -27,7 +32,7 @@ void RequireFinite(double v, const char* field) {
     NotFinite(v, field);
 }
 
-void PutHeader(BigEndianWriter& w, const Header& h, PduType type, uint8_t family) {
+DT_FIELD_INLINE void PutHeader(BigEndianWriter& w, const Header& h, PduType type, uint8_t family) {
   w.U8(h.protocol_version);
   w.U8(h.exercise_id);
   w.U8(static_cast<uint8_t>(type));
@@ -47,16 +52,16 @@ void PatchLength(std::vector<uint8_t>& out) {
   out[9] = static_cast<uint8_t>(out.size());
 }
 
-void PutEntityId(BigEndianWriter& w, const EntityId& id) {
+DT_FIELD_INLINE void PutEntityId(BigEndianWriter& w, const EntityId& id) {
   w.U16(id.site);
   w.U16(id.application);
   w.U16(id.entity);
 }
-void PutAddress(BigEndianWriter& w, const SimulationAddress& a) {
+DT_FIELD_INLINE void PutAddress(BigEndianWriter& w, const SimulationAddress& a) {
   w.U16(a.site);
   w.U16(a.application);
 }
-void PutEntityType(BigEndianWriter& w, const EntityType& t) {
+DT_FIELD_INLINE void PutEntityType(BigEndianWriter& w, const EntityType& t) {
   w.U8(t.kind);
   w.U8(t.domain);
   w.U16(t.country);
@@ -65,13 +70,13 @@ void PutEntityType(BigEndianWriter& w, const EntityType& t) {
   w.U8(t.specific);
   w.U8(t.extra);
 }
-void PutObjectType(BigEndianWriter& w, const ObjectType& t) {
+DT_FIELD_INLINE void PutObjectType(BigEndianWriter& w, const ObjectType& t) {
   w.U8(t.domain);
   w.U8(t.kind);
   w.U8(t.category);
   w.U8(t.subcategory);
 }
-void PutVector(BigEndianWriter& w, const Vector3F& v, const char* field) {
+DT_FIELD_INLINE void PutVector(BigEndianWriter& w, const Vector3F& v, const char* field) {
   RequireFinite(v.x, field);
   RequireFinite(v.y, field);
   RequireFinite(v.z, field);
@@ -79,7 +84,7 @@ void PutVector(BigEndianWriter& w, const Vector3F& v, const char* field) {
   w.F32(v.y);
   w.F32(v.z);
 }
-void PutLocation(BigEndianWriter& w, const WorldCoordinates& c, const char* field) {
+DT_FIELD_INLINE void PutLocation(BigEndianWriter& w, const WorldCoordinates& c, const char* field) {
   RequireFinite(c.x, field);
   RequireFinite(c.y, field);
   RequireFinite(c.z, field);
@@ -87,7 +92,7 @@ void PutLocation(BigEndianWriter& w, const WorldCoordinates& c, const char* fiel
   w.F64(c.y);
   w.F64(c.z);
 }
-void PutAngles(BigEndianWriter& w, const EulerAngles& a, const char* field) {
+DT_FIELD_INLINE void PutAngles(BigEndianWriter& w, const EulerAngles& a, const char* field) {
   RequireFinite(a.psi, field);
   RequireFinite(a.theta, field);
   RequireFinite(a.phi, field);
@@ -100,7 +105,7 @@ void PutAngles(BigEndianWriter& w, const EulerAngles& a, const char* field) {
 
 DecodeError Fail(DecodeFailure f, std::string message) { return {f, std::move(message)}; }
 
-Header GetHeader(BigEndianReader& r) {
+DT_FIELD_INLINE Header GetHeader(BigEndianReader& r) {
   Header h;
   h.protocol_version = r.U8();
   h.exercise_id = r.U8();
@@ -112,20 +117,20 @@ Header GetHeader(BigEndianReader& r) {
   r.Skip(1);
   return h;
 }
-EntityId GetEntityId(BigEndianReader& r) {
+DT_FIELD_INLINE EntityId GetEntityId(BigEndianReader& r) {
   EntityId id;
   id.site = r.U16();
   id.application = r.U16();
   id.entity = r.U16();
   return id;
 }
-SimulationAddress GetAddress(BigEndianReader& r) {
+DT_FIELD_INLINE SimulationAddress GetAddress(BigEndianReader& r) {
   SimulationAddress a;
   a.site = r.U16();
   a.application = r.U16();
   return a;
 }
-EntityType GetEntityType(BigEndianReader& r) {
+DT_FIELD_INLINE EntityType GetEntityType(BigEndianReader& r) {
   EntityType t;
   t.kind = r.U8();
   t.domain = r.U8();
@@ -136,7 +141,7 @@ EntityType GetEntityType(BigEndianReader& r) {
   t.extra = r.U8();
   return t;
 }
-ObjectType GetObjectType(BigEndianReader& r) {
+DT_FIELD_INLINE ObjectType GetObjectType(BigEndianReader& r) {
   ObjectType t;
   t.domain = r.U8();
   t.kind = r.U8();
@@ -144,21 +149,21 @@ ObjectType GetObjectType(BigEndianReader& r) {
   t.subcategory = r.U8();
   return t;
 }
-Vector3F GetVector(BigEndianReader& r) {
+DT_FIELD_INLINE Vector3F GetVector(BigEndianReader& r) {
   Vector3F v;
   v.x = r.F32();
   v.y = r.F32();
   v.z = r.F32();
   return v;
 }
-WorldCoordinates GetLocation(BigEndianReader& r) {
+DT_FIELD_INLINE WorldCoordinates GetLocation(BigEndianReader& r) {
   WorldCoordinates c;
   c.x = r.F64();
   c.y = r.F64();
   c.z = r.F64();
   return c;
 }
-EulerAngles GetAngles(BigEndianReader& r) {
+DT_FIELD_INLINE EulerAngles GetAngles(BigEndianReader& r) {
   EulerAngles a;
   a.psi = r.F32();
   a.theta = r.F32();

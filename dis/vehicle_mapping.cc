@@ -30,10 +30,11 @@ std::optional<Error> BadMarking(const std::string& marking) {
     return Error{fmt::format("ToEntityState: marking '{}' has {} characters (at most {})", marking,
                              marking.size(), kMarkingChars)};
   }
-  for (char c : marking) {
-    if (c < 0x20 || c > 0x7E) {
-      return Error{fmt::format("ToEntityState: marking '{}' is not printable ASCII", marking)};
-    }
+  // Without a branch per character: the marking is almost always printable.
+  bool unprintable = false;
+  for (char c : marking) unprintable |= (c < 0x20) | (c > 0x7E);
+  if (unprintable) {
+    return Error{fmt::format("ToEntityState: marking '{}' is not printable ASCII", marking)};
   }
   return std::nullopt;
 }
@@ -55,13 +56,19 @@ std::optional<Error> NonFiniteInput(const VehiclePose& pose) {
 // What Encode refuses: a float field that overflowed, or a location beyond a double.
 std::optional<Error> BadOutput(const EntityStatePdu& pdu) {
   const WorldCoordinates& c = pdu.location;
+  const Vector3F& v = pdu.linear_velocity;
+  const Vector3F& a = pdu.dead_reckoning.linear_acceleration;
+  const Vector3F& w = pdu.dead_reckoning.angular_velocity;
+  const EulerAngles& o = pdu.orientation;
+  // All finite is the rule: one test of every field, the naming below only when one is not.
+  const float sum = v.x + v.y + v.z + a.x + a.y + a.z + w.x + w.y + w.z + o.psi + o.theta + o.phi;
+  if (std::isfinite(sum) && std::isfinite(c.x + c.y + c.z)) return std::nullopt;
   if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z)) {
     return Error{fmt::format("ToEntityState: location ({}, {}, {}) is not finite", c.x, c.y, c.z)};
   }
   if (auto e = NonFinite(pdu.linear_velocity, "velocity")) return e;
   if (auto e = NonFinite(pdu.dead_reckoning.linear_acceleration, "acceleration")) return e;
   if (auto e = NonFinite(pdu.dead_reckoning.angular_velocity, "angular velocity")) return e;
-  const EulerAngles& o = pdu.orientation;
   if (!std::isfinite(o.psi) || !std::isfinite(o.theta) || !std::isfinite(o.phi)) {
     return Error{fmt::format("ToEntityState: orientation ({}, {}, {}) is not finite", o.psi,
                              o.theta, o.phi)};

@@ -95,10 +95,10 @@ Result<VehicleStateFields> VehicleOfEntityState(const EntityStatePdu& pdu,
   s.angular_velocity_body_rad_s = {w[0], -w[2], -w[1]};
   s.appearance = p.appearance & kImported;
   s.algorithm = AlgorithmOf(static_cast<uint8_t>(p.dead_reckoning));
-  for (char c : p.marking) {
-    if (c < 0x20 || c > 0x7E) break;
-    s.marking.push_back(c);
-  }
+  // Up to the first unprintable character, in one assignment.
+  size_t n = 0;
+  while (n < p.marking.size() && p.marking[n] >= 0x20 && p.marking[n] <= 0x7E) ++n;
+  s.marking.assign(p.marking, 0, n);
   return s;
 }
 

@@ -129,10 +129,11 @@ Result<VehiclePose> FromEntityState(const EntityStatePdu& pdu, const GeodeticFra
   pose.entity_type = pdu.entity_type;
   pose.force_id = pdu.force_id;
   if (pdu.marking.character_set == kMarkingAscii) {
-    for (char c : pdu.marking.characters) {
-      if (c == '\0') break;
-      pose.marking.push_back(c);
-    }
+    // Up to the first NUL, in one assignment rather than a push_back per character.
+    const auto& chars = pdu.marking.characters;
+    size_t n = 0;
+    while (n < chars.size() && chars[n] != '\0') ++n;
+    pose.marking.assign(chars.data(), n);
   }
   pose.position_m = frame.FromGeocentric(pdu.location);
   pose.attitude = frame.FromDisOrientation(pdu.orientation);

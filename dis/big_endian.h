@@ -15,21 +15,19 @@ namespace dt::dis {
 // known before it is written). Writing past that size is a broken invariant.
 class BigEndianWriter {
  public:
-  BigEndianWriter(std::vector<uint8_t>& out, size_t total) : out_(out) { out_.resize(total); }
+  // The vector is sized once here and its data pointer and size kept: each byte written through
+  // a uint8_t* may alias the vector's own members, which would otherwise be reloaded per field.
+  BigEndianWriter(std::vector<uint8_t>& out, size_t total) {
+    out.resize(total);
+    data_ = out.data();
+    size_ = total;
+  }
   void U8(uint8_t v) { *Take(1) = v; }
-  void U16(uint16_t v) {
-    uint8_t* p = Take(2);
-    p[0] = static_cast<uint8_t>(v >> 8);
-    p[1] = static_cast<uint8_t>(v);
-  }
-  void U32(uint32_t v) {
-    uint8_t* p = Take(4);
-    for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>(v >> (24 - 8 * i));
-  }
-  void U64(uint64_t v) {
-    uint8_t* p = Take(8);
-    for (int i = 0; i < 8; ++i) p[i] = static_cast<uint8_t>(v >> (56 - 8 * i));
-  }
+  // Each field is stored whole (one store, not one per byte, each of which could alias the
+  // writer's position and force it to be reloaded).
+  void U16(uint16_t v) { Put(v); }
+  void U32(uint32_t v) { Put(v); }
+  void U64(uint64_t v) { Put(v); }
   void F32(float v) { U32(std::bit_cast<uint32_t>(v)); }
   void F64(double v) { U64(std::bit_cast<uint64_t>(v)); }
   void Zeros(size_t n) { std::memset(Take(n), 0, n); }
@@ -37,16 +35,25 @@ class BigEndianWriter {
     std::memcpy(Take(bytes.size()), bytes.data(), bytes.size());
   }
   // True once exactly the announced size has been written.
-  bool complete() const { return pos_ == out_.size(); }
+  bool complete() const { return pos_ == size_; }
 
  private:
+  template <typename T>
+  void Put(T v) {
+    if constexpr (std::endian::native == std::endian::little) v = ByteSwap(v);
+    std::memcpy(Take(sizeof v), &v, sizeof v);
+  }
+  static uint16_t ByteSwap(uint16_t v) { return __builtin_bswap16(v); }
+  static uint32_t ByteSwap(uint32_t v) { return __builtin_bswap32(v); }
+  static uint64_t ByteSwap(uint64_t v) { return __builtin_bswap64(v); }
   uint8_t* Take(size_t n) {
-    if (n > out_.size() - pos_) std::abort();  // broken invariant: the size was computed first
-    uint8_t* p = out_.data() + pos_;
+    if (n > size_ - pos_) std::abort();  // broken invariant: the size was computed first
+    uint8_t* p = data_ + pos_;
     pos_ += n;
     return p;
   }
-  std::vector<uint8_t>& out_;
+  uint8_t* data_ = nullptr;
+  size_t size_ = 0;
   size_t pos_ = 0;
 };
 
@@ -56,18 +63,10 @@ class BigEndianReader {
  public:
   explicit BigEndianReader(std::span<const uint8_t> in) : in_(in) {}
   uint8_t U8() { return Take(1)[0]; }
-  uint16_t U16() {
-    const uint8_t* p = Take(2);
-    return static_cast<uint16_t>((p[0] << 8) | p[1]);
-  }
-  uint32_t U32() {
-    const uint8_t* p = Take(4);
-    return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | p[3];
-  }
-  uint64_t U64() {
-    const uint64_t high = U32();
-    return (high << 32) | U32();
-  }
+  // Each field is loaded whole and its bytes swapped, one load per field.
+  uint16_t U16() { return Get<uint16_t>(); }
+  uint32_t U32() { return Get<uint32_t>(); }
+  uint64_t U64() { return Get<uint64_t>(); }
   float F32() { return std::bit_cast<float>(U32()); }
   double F64() { return std::bit_cast<double>(U64()); }
   void Skip(size_t n) { Take(n); }
@@ -75,6 +74,17 @@ class BigEndianReader {
   size_t remaining() const { return in_.size() - pos_; }
 
  private:
+  template <typename T>
+  T Get() {
+    T v;
+    std::memcpy(&v, Take(sizeof v), sizeof v);
+    if constexpr (std::endian::native == std::endian::little) {
+      if constexpr (sizeof v == 2) v = __builtin_bswap16(v);
+      if constexpr (sizeof v == 4) v = __builtin_bswap32(v);
+      if constexpr (sizeof v == 8) v = __builtin_bswap64(v);
+    }
+    return v;
+  }
   const uint8_t* Take(size_t n);
   std::span<const uint8_t> in_;
   size_t pos_ = 0;

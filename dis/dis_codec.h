@@ -22,6 +22,9 @@ namespace dt::dis {
 std::vector<uint8_t> Encode(const EntityStatePdu& pdu);
 std::vector<uint8_t> Encode(const PointObjectStatePdu& pdu);
 std::vector<uint8_t> Encode(const LinearObjectStatePdu& pdu);
+// The same bytes into `out` (resized to the PDU; every byte written), so a sender that keeps
+// one buffer allocates nothing per PDU.
+void EncodeInto(const EntityStatePdu& pdu, std::vector<uint8_t>& out);
 
 using Pdu = std::variant<EntityStatePdu, PointObjectStatePdu, LinearObjectStatePdu>;
 

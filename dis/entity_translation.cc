@@ -37,8 +37,13 @@ dt::DeadReckoningAlgorithm AlgorithmOf(uint8_t dis) {
 
 }  // namespace
 
-EntityStatePdu EntityStateOfVehicle(const VehicleStateFields& s, const GeodeticFrame& frame,
-                                    const PduContext& context) {
+Result<EntityStatePdu> EntityStateOfVehicle(const VehicleStateFields& s, const GeodeticFrame& frame,
+                                            const PduContext& context) {
+  return EntityStateOfVehicle(s, TrigOf({s.heading_rad, s.pitch_rad, s.roll_rad}), frame, context);
+}
+
+Result<EntityStatePdu> EntityStateOfVehicle(const VehicleStateFields& s, const AttitudeTrig& trig,
+                                            const GeodeticFrame& frame, const PduContext& context) {
   VehiclePose pose;
   pose.entity_id = {s.id.site, s.id.application, s.id.entity};
   pose.entity_type = {s.type.kind,        s.type.domain,   s.type.country, s.type.category,
@@ -57,7 +62,7 @@ EntityStatePdu EntityStateOfVehicle(const VehicleStateFields& s, const GeodeticF
   pose.angular_velocity_rad_s = {w[0], -w[2], -w[1]};
   pose.appearance = s.appearance & ~kExerciseOnly;
   pose.dead_reckoning = static_cast<DeadReckoningAlgorithm>(static_cast<uint8_t>(s.algorithm));
-  return ToEntityState(pose, frame, context);
+  return ToEntityState(pose, trig, frame, context);
 }
 
 Result<VehicleStateFields> VehicleOfEntityState(const EntityStatePdu& pdu,
@@ -90,10 +95,10 @@ Result<VehicleStateFields> VehicleOfEntityState(const EntityStatePdu& pdu,
   s.angular_velocity_body_rad_s = {w[0], -w[2], -w[1]};
   s.appearance = p.appearance & kImported;
   s.algorithm = AlgorithmOf(static_cast<uint8_t>(p.dead_reckoning));
-  for (char c : p.marking) {
-    if (c < 0x20 || c > 0x7E) break;
-    s.marking.push_back(c);
-  }
+  // Up to the first unprintable character, in one assignment.
+  size_t n = 0;
+  while (n < p.marking.size() && p.marking[n] >= 0x20 && p.marking[n] <= 0x7E) ++n;
+  s.marking.assign(p.marking, 0, n);
   return s;
 }
 

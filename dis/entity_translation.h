@@ -13,9 +13,14 @@
 namespace dt::dis {
 
 // A vehicle of the exercise as an Entity State. The exercise's own appearance bits (on a bridge,
-// falling: bits 28, 29) are cleared; every other field maps one to one.
-EntityStatePdu EntityStateOfVehicle(const VehicleStateFields& state, const GeodeticFrame& frame,
-                                    const PduContext& context);
+// falling: bits 28, 29) are cleared; every other field maps one to one. Fails (ToEntityState)
+// for a value that is not finite or does not fit the PDU's floats.
+Result<EntityStatePdu> EntityStateOfVehicle(const VehicleStateFields& state,
+                                            const GeodeticFrame& frame, const PduContext& context);
+// The same with TrigOf the state's heading, pitch and roll given.
+Result<EntityStatePdu> EntityStateOfVehicle(const VehicleStateFields& state,
+                                            const AttitudeTrig& trig, const GeodeticFrame& frame,
+                                            const PduContext& context);
 
 // What an outside Entity State becomes on the exercise bus. terrain_size_m bounds x and z.
 // Fails, naming the values, for an entity off the terrain, an entity type that is no land

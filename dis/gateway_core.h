@@ -43,6 +43,8 @@ struct GatewayCounters {
   uint64_t entity_state_sent = 0, entity_removals_sent = 0, point_sent = 0, linear_sent = 0,
            object_removals_sent = 0, send_failed = 0, features_unmapped = 0, vehicles_timed_out = 0,
            vehicle_conflicts = 0;
+  // Exercise states with no Entity State (a value not finite or too large for the PDU): dropped.
+  uint64_t entity_states_unmapped = 0;
   // In, from DIS (decode counters are the decoder's).
   uint64_t own_dropped = 0, entities_unmapped = 0, vehicles_published = 0, publish_failed = 0,
            objects_ignored = 0, objects_unmapped = 0, craters_imported = 0, craters_removed = 0,
@@ -118,7 +120,13 @@ class GatewayCore {
     double next_s = 0.0;
   };
 
-  bool Own(const EntityId& id) const { return settings_.members.count({id.site, id.application}); }
+  bool Own(const EntityId& id) const {
+    const NodeAddress a{id.site, id.application};
+    for (const NodeAddress& m : members_) {
+      if (m == a) return true;
+    }
+    return false;
+  }
   void SendVehicle(OutVehicle& v, const VehicleStateFields& state, double now_s);
   bool SendObject(const ObjectStatePdu& pdu);
   // changed: a new state (the update number goes up), else a periodic resend of the same.
@@ -140,6 +148,9 @@ class GatewayCore {
   std::map<dt::EntityId, Imported> imported_;  // outside entities
   std::map<FeatureId, FeatureId> craters_;     // outside object ID -> the feature made for it
   double last_error_log_s_ = -1e300;
+  // settings_.members as a flat array: an exercise has few members, and every PDU in asks.
+  std::vector<NodeAddress> members_;
+  std::vector<uint8_t> datagram_;  // each Entity State encoded here: no allocation per PDU
 };
 
 }  // namespace dt::dis

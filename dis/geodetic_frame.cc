@@ -22,10 +22,10 @@ double Dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2]
 struct BodyAxes {
   Vec forward, right, down;
 };
-BodyAxes AxesOf(const LocalAttitude& a) {
-  const double ch = std::cos(a.heading_rad), sh = std::sin(a.heading_rad);
-  const double cp = std::cos(a.pitch_rad), sp = std::sin(a.pitch_rad);
-  const double cr = std::cos(a.roll_rad), sr = std::sin(a.roll_rad);
+BodyAxes AxesOf(const AttitudeTrig& t) {
+  const double ch = t.cos_heading, sh = t.sin_heading;
+  const double cp = t.cos_pitch, sp = t.sin_pitch;
+  const double cr = t.cos_roll, sr = t.sin_roll;
   const Vec forward = {cp * ch, cp * sh, sp};
   const Vec level_right = {sh, -ch, 0.0};  // direction heading - pi/2, on the ground plane
   const Vec level_down = Cross(forward, level_right);
@@ -43,11 +43,13 @@ LocalAttitude AttitudeOf(const Vec& forward, const Vec& right) {
   LocalAttitude a;
   const double up = std::clamp(forward[2], -1.0, 1.0);
   a.pitch_rad = std::asin(up);
-  const double horizontal = std::hypot(forward[0], forward[1]);
+  // forward is a unit vector, so its ground part cannot overflow: no need for hypot.
+  const double horizontal = std::sqrt(forward[0] * forward[0] + forward[1] * forward[1]);
   Vec level_right;
   if (horizontal > 1e-12) {
     a.heading_rad = std::atan2(forward[1], forward[0]);
-    level_right = {std::sin(a.heading_rad), -std::cos(a.heading_rad), 0.0};
+    // The heading's sine and cosine are the ground direction itself: no sin/cos of the angle.
+    level_right = {forward[1] / horizontal, -forward[0] / horizontal, 0.0};
   } else {
     // Straight up or down: heading 0 and the whole rotation about the vertical goes to roll.
     a.heading_rad = 0.0;
@@ -59,6 +61,17 @@ LocalAttitude AttitudeOf(const Vec& forward, const Vec& right) {
 }
 
 }  // namespace
+
+AttitudeTrig TrigOf(const LocalAttitude& a) {
+  AttitudeTrig t;
+  t.cos_heading = std::cos(a.heading_rad);
+  t.sin_heading = std::sin(a.heading_rad);
+  t.cos_pitch = std::cos(a.pitch_rad);
+  t.sin_pitch = std::sin(a.pitch_rad);
+  t.cos_roll = std::cos(a.roll_rad);
+  t.sin_roll = std::sin(a.roll_rad);
+  return t;
+}
 
 GeodeticFrame::GeodeticFrame(const GeodeticOrigin& o) : origin_(o) {
   if (!std::isfinite(o.latitude_deg) || std::abs(o.latitude_deg) > 90.0) {
@@ -119,7 +132,11 @@ LocalPoint GeodeticFrame::VectorFromGeocentric(const Vector3F& v) const {
 }
 
 std::array<double, 3> GeodeticFrame::ToDisAnglesRad(const LocalAttitude& a) const {
-  const BodyAxes b = AxesOf(a);
+  return ToDisAnglesRadOf(TrigOf(a));
+}
+
+std::array<double, 3> GeodeticFrame::ToDisAnglesRadOf(const AttitudeTrig& t) const {
+  const BodyAxes b = AxesOf(t);
   const auto& m = enu_to_ecef_;
   auto to_ecef = [&m](const Vec& v) {
     return Vec{m[0] * v[0] + m[1] * v[1] + m[2] * v[2], m[3] * v[0] + m[4] * v[1] + m[5] * v[2],
@@ -156,7 +173,11 @@ LocalAttitude GeodeticFrame::FromDisAnglesRad(double psi, double theta, double p
 }
 
 EulerAngles GeodeticFrame::ToDisOrientation(const LocalAttitude& a) const {
-  const auto angles = ToDisAnglesRad(a);
+  return ToDisOrientationOf(TrigOf(a));
+}
+
+EulerAngles GeodeticFrame::ToDisOrientationOf(const AttitudeTrig& t) const {
+  const auto angles = ToDisAnglesRadOf(t);
   return {static_cast<float>(angles[0]), static_cast<float>(angles[1]),
           static_cast<float>(angles[2])};
 }

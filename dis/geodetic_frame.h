@@ -37,6 +37,15 @@ struct LocalAttitude {
   double roll_rad = 0.0;
 };
 
+// The cosines and sines of a local attitude's angles, made once where they are needed twice
+// (the DIS orientation and the dead-reckoning matrix of the same state).
+struct AttitudeTrig {
+  double cos_heading = 1.0, sin_heading = 0.0;
+  double cos_pitch = 1.0, sin_pitch = 0.0;
+  double cos_roll = 1.0, sin_roll = 0.0;
+};
+AttitudeTrig TrigOf(const LocalAttitude& a);
+
 // The terrain is a plane tangent to the ellipsoid at the origin: local x, z, y are the east,
 // north and up axes there, for every point of the terrain. Conversions are exact inverses of
 // each other (to rounding), which a round trip through DIS relies on.
@@ -61,8 +70,11 @@ class GeodeticFrame {
   EulerAngles ToDisOrientation(const LocalAttitude& a) const;
   LocalAttitude FromDisOrientation(const EulerAngles& e) const;
 
-  // The same in double precision (the PDU carries floats).
+  // The same in double precision (the PDU carries floats); the same bits from the attitude's
+  // trigonometry.
   std::array<double, 3> ToDisAnglesRad(const LocalAttitude& a) const;
+  std::array<double, 3> ToDisAnglesRadOf(const AttitudeTrig& t) const;
+  EulerAngles ToDisOrientationOf(const AttitudeTrig& t) const;
   LocalAttitude FromDisAnglesRad(double psi, double theta, double phi) const;
 
  private:

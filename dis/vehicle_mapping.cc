@@ -3,43 +3,89 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <stdexcept>
+#include <optional>
+#include <string>
 
 namespace dt::dis {
 namespace {
 
-void RequireFinite(double v, const char* field) {
-  if (!std::isfinite(v))
-    throw std::invalid_argument(fmt::format("ToEntityState: {} is {}", field, v));
+std::optional<Error> NonFinite(double v, const char* field) {
+  if (std::isfinite(v)) return std::nullopt;
+  return Error{fmt::format("ToEntityState: {} is {}", field, v)};
 }
-void RequireFinite(const LocalPoint& p, const char* field) {
-  RequireFinite(p.x_m, field);
-  RequireFinite(p.y_m, field);
-  RequireFinite(p.z_m, field);
+std::optional<Error> NonFinite(const LocalPoint& p, const char* field) {
+  if (auto e = NonFinite(p.x_m, field)) return e;
+  if (auto e = NonFinite(p.y_m, field)) return e;
+  return NonFinite(p.z_m, field);
+}
+// The single-precision fields: finite inputs may still overflow a float.
+std::optional<Error> NonFinite(const Vector3F& v, const char* field) {
+  if (std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)) return std::nullopt;
+  return Error{fmt::format("ToEntityState: {} ({}, {}, {}) does not fit the PDU's floats", field,
+                           v.x, v.y, v.z)};
+}
+
+std::optional<Error> BadMarking(const std::string& marking) {
+  if (marking.size() > kMarkingChars) {
+    return Error{fmt::format("ToEntityState: marking '{}' has {} characters (at most {})", marking,
+                             marking.size(), kMarkingChars)};
+  }
+  // Without a branch per character: the marking is almost always printable.
+  bool unprintable = false;
+  for (char c : marking) unprintable |= (c < 0x20) | (c > 0x7E);
+  if (unprintable) {
+    return Error{fmt::format("ToEntityState: marking '{}' is not printable ASCII", marking)};
+  }
+  return std::nullopt;
+}
+
+// Which input is not finite, by name.
+std::optional<Error> NonFiniteInput(const VehiclePose& pose) {
+  if (auto e = NonFinite(pose.position_m, "position")) return e;
+  if (auto e = NonFinite(pose.velocity_mps, "velocity")) return e;
+  if (auto e = NonFinite(pose.acceleration_mps2, "acceleration")) return e;
+  if (auto e = NonFinite(pose.attitude.heading_rad, "heading")) return e;
+  if (auto e = NonFinite(pose.attitude.pitch_rad, "pitch")) return e;
+  if (auto e = NonFinite(pose.attitude.roll_rad, "roll")) return e;
+  for (double w : pose.angular_velocity_rad_s) {
+    if (auto e = NonFinite(w, "angular velocity")) return e;
+  }
+  return std::nullopt;
+}
+
+// What Encode refuses: a float field that overflowed, or a location beyond a double.
+std::optional<Error> BadOutput(const EntityStatePdu& pdu) {
+  const WorldCoordinates& c = pdu.location;
+  const Vector3F& v = pdu.linear_velocity;
+  const Vector3F& a = pdu.dead_reckoning.linear_acceleration;
+  const Vector3F& w = pdu.dead_reckoning.angular_velocity;
+  const EulerAngles& o = pdu.orientation;
+  // All finite is the rule: one test of every field, the naming below only when one is not.
+  const float sum = v.x + v.y + v.z + a.x + a.y + a.z + w.x + w.y + w.z + o.psi + o.theta + o.phi;
+  if (std::isfinite(sum) && std::isfinite(c.x + c.y + c.z)) return std::nullopt;
+  if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z)) {
+    return Error{fmt::format("ToEntityState: location ({}, {}, {}) is not finite", c.x, c.y, c.z)};
+  }
+  if (auto e = NonFinite(pdu.linear_velocity, "velocity")) return e;
+  if (auto e = NonFinite(pdu.dead_reckoning.linear_acceleration, "acceleration")) return e;
+  if (auto e = NonFinite(pdu.dead_reckoning.angular_velocity, "angular velocity")) return e;
+  if (!std::isfinite(o.psi) || !std::isfinite(o.theta) || !std::isfinite(o.phi)) {
+    return Error{fmt::format("ToEntityState: orientation ({}, {}, {}) is not finite", o.psi,
+                             o.theta, o.phi)};
+  }
+  return std::nullopt;
 }
 
 }  // namespace
 
-EntityStatePdu ToEntityState(const VehiclePose& pose, const GeodeticFrame& frame,
-                             const PduContext& context) {
-  RequireFinite(pose.position_m, "position");
-  RequireFinite(pose.velocity_mps, "velocity");
-  RequireFinite(pose.acceleration_mps2, "acceleration");
-  RequireFinite(pose.attitude.heading_rad, "heading");
-  RequireFinite(pose.attitude.pitch_rad, "pitch");
-  RequireFinite(pose.attitude.roll_rad, "roll");
-  for (double w : pose.angular_velocity_rad_s) RequireFinite(w, "angular velocity");
-  if (pose.marking.size() > kMarkingChars) {
-    throw std::invalid_argument(
-        fmt::format("ToEntityState: marking '{}' has {} characters (at most {})", pose.marking,
-                    pose.marking.size(), kMarkingChars));
-  }
-  for (char c : pose.marking) {
-    if (c < 0x20 || c > 0x7E) {
-      throw std::invalid_argument(
-          fmt::format("ToEntityState: marking '{}' is not printable ASCII", pose.marking));
-    }
-  }
+Result<EntityStatePdu> ToEntityState(const VehiclePose& pose, const GeodeticFrame& frame,
+                                     const PduContext& context) {
+  return ToEntityState(pose, TrigOf(pose.attitude), frame, context);
+}
+
+Result<EntityStatePdu> ToEntityState(const VehiclePose& pose, const AttitudeTrig& trig,
+                                     const GeodeticFrame& frame, const PduContext& context) {
+  if (auto e = BadMarking(pose.marking)) return *std::move(e);
   EntityStatePdu pdu;
   pdu.header.exercise_id = context.exercise_id;
   pdu.header.timestamp = context.timestamp;
@@ -49,7 +95,7 @@ EntityStatePdu ToEntityState(const VehiclePose& pose, const GeodeticFrame& frame
   pdu.alternative_entity_type = pose.entity_type;
   pdu.linear_velocity = frame.VectorToGeocentric(pose.velocity_mps);
   pdu.location = frame.ToGeocentric(pose.position_m);
-  pdu.orientation = frame.ToDisOrientation(pose.attitude);
+  pdu.orientation = frame.ToDisOrientationOf(trig);
   pdu.appearance = pose.appearance;
   pdu.dead_reckoning.algorithm = static_cast<uint8_t>(pose.dead_reckoning);
   pdu.dead_reckoning.linear_acceleration = frame.VectorToGeocentric(pose.acceleration_mps2);
@@ -58,6 +104,12 @@ EntityStatePdu ToEntityState(const VehiclePose& pose, const GeodeticFrame& frame
                                          static_cast<float>(pose.angular_velocity_rad_s[2])};
   pdu.marking.character_set = kMarkingAscii;
   std::copy(pose.marking.begin(), pose.marking.end(), pdu.marking.characters.begin());
+  // A non-finite input makes a non-finite output (NaN and infinity propagate through every
+  // conversion), so the output's checks cover both; the input's run only to name the field.
+  if (auto e = BadOutput(pdu)) {
+    if (auto named = NonFiniteInput(pose)) return *std::move(named);
+    return *std::move(e);
+  }
   return pdu;
 }
 
@@ -77,10 +129,11 @@ Result<VehiclePose> FromEntityState(const EntityStatePdu& pdu, const GeodeticFra
   pose.entity_type = pdu.entity_type;
   pose.force_id = pdu.force_id;
   if (pdu.marking.character_set == kMarkingAscii) {
-    for (char c : pdu.marking.characters) {
-      if (c == '\0') break;
-      pose.marking.push_back(c);
-    }
+    // Up to the first NUL, in one assignment rather than a push_back per character.
+    const auto& chars = pdu.marking.characters;
+    size_t n = 0;
+    while (n < chars.size() && chars[n] != '\0') ++n;
+    pose.marking.assign(chars.data(), n);
   }
   pose.position_m = frame.FromGeocentric(pdu.location);
   pose.attitude = frame.FromDisOrientation(pdu.orientation);

@@ -9,10 +9,15 @@
 
 namespace dt::dis {
 
-// Throws std::invalid_argument for a non-finite value, or a marking longer than 11 characters
-// or not printable ASCII (the pose is dynterrain's own: a bad one is a bug upstream).
-EntityStatePdu ToEntityState(const VehiclePose& pose, const GeodeticFrame& frame,
-                             const PduContext& context);
+// Fails, naming the field, for a non-finite value, one too large for the PDU's float, or a
+// marking longer than 11 characters or not printable ASCII: the pose comes from a state heard
+// on the bus, and a handler drops what it cannot send. A PDU it gives encodes without error.
+Result<EntityStatePdu> ToEntityState(const VehiclePose& pose, const GeodeticFrame& frame,
+                                     const PduContext& context);
+// The same, bit for bit, with the attitude's trigonometry given (TrigOf(pose.attitude)), for a
+// caller that needs it again.
+Result<EntityStatePdu> ToEntityState(const VehiclePose& pose, const AttitudeTrig& trig,
+                                     const GeodeticFrame& frame, const PduContext& context);
 
 // Entity numbers 0 (none), 65534 (assign on request) and 65535 (all) are reserved.
 inline constexpr uint16_t kFirstReservedEntityNumber = 65534;

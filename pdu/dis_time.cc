@@ -5,8 +5,12 @@
 namespace dt {
 
 uint32_t EncodeDisTimestamp(double seconds_past_hour, bool absolute) {
-  double s = std::fmod(seconds_past_hour, 3600.0);
-  if (!(s >= 0.0)) s = std::isfinite(s) ? s + 3600.0 : 0.0;
+  double s = seconds_past_hour;
+  // Within the hour already (every time stamp of now): fmod would give s itself, exactly.
+  if (!(s >= 0.0 && s < 3600.0)) {
+    s = std::fmod(s, 3600.0);
+    if (!(s >= 0.0)) s = std::isfinite(s) ? s + 3600.0 : 0.0;
+  }
   // 31 bits of units; the last unit of the hour saturates rather than wrapping to 0.
   auto units = static_cast<uint64_t>(std::floor(s / kDisTimeUnitS));
   if (units > 0x7FFFFFFFull) units = 0x7FFFFFFFull;

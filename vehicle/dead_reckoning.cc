@@ -33,9 +33,12 @@ void Clamp(std::array<double, 3>& v, double limit) {
 }  // namespace
 
 Eigen::Matrix3d OrientationMatrix(double heading_rad, double pitch_rad, double roll_rad) {
-  const double ch = std::cos(heading_rad), sh = std::sin(heading_rad);
-  const double cp = std::cos(pitch_rad), sp = std::sin(pitch_rad);
-  const double cr = std::cos(roll_rad), sr = std::sin(roll_rad);
+  return OrientationMatrixOfTrig(std::cos(heading_rad), std::sin(heading_rad), std::cos(pitch_rad),
+                                 std::sin(pitch_rad), std::cos(roll_rad), std::sin(roll_rad));
+}
+
+Eigen::Matrix3d OrientationMatrixOfTrig(double ch, double sh, double cp, double sp, double cr,
+                                        double sr) {
   const Eigen::Vector3d ahead0(ch, 0, sh), up0(0, 1, 0), left0(-sh, 0, ch);
   const Eigen::Vector3d ahead = cp * ahead0 + sp * up0;
   const Eigen::Vector3d up1 = -sp * ahead0 + cp * up0;
@@ -76,22 +79,26 @@ DrPose Extrapolate(const VehicleStateFields& s, double dt_s) {
                      dt_s);
 }
 
+std::array<double, 3> ExtrapolateLocation(const VehicleStateFields& s, double dt_s) {
+  using A = DeadReckoningAlgorithm;
+  std::array<double, 3> location_m = s.location_m;
+  if (s.algorithm == A::kStatic) return location_m;
+  const bool accelerates = s.algorithm == A::kRvw || s.algorithm == A::kFvw;
+  for (size_t i = 0; i < 3; ++i) {
+    location_m[i] += s.velocity_mps[i] * dt_s;
+    if (accelerates) location_m[i] += 0.5 * s.acceleration_mps2[i] * dt_s * dt_s;
+  }
+  return location_m;
+}
+
 DrPose Extrapolate(const VehicleStateFields& s, const Eigen::Matrix3d& orientation0, double dt_s) {
   DrPose p;
-  p.location_m = s.location_m;
+  p.location_m = ExtrapolateLocation(s, dt_s);
   p.heading_rad = s.heading_rad;
   p.pitch_rad = s.pitch_rad;
   p.roll_rad = s.roll_rad;
   using A = DeadReckoningAlgorithm;
-  const bool moves = s.algorithm != A::kStatic;
-  const bool accelerates = s.algorithm == A::kRvw || s.algorithm == A::kFvw;
   const bool rotates = s.algorithm == A::kRpw || s.algorithm == A::kRvw;
-  if (moves) {
-    for (size_t i = 0; i < 3; ++i) {
-      p.location_m[i] += s.velocity_mps[i] * dt_s;
-      if (accelerates) p.location_m[i] += 0.5 * s.acceleration_mps2[i] * dt_s * dt_s;
-    }
-  }
   if (rotates) {
     const Eigen::Matrix3d r =
         RotateByBodyRate(orientation0, ToVector(s.angular_velocity_body_rad_s), dt_s);

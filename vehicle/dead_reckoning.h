@@ -20,6 +20,9 @@ struct DrPose {
 // world coordinates (docs/vehicles.md "Frames"): heading about up, then pitch about left, then
 // roll about ahead.
 Eigen::Matrix3d OrientationMatrix(double heading_rad, double pitch_rad, double roll_rad);
+// The same, bit for bit, from the angles' cosines and sines (for a caller that has them).
+Eigen::Matrix3d OrientationMatrixOfTrig(double cos_heading, double sin_heading, double cos_pitch,
+                                        double sin_pitch, double cos_roll, double sin_roll);
 // The inverse, for |pitch| < pi/2: heading in (-pi, pi], pitch, roll in (-pi, pi].
 void EulerFromMatrix(const Eigen::Matrix3d& r, double& heading_rad, double& pitch_rad,
                      double& roll_rad);
@@ -39,6 +42,10 @@ DrPose Extrapolate(const VehicleStateFields& state, double dt_s);
 // heading, pitch and roll): for a state extrapolated every tick, whose matrix is made once.
 DrPose Extrapolate(const VehicleStateFields& state, const Eigen::Matrix3d& orientation0,
                    double dt_s);
+
+// The location part of Extrapolate alone, bit for bit: where only the position is needed, the
+// orientation's rotation and Euler angles are not worth making.
+std::array<double, 3> ExtrapolateLocation(const VehicleStateFields& state, double dt_s);
 
 // Distance between two locations (metres) and the angle of the rotation from one orientation to
 // the other (radians, 0 .. pi): the errors the thresholds are compared with.

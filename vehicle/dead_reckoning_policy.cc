@@ -37,16 +37,25 @@ bool DeadReckoningOwner::Due(const VehicleStateFields& truth, double now_s) cons
   if (truth.appearance != last_->appearance || truth.algorithm != last_->algorithm) return true;
   // The margin keeps a heartbeat on the tick it falls on despite rounding of tick times.
   if (now_s - last_s_ >= thresholds_.heartbeat_s - 1e-9) return true;
-  const DrPose believed = *Believed(now_s);
   const DrPose actual = PoseOf(truth);
-  return dt::PositionErrorM(believed, actual) > thresholds_.position_m ||
-         OrientationErrorRad(believed, actual) >
-             thresholds_.orientation_deg * std::numbers::pi / 180;
+  // The position alone first: beyond its threshold the state is due whatever the orientation,
+  // whose extrapolation (a rotation, then three atan2) is the dearer half.
+  DrPose believed;
+  believed.location_m = ExtrapolateLocation(*last_, now_s - last_s_);
+  if (dt::PositionErrorM(believed, actual) > thresholds_.position_m) return true;
+  believed = *Believed(now_s);
+  return OrientationErrorRad(believed, actual) >
+         thresholds_.orientation_deg * std::numbers::pi / 180;
 }
 
 void DeadReckoningOwner::Sent(const VehicleStateFields& sent, double now_s) {
+  Sent(sent, OrientationMatrix(sent.heading_rad, sent.pitch_rad, sent.roll_rad), now_s);
+}
+
+void DeadReckoningOwner::Sent(const VehicleStateFields& sent, const Eigen::Matrix3d& orientation,
+                              double now_s) {
   last_ = sent;
-  last_orientation_ = OrientationMatrix(sent.heading_rad, sent.pitch_rad, sent.roll_rad);
+  last_orientation_ = orientation;
   last_s_ = now_s;
   ++sent_count_;
 }

@@ -34,6 +34,8 @@ class DeadReckoningOwner {
   bool Due(const VehicleStateFields& truth, double now_s) const;
   // Records that `sent` was sent at now_s.
   void Sent(const VehicleStateFields& sent, double now_s);
+  // The same with OrientationMatrix(sent's heading, pitch, roll) given, bit for bit.
+  void Sent(const VehicleStateFields& sent, const Eigen::Matrix3d& orientation, double now_s);
   // The receivers' copy at now_s (nullopt before the first send), and its error against truth.
   std::optional<DrPose> Believed(double now_s) const;
   double PositionErrorM(const VehicleStateFields& truth, double now_s) const;

@@ -61,7 +61,7 @@ BENCHMARK_CAPTURE(BM_Decode, linear_object, dt::dis::testing::GoldenLinearObject
 void BM_PoseToDatagram(benchmark::State& state) {
   const VehiclePose pose = Pose();
   for (auto _ : state) {
-    std::vector<uint8_t> bytes = Encode(ToEntityState(pose, Frame(), {5, 0}));
+    std::vector<uint8_t> bytes = Encode(ToEntityState(pose, Frame(), {5, 0}).value());
     benchmark::DoNotOptimize(bytes.data());
   }
   state.SetItemsProcessed(state.iterations());
@@ -70,7 +70,7 @@ BENCHMARK(BM_PoseToDatagram);
 
 // A received Entity State to a pose: decode, local metres, attitude.
 void BM_DatagramToPose(benchmark::State& state) {
-  const std::vector<uint8_t> bytes = Encode(ToEntityState(Pose(), Frame(), {5, 0}));
+  const std::vector<uint8_t> bytes = Encode(ToEntityState(Pose(), Frame(), {5, 0}).value());
   Decoder decoder(5);
   for (auto _ : state) {
     DecodeResult r = decoder.Decode(bytes);

@@ -1,11 +1,15 @@
 // The DIS gateway's Entity State throughput against raw UDP on loopback, in one run
-// (docs/performance.md, "DIS gateway"). Out: a VehicleState to its Entity State on the socket
-// (dead-reckoning check, geocentric conversion, encode, sendto) against sendto of the same
-// bytes. In: recv and an outside Entity State to a VehicleState (decode, checks, conversion,
-// and in the "bus" variant PduBus::Publish on memq://: stamp, validate, LCM-encode) against recv
-// of the same bytes. Timed in batches of kBatch datagrams (manual time: the thread's CPU time
-// of the batch; a loopback sendto's delivery runs in the sender's thread), the socket drained or
-// filled between batches untimed.
+// (docs/performance.md, "DIS gateway"). BM_GatewayPair is the goal's measure: the raw baseline
+// is a sendto and a recv of the same 144-byte datagram, both timed, and the gateway's side is
+// the same pair with the gateway's work in it. Out: OnVehicleState (dead-reckoning check,
+// geocentric conversion, encode, its sendto) and a raw recv of that datagram. In: a raw sendto
+// of an outside Entity State, then the gateway's Receive and OnDatagram (decode, checks,
+// conversion, in the "in_bus" variant also PduBus::Publish on memq://). Each iteration times a
+// batch of raw pairs and a batch of gateway pairs, in alternating order; "ratio" is raw time ÷
+// gateway time, the gateway's PDUs/s ÷ raw pairs/s. The one-sided benchmarks below it (the
+// gateway's send or receive against a bare sendto or recv) are kept for comparison with earlier
+// figures. Manual time throughout: the thread's CPU time (a loopback sendto's delivery runs in
+// the sender's thread), so other processes' turns on the shared machine do not count.
 #include <benchmark/benchmark.h>
 
 #include <arpa/inet.h>
@@ -54,7 +58,7 @@ VehicleStateFields Tank(double x_m) {
 std::vector<uint8_t> OutsideBytes(const GeodeticFrame& frame) {
   VehicleStateFields s = Tank(500.0);
   s.id = {31, 5, 777};
-  EntityStatePdu pdu = EntityStateOfVehicle(s, frame, {3, 0});
+  EntityStatePdu pdu = EntityStateOfVehicle(s, frame, {3, 0}).value();
   return Encode(pdu);
 }
 
@@ -70,11 +74,113 @@ int Drain(UdpEndpoint& e) {
   return n;
 }
 
+// Which side of the gateway a pair benchmark runs.
+enum class Side { kOut, kIn, kInBus };
+
+void BM_GatewayPair(benchmark::State& state, Side side) {
+  auto e = Loopback();
+  auto memq = MakeTransport("memq://", 1);
+  PduBusConfig bc;
+  bc.exercise_id = 1;
+  bc.local = Settings().self;
+  bc.terrain_size_m = Settings().terrain_size_m;
+  PduBus bus(*memq, bc);
+  uint64_t published = 0;
+  GatewayCore core(
+      Settings(), [&](std::span<const uint8_t> d) { return e->Send(d); },
+      [&](const VehicleStateFields& s) -> Status {
+        if (side == Side::kInBus) {
+          if (auto r = bus.Publish(ToVehicleState(s)); !r) return r.error();
+        } else {
+          benchmark::DoNotOptimize(ToVehicleState(s));
+        }
+        ++published;
+        return Status();
+      });
+  // Out, the raw pair sends what the gateway sends; in, what it receives. Both 144 bytes.
+  const std::vector<uint8_t> bytes =
+      side == Side::kOut ? Encode(EntityStateOfVehicle(Tank(100.0), core.frame(), {3, 0}).value())
+                         : OutsideBytes(core.frame());
+  const VehicleStateFields states[2] = {Tank(100.0), Tank(102.0)};  // 2 m apart: each one sent
+  std::vector<uint8_t> buffer(kMaxPduSize + 1);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(kPort);
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  auto raw_send = [&] {
+    return ::sendto(e->fd(), bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&to),
+                    sizeof to) == static_cast<ssize_t>(bytes.size());
+  };
+  auto raw_recv = [&] { return ::recv(e->fd(), buffer.data(), buffer.size(), MSG_TRUNC) > 0; };
+  double now_s = 0.0;
+  int64_t raw_lost = 0, lost = 0;
+  const uint64_t sent_before = core.counters().entity_state_sent;
+  auto raw_batch = [&] {
+    const auto t0 = Clock::now();
+    for (int i = 0; i < kBatch; ++i) {
+      if (!raw_send() || !raw_recv()) ++raw_lost;
+    }
+    return Clock::now() - t0;
+  };
+  auto gateway_batch = [&] {
+    const auto t0 = Clock::now();
+    for (int i = 0; i < kBatch; ++i) {
+      if (side == Side::kOut) {
+        now_s += 0.01;
+        core.OnVehicleState(kNode, states[i & 1], now_s);
+        if (!raw_recv()) ++lost;
+      } else {
+        if (!raw_send()) ++lost;
+        const auto datagram = e->Receive();
+        if (!datagram) {
+          ++lost;
+          continue;
+        }
+        core.OnDatagram(*datagram, 1.0);
+      }
+    }
+    return Clock::now() - t0;
+  };
+  double raw_s = 0.0, gateway_s = 0.0;
+  bool raw_first = true;
+  for (auto _ : state) {
+    double g = 0.0;
+    if (raw_first) {
+      raw_s += raw_batch();
+      g = gateway_batch();
+    } else {
+      g = gateway_batch();
+      raw_s += raw_batch();
+    }
+    raw_first = !raw_first;
+    gateway_s += g;
+    state.SetIterationTime(g);
+    if (side == Side::kInBus) (void)bus.HandleTimeout(0);
+    while (e->Receive()) ++lost;  // nothing should be left over
+  }
+  const double pairs = static_cast<double>(state.iterations() * kBatch);
+  state.SetItemsProcessed(state.iterations() * kBatch);
+  state.counters["raw_pair_ns"] = raw_s / pairs * 1e9;
+  state.counters["gateway_pair_ns"] = gateway_s / pairs * 1e9;
+  state.counters["raw_pairs_per_s"] = pairs / raw_s;
+  state.counters["ratio"] = raw_s / gateway_s;
+  state.counters["raw_lost"] = static_cast<double>(raw_lost);
+  const double done = side == Side::kOut
+                          ? static_cast<double>(core.counters().entity_state_sent - sent_before)
+                          : static_cast<double>(published);
+  state.counters["lost"] = static_cast<double>(lost) + (pairs - done);
+}
+BENCHMARK_CAPTURE(BM_GatewayPair, out, Side::kOut)->UseManualTime();
+BENCHMARK_CAPTURE(BM_GatewayPair, in, Side::kIn)->UseManualTime();
+BENCHMARK_CAPTURE(BM_GatewayPair, in_bus, Side::kInBus)->UseManualTime();
+
+// The one-sided figures of earlier runs: the gateway's send or receive against a bare sendto or
+// recv of the same bytes.
 void BM_RawUdpOut(benchmark::State& state) {
   auto e = Loopback();
   GatewayCore core(Settings(), [](std::span<const uint8_t>) { return true; }, {});
   const std::vector<uint8_t> bytes =
-      Encode(EntityStateOfVehicle(Tank(100.0), core.frame(), {3, 0}));
+      Encode(EntityStateOfVehicle(Tank(100.0), core.frame(), {3, 0}).value());
   sockaddr_in to{};
   to.sin_family = AF_INET;
   to.sin_port = htons(kPort);
@@ -201,7 +307,8 @@ void BM_StateToDatagram(benchmark::State& state, bool gateway) {
   GatewayCore core(
       Settings(), [&](std::span<const uint8_t> d) { return e->Send(d); },
       [](const VehicleStateFields&) { return Status(); });
-  const std::vector<uint8_t> es = Encode(EntityStateOfVehicle(Tank(100.0), core.frame(), {3, 0}));
+  const std::vector<uint8_t> es =
+      Encode(EntityStateOfVehicle(Tank(100.0), core.frame(), {3, 0}).value());
   double now_s = 0.0;
   int64_t heard = 0;
   bus.Subscribe<dtpdu::vehicle_state_t>([&](const dtpdu::vehicle_state_t& pdu) {

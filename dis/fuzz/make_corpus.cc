@@ -99,7 +99,7 @@ int main(int argc, char** argv) {
   pose.entity_id = {1, 2, 3};
   pose.marking = "FUZZ";
   pose.position_m = {100, 5, 200};
-  Write(dir, "mapped_vehicle_valid", Encode(ToEntityState(pose, frame, context)));
+  Write(dir, "mapped_vehicle_valid", Encode(ToEntityState(pose, frame, context).value()));
 
   // Type-specific malformations.
   auto nan_location = Encode(es);

@@ -39,7 +39,7 @@ VehiclePose SamplePose() {
   return pose;
 }
 
-EntityStatePdu SamplePdu() { return ToEntityState(SamplePose(), Frame(), {7, 0x01000001}); }
+EntityStatePdu SamplePdu() { return ToEntityState(SamplePose(), Frame(), {7, 0x01000001}).value(); }
 
 // The frame's origin and the sample's local attitude, for a peer's own conversion.
 std::string SampleInputsJson() {

@@ -119,6 +119,26 @@ TEST(GatewayCoreTest, VehicleGoesOutAsEntityStateWithDeadReckoningAndHeartbeat) 
   EXPECT_EQ(h.core->counters().entity_removals_sent, 1u);
 }
 
+// A state with no Entity State (a velocity beyond a float, a location not finite) is dropped and
+// counted inside the handler; the vehicle's next good state goes out as its first.
+TEST(GatewayCoreTest, StateWithoutEntityStateIsDroppedAndCounted) {
+  Harness h;
+  VehicleStateFields fast = Tank(100.0);
+  fast.velocity_mps = {1e39, 0.0, 0.0};
+  EXPECT_NO_THROW(h.core->OnVehicleState(kNode, fast, 10.0));
+  VehicleStateFields lost = Tank(100.0);
+  lost.location_m[1] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NO_THROW(h.core->OnVehicleState(kNode, lost, 10.1));
+  EXPECT_TRUE(h.Take().empty());
+  EXPECT_EQ(h.core->counters().entity_states_unmapped, 2u);
+  EXPECT_EQ(h.core->counters().entity_state_sent, 0u);
+  EXPECT_NE(h.core->StatusLines().find("dis_entity_states_unmapped 2"), std::string::npos);
+
+  h.core->OnVehicleState(kNode, Tank(100.0), 10.2);
+  EXPECT_EQ(h.Take().size(), 1u);
+  EXPECT_EQ(h.core->counters().entity_state_sent, 1u);
+}
+
 TEST(GatewayCoreTest, SilentVehicleTimesOutAndImportedOnesAreNotSentBack) {
   Harness h;
   h.core->OnVehicleState(kNode, Tank(100.0), 0.0);
@@ -138,7 +158,7 @@ EntityStatePdu Outside(double x_m, const GeodeticFrame& frame) {
   s.id = {31, 5, 777};
   s.appearance = 0;
   s.velocity_mps = {2.0, 0.0, -1.0};
-  EntityStatePdu pdu = EntityStateOfVehicle(s, frame, {9, 0});
+  EntityStatePdu pdu = EntityStateOfVehicle(s, frame, {9, 0}).value();
   pdu.entity_type = {1, 1, 222, 0, 0, 0, 0};  // a land platform no built-in type is
   pdu.dead_reckoning.algorithm = 8;           // RVB: body axes
   return pdu;
@@ -161,7 +181,8 @@ TEST(GatewayCoreTest, OutsideEntityStateIsPublishedAsVehicleState) {
   EXPECT_EQ(h.core->imported_entities(), 1u);
 
   // The exercise's own entities (the gateway's datagrams looped back) are not imported.
-  h.core->OnDatagram(Encode(EntityStateOfVehicle(Tank(100.0), h.core->frame(), {9, 0})), 1.1);
+  h.core->OnDatagram(Encode(EntityStateOfVehicle(Tank(100.0), h.core->frame(), {9, 0}).value()),
+                     1.1);
   EXPECT_EQ(h.published.size(), 1u);
   EXPECT_EQ(h.core->counters().own_dropped, 1u);
   // Off the terrain: dropped and counted.

@@ -5,10 +5,12 @@
 #include <GeographicLib/Geocentric.hpp>
 #include <GeographicLib/LocalCartesian.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
 #include <stdexcept>
+#include <vector>
 
 namespace dt::dis {
 namespace {
@@ -147,6 +149,53 @@ TEST(GeodeticFrame, AttitudesRoundTripToAMicroradian) {
       EXPECT_NEAR(AngleDiff(via_float.heading_rad, a.heading_rad), 0.0, 2e-6);
       EXPECT_NEAR(via_float.pitch_rad - a.pitch_rad, 0.0, 2e-6);
       EXPECT_NEAR(AngleDiff(via_float.roll_rad, a.roll_rad), 0.0, 2e-6);
+    }
+  }
+}
+
+// The attitude from DIS angles as it was first written (the heading's sine and cosine taken of
+// the angle, the ground length by hypot), to hold the cheaper form to it.
+LocalAttitude FirstFormOfFromDisAngles(const GeodeticOrigin& o, double psi, double theta,
+                                       double phi) {
+  std::vector<double> m(9);
+  double x, y, z;
+  GeographicLib::Geocentric::WGS84().Forward(o.latitude_deg, o.longitude_deg, o.height_m, x, y, z,
+                                             m);
+  const double cps = std::cos(psi), sps = std::sin(psi);
+  const double ct = std::cos(theta), st = std::sin(theta);
+  const double cph = std::cos(phi), sph = std::sin(phi);
+  const double fe[3] = {cps * ct, sps * ct, -st};
+  const double re[3] = {cps * st * sph - sps * cph, sps * st * sph + cps * cph, ct * sph};
+  double f[3], r[3];
+  for (int i = 0; i < 3; ++i) {
+    f[i] = m[i] * fe[0] + m[3 + i] * fe[1] + m[6 + i] * fe[2];
+    r[i] = m[i] * re[0] + m[3 + i] * re[1] + m[6 + i] * re[2];
+  }
+  LocalAttitude a;
+  a.pitch_rad = std::asin(std::clamp(f[2], -1.0, 1.0));
+  a.heading_rad = std::atan2(f[1], f[0]);
+  const double lr[3] = {std::sin(a.heading_rad), -std::cos(a.heading_rad), 0.0};
+  const double ld[3] = {f[1] * lr[2] - f[2] * lr[1], f[2] * lr[0] - f[0] * lr[2],
+                        f[0] * lr[1] - f[1] * lr[0]};
+  a.roll_rad = std::atan2(r[0] * ld[0] + r[1] * ld[1] + r[2] * ld[2],
+                          r[0] * lr[0] + r[1] * lr[1] + r[2] * lr[2]);
+  return a;
+}
+
+TEST(GeodeticFrame, FromDisAnglesAgreesWithItsFirstFormToAPicoradian) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> angle(-kPi, kPi);
+  std::uniform_real_distribution<double> tilt(-1.5, 1.5);
+  for (const GeodeticOrigin& o : kOrigins) {
+    const GeodeticFrame frame(o);
+    for (int i = 0; i < 2000; ++i) {
+      const double psi = angle(rng), theta = tilt(rng), phi = angle(rng);
+      const LocalAttitude now = frame.FromDisAnglesRad(psi, theta, phi);
+      const LocalAttitude first = FirstFormOfFromDisAngles(o, psi, theta, phi);
+      if (std::abs(first.pitch_rad) > 1.5) continue;  // near vertical, roll is ill-conditioned
+      EXPECT_NEAR(AngleDiff(now.heading_rad, first.heading_rad), 0.0, 1e-12);
+      EXPECT_NEAR(now.pitch_rad - first.pitch_rad, 0.0, 1e-12);
+      EXPECT_NEAR(AngleDiff(now.roll_rad, first.roll_rad), 0.0, 1e-12);
     }
   }
 }

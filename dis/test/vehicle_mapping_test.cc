@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <stdexcept>
+#include <string>
 
 #include "dis/dis_codec.h"
 
@@ -34,7 +34,7 @@ VehiclePose SamplePose() {
 
 TEST(VehicleMapping, PoseRoundTripsThroughTheWire) {
   const VehiclePose pose = SamplePose();
-  const EntityStatePdu pdu = ToEntityState(pose, Frame(), {5, 0x99});
+  const EntityStatePdu pdu = ToEntityState(pose, Frame(), {5, 0x99}).value();
   EXPECT_EQ(pdu.header.exercise_id, 5);
   EXPECT_EQ(pdu.header.timestamp, 0x99u);
   EXPECT_EQ(pdu.dead_reckoning.algorithm, 4);
@@ -67,7 +67,7 @@ TEST(VehicleMapping, PoseRoundTripsThroughTheWire) {
 TEST(VehicleMapping, VelocityIsGeocentric) {
   VehiclePose pose = SamplePose();
   pose.velocity_mps = {10.0, 0.0, 0.0};  // 10 m/s east
-  const EntityStatePdu pdu = ToEntityState(pose, Frame(), {});
+  const EntityStatePdu pdu = ToEntityState(pose, Frame(), {}).value();
   const WorldCoordinates a = Frame().ToGeocentric({0, 0, 0});
   const WorldCoordinates b = Frame().ToGeocentric({10, 0, 0});
   EXPECT_NEAR(pdu.linear_velocity.x, b.x - a.x, 1e-5);
@@ -75,24 +75,50 @@ TEST(VehicleMapping, VelocityIsGeocentric) {
   EXPECT_NEAR(pdu.linear_velocity.z, b.z - a.z, 1e-5);
 }
 
-TEST(VehicleMapping, BadPosesAreMisuse) {
+// The error names what is wrong, so a gateway's log says which field of which state.
+void ExpectRefused(const VehiclePose& pose, const std::string& names) {
+  const auto r = ToEntityState(pose, Frame(), {});
+  ASSERT_FALSE(r.ok()) << names;
+  EXPECT_NE(r.error().message.find(names), std::string::npos) << r.error().message;
+}
+
+TEST(VehicleMapping, BadPosesAreRefused) {
   VehiclePose pose = SamplePose();
   pose.position_m.y_m = std::nan("");
-  EXPECT_THROW(ToEntityState(pose, Frame(), {}), std::invalid_argument);
+  ExpectRefused(pose, "position");
   pose = SamplePose();
   pose.attitude.roll_rad = INFINITY;
-  EXPECT_THROW(ToEntityState(pose, Frame(), {}), std::invalid_argument);
+  ExpectRefused(pose, "roll");
   pose = SamplePose();
   pose.marking = "TWELVE-CHARS";
-  EXPECT_THROW(ToEntityState(pose, Frame(), {}), std::invalid_argument);
+  ExpectRefused(pose, "12 characters");
   pose.marking = "tab\there";
-  EXPECT_THROW(ToEntityState(pose, Frame(), {}), std::invalid_argument);
+  ExpectRefused(pose, "not printable");
   pose.marking = "ELEVEN-CHRS";
-  EXPECT_NO_THROW(ToEntityState(pose, Frame(), {}));
+  EXPECT_TRUE(ToEntityState(pose, Frame(), {}).ok());
+}
+
+// Finite doubles beyond a float's range: refused here, so Encode (which throws on a non-finite
+// float) never sees them.
+TEST(VehicleMapping, ValuesBeyondTheFloatsAreRefused) {
+  VehiclePose pose = SamplePose();
+  pose.velocity_mps.x_m = 1e39;
+  ExpectRefused(pose, "velocity");
+  pose = SamplePose();
+  pose.acceleration_mps2.z_m = -1e39;
+  ExpectRefused(pose, "acceleration");
+  pose = SamplePose();
+  pose.angular_velocity_rad_s[1] = 1e39;
+  ExpectRefused(pose, "angular velocity");
+  pose = SamplePose();
+  pose.velocity_mps.x_m = 1e38;  // still a float
+  const auto r = ToEntityState(pose, Frame(), {});
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_NO_THROW(Encode(r.value()));
 }
 
 TEST(VehicleMapping, MarkingOfAnotherCharacterSetIsDropped) {
-  EntityStatePdu pdu = ToEntityState(SamplePose(), Frame(), {});
+  EntityStatePdu pdu = ToEntityState(SamplePose(), Frame(), {}).value();
   pdu.marking.character_set = 2;
   const auto back = FromEntityState(pdu, Frame());
   ASSERT_TRUE(back.ok());
@@ -100,7 +126,7 @@ TEST(VehicleMapping, MarkingOfAnotherCharacterSetIsDropped) {
 }
 
 TEST(VehicleMapping, ReservedEntityNumbersAreRefused) {
-  EntityStatePdu pdu = ToEntityState(SamplePose(), Frame(), {});
+  EntityStatePdu pdu = ToEntityState(SamplePose(), Frame(), {}).value();
   for (uint16_t reserved : {uint16_t{0}, uint16_t{65534}, uint16_t{65535}}) {
     pdu.entity_id.entity = reserved;
     EXPECT_FALSE(FromEntityState(pdu, Frame()).ok()) << reserved;
@@ -110,7 +136,7 @@ TEST(VehicleMapping, ReservedEntityNumbersAreRefused) {
 }
 
 TEST(VehicleMapping, UndefinedDeadReckoningIsRefused) {
-  EntityStatePdu pdu = ToEntityState(SamplePose(), Frame(), {});
+  EntityStatePdu pdu = ToEntityState(SamplePose(), Frame(), {}).value();
   pdu.dead_reckoning.algorithm = 12;
   const auto back = FromEntityState(pdu, Frame());
   ASSERT_FALSE(back.ok());

@@ -53,6 +53,23 @@ TEST(DeadReckoning, EulerAnglesAndMatrixRoundTrip) {
   EXPECT_GT(OrientationMatrix(0, 0, 0.2).col(2).y(), 0);
 }
 
+// The shortcuts callers take are the same bits: the matrix from given cosines and sines, and the
+// location extrapolated alone.
+TEST(DeadReckoning, ShortcutsGiveTheSameBits) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> angle(-3.1, 3.1), t(-2.0, 7.0);
+  for (int i = 0; i < 1000; ++i) {
+    const double h = angle(rng), p = angle(rng) / 2, r = angle(rng);
+    const Eigen::Matrix3d m = OrientationMatrixOfTrig(std::cos(h), std::sin(h), std::cos(p),
+                                                      std::sin(p), std::cos(r), std::sin(r));
+    EXPECT_TRUE(m == OrientationMatrix(h, p, r)) << h << " " << p << " " << r;
+    for (A a : {A::kStatic, A::kFpw, A::kRpw, A::kRvw, A::kFvw}) {
+      const double dt_s = t(rng);
+      EXPECT_EQ(ExtrapolateLocation(Moving(a), dt_s), Extrapolate(Moving(a), dt_s).location_m);
+    }
+  }
+}
+
 TEST(DeadReckoning, StaticStaysPut) {
   const auto s = Moving(A::kStatic);
   const DrPose p = Extrapolate(s, 12.5);

@@ -49,6 +49,15 @@ constexpr NodeAddress kNode{1, 1};
 
 GatewaySettings Settings() { return SampleSettings(3, 1280.0, kNode); }
 
+// The exercise bus the gateway publishes outside vehicles on, as the gateway's.
+PduBusConfig BusConfig() {
+  PduBusConfig bc;
+  bc.exercise_id = 1;
+  bc.local = Settings().self;
+  bc.terrain_size_m = Settings().terrain_size_m;
+  return bc;
+}
+
 VehicleStateFields Tank(double x_m) {
   VehicleStateFields s = SampleTank({1, 1, 1}, x_m, 400.0, 0.3);
   s.velocity_mps = {3.0, 0.0, 1.0};
@@ -80,11 +89,7 @@ enum class Side { kOut, kIn, kInBus };
 void BM_GatewayPair(benchmark::State& state, Side side) {
   auto e = Loopback();
   auto memq = MakeTransport("memq://", 1);
-  PduBusConfig bc;
-  bc.exercise_id = 1;
-  bc.local = Settings().self;
-  bc.terrain_size_m = Settings().terrain_size_m;
-  PduBus bus(*memq, bc);
+  PduBus bus(*memq, BusConfig());
   uint64_t published = 0;
   GatewayCore core(
       Settings(), [&](std::span<const uint8_t> d) { return e->Send(d); },
@@ -251,11 +256,7 @@ BENCHMARK(BM_RawUdpIn)->UseManualTime();
 void BM_GatewayIn(benchmark::State& state, bool to_bus) {
   auto e = Loopback();
   auto memq = MakeTransport("memq://", 1);
-  PduBusConfig bc;
-  bc.exercise_id = 1;
-  bc.local = Settings().self;
-  bc.terrain_size_m = Settings().terrain_size_m;
-  PduBus bus(*memq, bc);
+  PduBus bus(*memq, BusConfig());
   uint64_t published = 0;
   GatewayCore core(
       Settings(), [](std::span<const uint8_t>) { return true; },

@@ -1,4 +1,5 @@
-// Unit tests of the contact surface: kept ground planes and gathered earthworks answer as the terrain.
+// Unit tests of the contact surface: kept ground planes and gathered earthworks answer as the
+// terrain.
 #include "vehicle/contact_surface.h"
 
 #include <random>

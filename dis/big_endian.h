@@ -13,6 +13,11 @@ namespace dt::dis {
 
 // Writes big-endian fields into a byte vector sized once for the whole PDU (each PDU's size is
 // known before it is written). Writing past that size is a broken invariant.
+// A field's bytes reversed: network order on a little-endian host.
+inline uint16_t ByteSwap(uint16_t v) { return __builtin_bswap16(v); }
+inline uint32_t ByteSwap(uint32_t v) { return __builtin_bswap32(v); }
+inline uint64_t ByteSwap(uint64_t v) { return __builtin_bswap64(v); }
+
 class BigEndianWriter {
  public:
   // The vector is sized once here and its data pointer and size kept: each byte written through
@@ -43,9 +48,6 @@ class BigEndianWriter {
     if constexpr (std::endian::native == std::endian::little) v = ByteSwap(v);
     std::memcpy(Take(sizeof v), &v, sizeof v);
   }
-  static uint16_t ByteSwap(uint16_t v) { return __builtin_bswap16(v); }
-  static uint32_t ByteSwap(uint32_t v) { return __builtin_bswap32(v); }
-  static uint64_t ByteSwap(uint64_t v) { return __builtin_bswap64(v); }
   uint8_t* Take(size_t n) {
     if (n > size_ - pos_) std::abort();  // broken invariant: the size was computed first
     uint8_t* p = data_ + pos_;
@@ -78,11 +80,7 @@ class BigEndianReader {
   T Get() {
     T v;
     std::memcpy(&v, Take(sizeof v), sizeof v);
-    if constexpr (std::endian::native == std::endian::little) {
-      if constexpr (sizeof v == 2) v = __builtin_bswap16(v);
-      if constexpr (sizeof v == 4) v = __builtin_bswap32(v);
-      if constexpr (sizeof v == 8) v = __builtin_bswap64(v);
-    }
+    if constexpr (std::endian::native == std::endian::little) v = ByteSwap(v);
     return v;
   }
   const uint8_t* Take(size_t n);

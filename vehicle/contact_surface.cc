@@ -106,13 +106,14 @@ SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlane
   const bool known_bare = feature_cell && KnownBare(known, x_m, z_m);
   // The surface over an earthwork from the earthworks gathered near the vehicle where they hold
   // all of them, else from the terrain's index (which reaches into scattered feature memory).
-  auto surface_at = [&](double x, double z, double ground_m) {
+  auto surface_at = [&](double x, double z) {
     double raise_m, cut_m;
     if (known == nullptr || !known->area.Contains(x, z)) return terrain.ElevationAt(x, z);
+    const double ground_m = terrain.GroundElevationAt(x, z);
     if (!KnownRaiseAndCut(known->near, x, z, raise_m, cut_m)) return ground_m;
     return ground_m + raise_m + cut_m;
   };
-  const double surface = feature_cell && !known_bare ? surface_at(x_m, z_m, ground) : ground;
+  const double surface = feature_cell && !known_bare ? surface_at(x_m, z_m) : ground;
   if (surface == ground) {
     const SquareIndex& s = at.square;
     const double h01 = g.post(s.i, s.j + 1), h10 = g.post(s.i + 1, s.j);
@@ -138,14 +139,8 @@ SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlane
     Rect plane{cell_x0, cell_z0, cell_x0 + cell, cell_z0 + cell};
     // In a cell that features cover, the ground plane holds where the earthworks gathered near
     // the vehicle show that none of them reaches (most of a feature's bitgrid cells).
-    if (cache != nullptr && feature_cell) {
-      if (known_bare) {
-        plane = KnownBarePart(*known, plane, x_m, z_m);
-      } else {
-        cache = nullptr;
-      }
-    }
-    if (cache != nullptr) {
+    if (cache != nullptr && (!feature_cell || known_bare)) {
+      if (feature_cell) plane = KnownBarePart(*known, plane, x_m, z_m);
       GroundPlaneCache& c = *cache;
       c.valid = true;
       c.square_x0 = s.i * sp;
@@ -168,10 +163,8 @@ SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlane
     const double dx = x_m + kNormalStepM <= size ? kNormalStepM : -kNormalStepM;
     const double dz = z_m + kNormalStepM <= size ? kNormalStepM : -kNormalStepM;
     out.height_m = surface;
-    const double sx =
-        (surface_at(x_m + dx, z_m, terrain.GroundElevationAt(x_m + dx, z_m)) - surface) / dx;
-    const double sz =
-        (surface_at(x_m, z_m + dz, terrain.GroundElevationAt(x_m, z_m + dz)) - surface) / dz;
+    const double sx = (surface_at(x_m + dx, z_m) - surface) / dx;
+    const double sz = (surface_at(x_m, z_m + dz) - surface) / dz;
     out.normal = Eigen::Vector3d(-sx, 1.0, -sz).normalized();
     out.material = terrain.SoilAt(x_m, z_m);
   }

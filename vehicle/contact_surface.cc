@@ -190,11 +190,8 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
                             const KnownEarthworks& known, double x_m, double z_m, double reach_m,
                             GroundPlaneCache& c) {
   SurfaceSample out;
-  // The cell's far edges belong to the next cell, as Locate's truncation decides.
-  if (c.valid && x_m >= c.x0 && x_m < c.x1 && z_m >= c.z0 && z_m < c.z1 &&
-      ((x_m - c.square_x0) * c.inverse_spacing + (z_m - c.square_z0) * c.inverse_spacing >= 1.0) ==
-          c.upper) {
-    out.height_m = c.h0 + c.slope_x * (x_m - c.x0) + c.slope_z * (z_m - c.z0);
+  if (c.Holds(x_m, z_m)) {
+    out.height_m = c.HeightAt(x_m, z_m);
     out.normal = c.normal;
     out.material = c.material;
   } else {

@@ -46,6 +46,18 @@ struct GroundPlaneCache {
   double h0 = 0, slope_x = 0, slope_z = 0;  // height = h0 + slope_x (x - x0) + slope_z (z - z0)
   Eigen::Vector3d normal{0.0, 1.0, 0.0};
   Material material = Material::kGrass;
+
+  // True if the plane holds at (x, z) (valid, in the rectangle and on its triangle). The cell's
+  // far edges belong to the next cell, as HeightGrid::Locate's truncation decides.
+  bool Holds(double x_m, double z_m) const {
+    return valid && x_m >= x0 && x_m < x1 && z_m >= z0 && z_m < z1 &&
+           ((x_m - square_x0) * inverse_spacing + (z_m - square_z0) * inverse_spacing >= 1.0) ==
+               upper;
+  }
+  // The plane's height at (x, z), where it Holds.
+  double HeightAt(double x_m, double z_m) const {
+    return h0 + slope_x * (x_m - x0) + slope_z * (z_m - z0);
+  }
 };
 
 // SampleSurface, answering from and refilling `cache` where the ground is bare.

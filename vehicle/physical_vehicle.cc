@@ -82,32 +82,25 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
   }
   // The belly grid, at most kBellyGridSpacingM apart, so an earthwork narrower than the gear's
   // spacing cannot rise into the hull between contacts.
-  const int ga = std::max(2, static_cast<int>(std::ceil(L / kBellyGridSpacingM)) + 1);
-  const int gl = std::max(3, static_cast<int>(std::ceil(W / kBellyGridSpacingM)) + 1);
-  grid_step_ahead_m_ = L / (ga - 1);
-  grid_step_left_m_ = W / (gl - 1);
-  std::vector<int> grid_index(static_cast<size_t>(ga * gl), -1);
+  belly_grid_ = BellyGrid(L, W, kBellyGridSpacingM, type.clearance_m - cg);
+  const int ga = belly_grid_.stations(), gl = belly_grid_.lines();
   for (int i = 0; i < ga; ++i) {
     for (int j = 0; j < gl; ++j) {
-      const double left = -W / 2.0 + W * j / (gl - 1);
-      if (std::abs(left) < 1e-9) continue;  // the centre line is above
-      const double ahead = -L / 2.0 + L * i / (ga - 1);
-      grid_index[static_cast<size_t>(i * gl + j)] = static_cast<int>(contacts_.size());
-      contacts_.push_back(
-          {Vector3d(ahead, type.clearance_m - cg, left), false, kBellyTravelM, 0, true, {}});
+      if (belly_grid_.OnCentreLine(j)) continue;  // the centre line is above
+      belly_grid_.SetContact(i, j, static_cast<int>(contacts_.size()));
+      contacts_.push_back({belly_grid_.Body(i, j), false, kBellyTravelM, 0, true, {}});
     }
   }
   grid_neighbours_.assign(contacts_.size(), {-1, -1, -1, -1});
   grid_near_.assign(contacts_.size(), 0);
-  auto grid_at = [&](int i, int j) {
-    return i < 0 || i >= ga || j < 0 || j >= gl ? -1 : grid_index[static_cast<size_t>(i * gl + j)];
-  };
+  grid_over_earthwork_.assign(contacts_.size(), 0);
   for (int i = 0; i < ga; ++i) {
     for (int j = 0; j < gl; ++j) {
-      const int k = grid_at(i, j);
+      const int k = belly_grid_.ContactAt(i, j);
       if (k < 0) continue;
-      grid_neighbours_[static_cast<size_t>(k)] = {grid_at(i + 1, j), grid_at(i - 1, j),
-                                                  grid_at(i, j + 1), grid_at(i, j - 1)};
+      grid_neighbours_[static_cast<size_t>(k)] = {
+          belly_grid_.ContactAt(i + 1, j), belly_grid_.ContactAt(i - 1, j),
+          belly_grid_.ContactAt(i, j + 1), belly_grid_.ContactAt(i, j - 1)};
     }
   }
   // Hull perimeter from the belly to the roof, in rows close enough that no deck slab fits

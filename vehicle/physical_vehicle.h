@@ -13,6 +13,7 @@
 #include "terrain/feature_id.h"
 #include "terrain/result.h"
 #include "terrain/terrain.h"
+#include "vehicle/belly_grid.h"
 #include "vehicle/bridge_solids.h"
 #include "vehicle/contact_surface.h"
 #include "vehicle/physical_type.h"
@@ -123,8 +124,8 @@ class PhysicalVehicle {
   // A contact that touches the surface in this step.
   struct Touch {
     Eigen::Vector3d r, n, plane_point;  // arm from the centre of mass (world), normal, surface
+    double depth_m;                     // below the surface along n, when gathered
     double normal_n;
-    const SoilGrip* grip;
     bool gear;
     Eigen::Vector3d body;  // the contact's point, body frame
   };
@@ -133,6 +134,10 @@ class PhysicalVehicle {
   struct StepForces {
     Eigen::Vector3d F = Eigen::Vector3d::Zero(), tau = Eigen::Vector3d::Zero();  // N, N m
     double total_n = 0.0;
+    // Over the touches: the normal forces as vectors; static and dynamic friction, rolling
+    // resistance and the grip up faces the running gear can climb, each times normal force (N).
+    Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
+    double static_n = 0.0, dynamic_n = 0.0, rolling_n = 0.0, climb_n = 0.0;
     bool gear_touching = false;
     FeatureId deck;  // the deck that carries the running gear hardest
     double deck_n = 0.0;
@@ -163,7 +168,8 @@ class PhysicalVehicle {
   void ApplyGrip(const Eigen::Matrix3d& R, double h_s, std::span<const Touch> touches,
                  StepForces& forces, PhysicalReport& report);
   void Integrate(const StepForces& forces, const Eigen::Matrix3d& R, double h_s);
-  void ApplyHardStops(std::span<const Touch> touches);
+  // `x_before` is the centre of mass before Integrate moved it by a step of h_s.
+  void ApplyHardStops(std::span<const Touch> touches, const Eigen::Vector3d& x_before, double h_s);
   void UpdateBridgeTag(const Terrain& terrain, const StepForces& forces, double h,
                        PhysicalReport& report);
   void CheckDamage(const Terrain& terrain, bool touched, PhysicalReport& report);
@@ -191,9 +197,8 @@ class PhysicalVehicle {
   double spring_n_per_m_ = 0.0;               // per contact
   double damper_n_s_per_m_ = 0.0;             // per contact
   int gear_count_ = 0;
-  int per_side_ = 0;                // gear points per side; as many belly centre-line points
-  double grid_step_ahead_m_ = 0.0;  // belly grid spacing
-  double grid_step_left_m_ = 0.0;
+  int per_side_ = 0;  // gear points per side; as many belly centre-line points
+  BellyGrid belly_grid_;
   size_t always_count_ = 0;       // the running gear; the belly (centre line, then grid) follows
   double half_diagonal_m_ = 0.0;  // of the footprint
   double box_radius_m_ = 0.0;     // bounds the hull box's corners' distance from the centre
@@ -224,6 +229,8 @@ class PhysicalVehicle {
   // where there is no grid point), and whether the point is near the surface this step.
   std::vector<std::array<int, 4>> grid_neighbours_;
   std::vector<uint8_t> grid_near_;
+  // Grid points that may lie inside the bounds of an earthwork this step (BellyGrid::MarkUnder).
+  std::vector<uint8_t> grid_over_earthwork_;
   Damage damage_ = Damage::kNone;
   bool frozen_ = false;  // tipped over: the wreck stays where it came to lie
   double sin_pitch_limit_ = 0.0, tan_roll_limit_ = 0.0;

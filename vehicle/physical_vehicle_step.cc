@@ -76,6 +76,9 @@ bool ClipToQuad(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
   return true;
 }
 
+// Far above the rounding of a contact's depth, its move in a step and the rotation matrix.
+constexpr double kHardStopSlackM = 1e-6;
+
 // Below this speed the engine's force is taken at this speed (P / v is unbounded at rest).
 constexpr double kEngineFloorSpeedMps = 1.0;
 
@@ -95,7 +98,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   const std::span<const Touch> touched(touches.data(), count);
   if (forces.total_n > 0.0) ApplyGrip(R, h, touched, forces, report);
   Integrate(forces, R, h);
-  ApplyHardStops(touched);
+  ApplyHardStops(touched, x0, h);
 
   if (!solids.empty()) ResolveHull(solids, report);
 
@@ -112,21 +115,32 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   CheckDamage(terrain, count > 0, report);
 }
 
-double PhysicalVehicle::AddTouch(const Vector3d& r, const Vector3d& p, const Vector3d& body,
-                                 const SurfaceSample& s, double depth_m, double vn_mps, bool gear,
-                                 StepForces& forces, std::span<Touch> touches, size_t& count) {
+// Inlined: the gatherers call it per touch, and the call with its eleven arguments cost more
+// than its body.
+[[gnu::always_inline]] inline double PhysicalVehicle::AddTouch(
+    const Vector3d& r, const Vector3d& p, const Vector3d& body, const SurfaceSample& s,
+    double depth_m, double vn_mps, bool gear, StepForces& forces, std::span<Touch> touches,
+    size_t& count) {
   const double normal_n = std::max(0.0, spring_n_per_m_ * depth_m - damper_n_s_per_m_ * vn_mps);
   forces.F += normal_n * s.normal;
   forces.tau += r.cross(normal_n * s.normal);
   forces.total_n += normal_n;
   if (!gear && s.bridge.number != 0) forces.hull_deck = s.bridge;
-  touches[count++] = {r,
-                      s.normal,
-                      Vector3d(p.x(), s.height_m, p.z()),
-                      normal_n,
-                      &type_.grip[static_cast<size_t>(s.material)],
-                      gear,
-                      body};
+  const size_t material = static_cast<size_t>(s.material);
+  const SoilGrip& grip = type_.grip[material];
+  // What ApplyGrip sums over the touches, summed here in the same order.
+  forces.normal_sum += normal_n * s.normal;
+  forces.static_n += grip.static_friction * normal_n;
+  forces.dynamic_n += grip.dynamic_friction * normal_n;
+  if (gear) {
+    forces.rolling_n += grip.rolling_resistance * normal_n;
+    // A face steeper than the grip's angle (tan > static friction) is a wall to the running
+    // gear: pressing into it gives no drive up it.
+    if (s.normal.y() * grip_wall_factor_[material] >= 1.0)
+      forces.climb_n += grip.static_friction * normal_n;
+  }
+  touches[count++] = {r,    s.normal, Vector3d(p.x(), s.height_m, p.z()), depth_m, normal_n,
+                      gear, body};
   return normal_n;
 }
 
@@ -142,8 +156,19 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
               AnyOverlaps(earthworks_, Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(half_diagonal))
           ? contacts_.size()
           : always_count_;
+  // Without solids, a grid point outside every earthwork's bounds meets nothing.
+  const bool grid_marked = solids.empty() && forces.sampled > always_count_;
+  if (grid_marked) {
+    std::fill(grid_over_earthwork_.begin(), grid_over_earthwork_.end(), 0);
+    belly_grid_.MarkUnder(x_, R, earthworks_, grid_over_earthwork_);
+  }
   for (size_t k = 0; k < forces.sampled && count < touches.size(); ++k) {
     Contact& c = contacts_[k];
+    if (grid_marked && c.dense && !grid_over_earthwork_[k]) {
+      grid_near_[k] = 0;
+      c.air_s = std::min(c.air_s + h, kLatchCapS);
+      continue;
+    }
     const Vector3d r = R * c.body;
     const Vector3d p = x_ + r;
     if (c.dense) {
@@ -163,8 +188,21 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
       c.ground.valid = false;
       c.ground.stamp = terrain.stamp();
     }
-    const SurfaceSample s = SampleSurface(terrain, solids, {near_earthworks_, near_area_}, p.x(),
-                                          p.z(), p.y() + c.reach_m, c.ground);
+    SurfaceSample s;
+    if (solids.empty() && c.ground.Holds(p.x(), p.z())) {
+      // SampleSurface's answer from the kept plane, asked here first: most contacts are clear of
+      // it, and they need no sample.
+      s.height_m = c.ground.HeightAt(p.x(), p.z());
+      if ((s.height_m - p.y()) * c.ground.normal.y() <= 0.0) {
+        c.air_s = std::min(c.air_s + h, kLatchCapS);
+        continue;
+      }
+      s.normal = c.ground.normal;
+      s.material = c.ground.material;
+    } else {
+      s = SampleSurface(terrain, solids, {near_earthworks_, near_area_}, p.x(), p.z(),
+                        p.y() + c.reach_m, c.ground);
+    }
     const double depth = (s.height_m - p.y()) * s.normal.y();
     if (depth <= 0.0) {
       c.air_s = std::min(c.air_s + h, kLatchCapS);
@@ -195,10 +233,9 @@ size_t PhysicalVehicle::GatherRefinedBellyTouches(const Terrain& terrain,
   // once, owned by the point towards +ahead / +left unless that neighbour is not near.
   if (forces.sampled <= always_count_) return count;
   const double L2 = type_.base.length_m / 2.0 + 1e-9, W2 = type_.base.width_m / 2.0 + 1e-9;
-  const Vector3d steps[] = {{grid_step_ahead_m_, 0.0, 0.0},
-                            {-grid_step_ahead_m_, 0.0, 0.0},
-                            {0.0, 0.0, grid_step_left_m_},
-                            {0.0, 0.0, -grid_step_left_m_}};
+  const double ahead = belly_grid_.station_step_m(), left = belly_grid_.line_step_m();
+  const Vector3d steps[] = {
+      {ahead, 0.0, 0.0}, {-ahead, 0.0, 0.0}, {0.0, 0.0, left}, {0.0, 0.0, -left}};
   for (size_t k = always_count_ + static_cast<size_t>(per_side_); k < forces.sampled; ++k) {
     const Contact& c = contacts_[k];
     if (!grid_near_[k]) continue;
@@ -303,21 +340,9 @@ void PhysicalVehicle::ApplyGrip(const Matrix3d& R, double h, std::span<const Tou
   const double m = type_.mass_kg;
   Vector3d& F = forces.F;
   Vector3d& tau = forces.tau;
-  Vector3d nbar = Vector3d::Zero();
-  double cs = 0.0, cd = 0.0, cg = 0.0, rr = 0.0;
-  for (const Touch& t : touches) {
-    nbar += t.normal_n * t.n;
-    cs += t.grip->static_friction * t.normal_n;
-    cd += t.grip->dynamic_friction * t.normal_n;
-    if (t.gear) {
-      rr += t.grip->rolling_resistance * t.normal_n;
-      // A face steeper than the grip's angle (tan > static friction) is a wall to the running
-      // gear: pressing into it gives no drive up it.
-      const double mu = t.grip->static_friction;
-      const double wall = grip_wall_factor_[static_cast<size_t>(t.grip - type_.grip.data())];
-      if (t.n.y() * wall >= 1.0) cg += mu * t.normal_n;
-    }
-  }
+  Vector3d nbar = forces.normal_sum;
+  const double cs = forces.static_n, cd = forces.dynamic_n, cg = forces.climb_n;
+  const double rr = forces.rolling_n;
   nbar.normalize();
   Vector3d f = R.col(0) - R.col(0).dot(nbar) * nbar;
   if (f.norm() <= 1e-6) return;
@@ -380,10 +405,19 @@ void PhysicalVehicle::Integrate(const StepForces& forces, const Matrix3d& R, dou
   Rotate(q_, w_ * h);
 }
 
-void PhysicalVehicle::ApplyHardStops(std::span<const Touch> touches) {
+void PhysicalVehicle::ApplyHardStops(std::span<const Touch> touches, const Vector3d& x_before,
+                                     double h) {
   // Hard stops: a contact compressed beyond its travel is pushed back onto it (positions and
   // velocities, with the contact's effective mass), up to four times over for the coupled
   // contacts.
+  // Most steps have none, and that is known without the new rotation: a contact's depth grew in
+  // Integrate by at most the centre of mass's move plus its point's move in the turn, which
+  // Rotate makes at most |w| h radians, about a point within box_radius_m_.
+  const double move_m = (x_ - x_before).norm() + w_.norm() * h * box_radius_m_ + kHardStopSlackM;
+  if (std::none_of(touches.begin(), touches.end(), [&](const Touch& t) {
+        return t.depth_m + move_m > (t.gear ? kGearTravelM : kBellyTravelM);
+      }))
+    return;
   const double m = type_.mass_kg;
   for (int pass = 0; pass < 4; ++pass) {
     bool corrected = false;

@@ -13,8 +13,8 @@
 namespace dt {
 
 namespace {
-// Stamps are drawn from one sequence for the whole process, so no two terrains share one. Only
-// ever compared for equality: no result depends on their values.
+// Stamps are drawn from one increasing sequence for the whole process, so no two terrains share
+// one and a later change's is greater. No result depends on their values.
 std::atomic<uint64_t> next_stamp{1};
 }  // namespace
 
@@ -24,9 +24,31 @@ Terrain::Terrain(HeightGrid ground) : ground_(std::move(ground)) {
   squares_.resize(squares);
   bits_.assign(squares, 0);
   Changed();
+  square_stamps_.assign(squares, stamp_);
 }
 
 void Terrain::Changed() { stamp_ = next_stamp.fetch_add(1, std::memory_order_relaxed); }
+
+void Terrain::MarkChanged(const Rect& rect) {
+  SquareIndex lo, hi;
+  SquareRange(rect, lo, hi);
+  for (int j = lo.j; j <= hi.j; ++j) {
+    for (int i = lo.i; i <= hi.i; ++i) square_stamps_[SquareSlot({i, j})] = stamp_;
+  }
+}
+
+void Terrain::MarkChanged(SquareIndex square) { square_stamps_[SquareSlot(square)] = stamp_; }
+
+uint64_t Terrain::AreaStamp(const Rect& area) const {
+  SquareIndex lo, hi;
+  SquareRange(area, lo, hi);
+  uint64_t newest = 0;
+  for (int j = lo.j; j <= hi.j; ++j) {
+    for (int i = lo.i; i <= hi.i; ++i)
+      newest = std::max(newest, square_stamps_[SquareSlot({i, j})]);
+  }
+  return newest;
+}
 
 void Terrain::SquareRange(const Rect& rect, SquareIndex& lo, SquareIndex& hi) const {
   const double s = ground_.spacing_m();
@@ -75,6 +97,7 @@ void Terrain::Index(const Feature* feature) {
     for (int i = lo.i; i <= hi.i; ++i) {
       squares_[SquareSlot({i, j})].push_back(feature);
       bits_[SquareSlot({i, j})] |= CellsMaybeCovered(*feature, {i, j});
+      square_stamps_[SquareSlot({i, j})] = stamp_;
     }
   }
 }
@@ -89,6 +112,7 @@ void Terrain::Unindex(const Feature* feature) {
       list.erase(std::remove(list.begin(), list.end(), feature), list.end());
       if (list.empty()) list.shrink_to_fit();
       RecomputeBits({i, j});
+      square_stamps_[SquareSlot({i, j})] = stamp_;
     }
   }
 }
@@ -193,6 +217,7 @@ void Terrain::GroundChangedAround(const std::vector<std::pair<int, int>>& posts)
       for (int di = -1; di <= 0; ++di) {
         const int si = i + di, sj = j + dj;
         if (si < 0 || sj < 0 || si >= n - 1 || sj >= n - 1) continue;
+        MarkChanged(SquareIndex{si, sj});
         for (const Feature* f : squares_[SquareSlot({si, sj})]) {
           touched.push_back(const_cast<Feature*>(f));
         }
@@ -201,7 +226,10 @@ void Terrain::GroundChangedAround(const std::vector<std::pair<int, int>>& posts)
   }
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  for (Feature* f : touched) f->OnGroundChanged(ground_);
+  for (Feature* f : touched) {
+    f->OnGroundChanged(ground_);
+    MarkChanged(f->Bounds());
+  }
 }
 
 Status Terrain::Update(FeatureId id, const FeatureParams& params) {
@@ -264,6 +292,7 @@ void Terrain::RemoveAll() {
   for (auto& list : squares_) std::vector<const Feature*>().swap(list);
   std::fill(bits_.begin(), bits_.end(), uint16_t{0});
   Changed();
+  std::fill(square_stamps_.begin(), square_stamps_.end(), stamp_);
 }
 
 Status Terrain::SetPostElevation(int i, int j, float elevation_m) {
@@ -301,6 +330,7 @@ Status Terrain::SetSoil(SquareIndex square, TriangleHalf half, Material soil) {
   }
   ground_.set_soil(square, half, soil);
   Changed();
+  MarkChanged(square);
   return Status::Ok();
 }
 

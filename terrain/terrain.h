@@ -32,7 +32,13 @@ class Terrain {
   const HeightGrid& ground() const { return ground_; }
   // Changes with every change of the ground or the features and is never the same for two
   // terrains: what a caller cached from the terrain's answers stays valid while it is unchanged.
+  // A later change draws a greater stamp.
   uint64_t stamp() const { return stamp_; }
+  // The greatest stamp of a change that may alter an answer inside the rectangle (clipped to the
+  // terrain): a feature touching one of its squares added, replaced, removed or recomputed after
+  // the ground moved, a post of one of its squares, a soil of one. At most stamp(); while it is
+  // at most a stamp a caller saw, every answer inside is the one it was then.
+  uint64_t AreaStamp(const Rect& area) const;
 
   // Adds a feature. Refused if the ID exists, the parameters are invalid, the feature leaves the
   // terrain, or it conflicts with another (overlapping bridges). An earth move adds its post
@@ -105,6 +111,9 @@ class Terrain {
   uint16_t CellsMaybeCovered(const Feature& feature, SquareIndex square) const;
   void RecomputeBits(SquareIndex square);
   void Changed();  // draws a new stamp
+  // Gives the squares the rectangle touches (clipped), or one square, the current stamp.
+  void MarkChanged(const Rect& rect);
+  void MarkChanged(SquareIndex square);
   // Adds (sign +1) or takes off (-1) an earth move's deltas and recomputes the features on the
   // squares around the posts it changed.
   void ApplyEarthMove(const std::vector<PostDelta>& deltas, int sign);
@@ -116,6 +125,7 @@ class Terrain {
   std::vector<std::vector<const Feature*>> squares_;  // features touching each square
   std::vector<uint16_t> bits_;                        // 4 x 4 presence bits per square
   uint64_t stamp_ = 0;
+  std::vector<uint64_t> square_stamps_;  // per square: the stamp of its last change (AreaStamp)
   // Blade work, per post an earth move touched (index j * n + i): the post as set without blade
   // work and the sum of the earth moves' millimetres. The ground post is always
   // float(bare_m + sum_mm * kPostDeltaUnitM), a function of the sum alone, so the ground is the

@@ -34,6 +34,10 @@ constexpr double kTrackContactSpacingM = 2.0;
 // once a chunk reaches outside (or the terrain changed).
 constexpr double kNearCacheMarginM = 24.0;
 
+// A sleeping vehicle wakes for changes this close to its hull box's plan.
+constexpr double kSleepAreaMarginM = 0.5;
+const double kRestTurnHalfCos = std::cos(kRestTurnRad / 2.0);
+
 Quaterniond HeadingQuaternion(double heading_rad) {
   return Quaterniond(Eigen::AngleAxisd(-heading_rad, Vector3d::UnitY()));
 }
@@ -206,6 +210,10 @@ Status PhysicalVehicle::Command(double speed_mps, double heading_rate_rad_s) {
   const VehicleType& b = type_.base;
   cmd_speed_mps_ = std::clamp(speed_mps, -b.max_reverse_speed_mps, b.max_speed_mps);
   cmd_rate_rad_s_ = std::clamp(heading_rate_rad_s, -b.max_turn_rate_rad_s, b.max_turn_rate_rad_s);
+  if (cmd_speed_mps_ != 0.0 || cmd_rate_rad_s_ != 0.0) {
+    asleep_ = false;
+    rest_s_ = 0.0;
+  }
   return Status::Ok();
 }
 
@@ -288,6 +296,37 @@ const Matrix3d& PhysicalVehicle::Rotation() {
   return rotation_;
 }
 
+void PhysicalVehicle::CountRest(const Terrain& terrain) {
+  // |q . rest_q| is the cosine of half the turn between the two orientations.
+  const bool quiet = cmd_speed_mps_ == 0.0 && cmd_rate_rad_s_ == 0.0 && v_.norm() < kRestSpeedMps &&
+                     w_.norm() < kRestRateRadS && (x_ - rest_x_).norm() < kRestDriftM &&
+                     std::abs(q_.dot(rest_q_)) > kRestTurnHalfCos;
+  if (!quiet) {
+    rest_s_ = 0.0;
+    rest_x_ = x_;
+    rest_q_ = q_;
+    return;
+  }
+  rest_s_ = std::min(rest_s_ + kPhysicsStepS, kSleepAfterS);
+  if (rest_s_ < kSleepAfterS - kLatchSlackS) return;
+  // At rest: what is left of its speed is the springs' settling.
+  asleep_ = true;
+  asleep_stamp_ = terrain.stamp();
+  v_ = Vector3d::Zero();
+  w_ = Vector3d::Zero();
+}
+
+bool PhysicalVehicle::StaysAsleep(const Terrain& terrain) {
+  if (terrain.stamp() == asleep_stamp_) return true;
+  // A resting vehicle touches only what lies under its hull box: ground, earthworks and solids
+  // whose squares the box's plan touches (with a margin for the springs' sag and the edges).
+  Rect plan{x_.x(), x_.z(), x_.x(), x_.z()};
+  for (const Vector3d& p : HullBoxCorners()) plan = plan.Union(Rect{p.x(), p.z(), p.x(), p.z()});
+  if (terrain.AreaStamp(plan.Expanded(kSleepAreaMarginM)) > asleep_stamp_) return false;
+  asleep_stamp_ = terrain.stamp();
+  return true;
+}
+
 Matrix3d PhysicalVehicle::WorldInverseInertia(const Matrix3d& r) const {
   return r * inertia_.cwiseInverse().asDiagonal() * r.transpose();
 }
@@ -314,6 +353,14 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
   const int64_t steps = pending_ns_ / kPhysicsStepNs;
   pending_ns_ -= steps * kPhysicsStepNs;
   if (frozen_) return report;
+  if (asleep_ && !StaysAsleep(terrain)) {
+    asleep_ = false;
+    rest_s_ = 0.0;
+  }
+  if (asleep_) {
+    report.steps = static_cast<int>(steps);
+    return report;
+  }
   // The running gear's contacts are read in every step: fetched now, their misses (a fleet's
   // vehicles do not stay in the cache between ticks) overlap the gathering of features below.
   {
@@ -324,7 +371,7 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
   const double reach = half_diagonal_m_ + type_.hull_height_m + 2.0;
   // Solids are gathered for chunks of steps, over the area the vehicle can reach in one.
   constexpr int64_t kChunkSteps = 40;
-  for (int64_t done = 0; done < steps && !frozen_;) {
+  for (int64_t done = 0; done < steps && !frozen_ && !asleep_;) {
     const int64_t n = std::min(kChunkSteps, steps - done);
     const double margin = reach + (v_.norm() + 20.0) * kPhysicsStepS * static_cast<double>(n);
     const Rect area = Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(margin);
@@ -353,9 +400,12 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
           std::max(1, static_cast<int>(std::ceil(fastest * kPhysicsStepS / kMaxMovePerStepM)));
       for (int s = 0; s < sub; ++s) Step(terrain, solids_, kPhysicsStepS / sub, report);
       ++report.steps;
+      CountRest(terrain);
+      if (asleep_) break;
     }
     done += n;
   }
+  if (asleep_) report.steps = static_cast<int>(steps);  // the rest asleep
   return report;
 }
 

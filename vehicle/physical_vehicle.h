@@ -37,6 +37,16 @@ inline constexpr double kLandingAirS = 0.020;
 // Sums of steps under a latch's duration by no more than this (rounding) reach it.
 inline constexpr double kLatchSlackS = 1e-6;
 
+// A vehicle with no command that stays within kRestDriftM and kRestTurnRad of one pose for
+// kSleepAfterS, never faster than kRestSpeedMps or kRestRateRadS, is at rest: it sleeps, taking
+// steps without computing them, until it is commanded or the terrain changes under it
+// (docs/vehicles.md "Rest"). The springs' settling jitters on for ever in some resting places.
+inline constexpr double kRestDriftM = 0.005;
+inline constexpr double kRestTurnRad = 0.005;
+inline constexpr double kRestSpeedMps = 0.05;
+inline constexpr double kRestRateRadS = 0.05;
+inline constexpr double kSleepAfterS = 1.0;
+
 enum class Damage : uint8_t { kNone = 0, kImmobilised = 1, kDestroyed = 2 };
 std::string_view DamageName(Damage damage);  // "none", "immobilised", "destroyed"
 
@@ -105,6 +115,9 @@ class PhysicalVehicle {
   FeatureId bridge() const { return bridge_; }
   bool on_bridge() const { return bridge_.number != 0; }
   bool airborne() const { return air_s_ > 0.0; }
+  // At rest and not computed (kSleepAfterS): a command that moves it, or a change of the terrain
+  // under its hull, wakes it.
+  bool asleep() const { return asleep_; }
 
   // World points of the hull box's bottom face on a grid at most `spacing_m` apart, and the
   // bottom of the running gear at its contacts: for checks of penetration.
@@ -185,6 +198,10 @@ class PhysicalVehicle {
   // feet: leaving it there is driving off, elsewhere falling off.
   bool NearRampFoot(const Terrain& terrain, FeatureId bridge) const;
   void Damaged(Damage damage, std::string cause, PhysicalReport& report);
+  // After a step: counts the time at rest, and falls asleep once it is long enough.
+  void CountRest(const Terrain& terrain);
+  // Asleep: true if nothing changed under the hull since the terrain's stamp last seen.
+  bool StaysAsleep(const Terrain& terrain);
   Eigen::Matrix3d WorldInverseInertia(const Eigen::Matrix3d& r) const;
   // q_.toRotationMatrix(), computed again only once q_'s bits have changed: the phases of a step
   // ask it three times and the orientation mostly changes once.
@@ -237,8 +254,13 @@ class PhysicalVehicle {
   FeatureId bridge_;
   FeatureId fell_from_;  // a fall from this bridge was reported; cleared on the ground
   double last_deck_x_m_ = 0.0, last_deck_z_m_ = 0.0;  // where the deck last carried the gear
-  double air_s_ = 0.0;       // time since the running gear last touched anything
-  double off_deck_s_ = 0.0;  // time since a deck last carried the running gear
+  double air_s_ = 0.0;   // time since the running gear last touched anything
+  double rest_s_ = 0.0;  // time at rest with no command, near the pose below (kRestDriftM)
+  Eigen::Vector3d rest_x_ = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond rest_q_ = Eigen::Quaterniond::Identity();
+  bool asleep_ = false;
+  uint64_t asleep_stamp_ = 0;  // the terrain's stamp when last seen unchanged under the hull
+  double off_deck_s_ = 0.0;    // time since a deck last carried the running gear
 };
 
 }  // namespace dt

@@ -248,6 +248,13 @@ size_t PhysicalVehicle::GatherRefinedBellyTouches(const Terrain& terrain,
       if (q >= 0 && grid_near_[static_cast<size_t>(q)] && !towards_plus) continue;
       const Vector3d r = R * mid;
       const Vector3d p = x_ + r;
+      if (solids.empty()) {
+        // The height alone first (the sample's, bit for bit): most half-way points are clear.
+        double e = 0.0;
+        if (!EarthworkElevationAt(terrain, earthworks_, p.x(), p.z(), e))
+          e = terrain.GroundElevationAt(p.x(), p.z());
+        if (e <= p.y()) continue;
+      }
       GroundPlaneCache cache;
       const SurfaceSample s = SampleSurface(terrain, solids, {near_earthworks_, near_area_}, p.x(),
                                             p.z(), p.y() + c.reach_m, cache);

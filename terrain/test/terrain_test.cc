@@ -497,4 +497,51 @@ TEST(TerrainFeatures, ParamsRebuildTheIdenticalFeature) {
 }
 
 }  // namespace
+// AreaStamp moves for the squares a change can alter and for no other: a feature's squares when it
+// is added, replaced or removed; the squares around a post that moved and every square of the
+// features draped on them; a square whose soil changed.
+TEST(TerrainAreaStamp, MovesOnlyWhereAChangeCanAlterAnAnswer) {
+  Terrain t(SlopedGround());  // 2 m squares
+  const Rect here{50.0, 50.0, 51.0, 51.0}, far{150.0, 150.0, 151.0, 151.0};
+  const Rect crater_edge{59.0, 50.0, 59.5, 50.5};  // inside the crater's bounds, off its centre
+  uint64_t seen = t.stamp();
+  EXPECT_LE(t.AreaStamp(here), seen);
+  auto moved = [&](const Rect& r) { return t.AreaStamp(r) > seen; };
+
+  ASSERT_TRUE(t.Add(Id(1), FeatureParams::Crater(55.0, 50.0, 5.0)).ok());
+  EXPECT_TRUE(moved(here));
+  EXPECT_TRUE(moved(crater_edge));
+  EXPECT_FALSE(moved(far));
+  EXPECT_LE(t.AreaStamp(here), t.stamp());
+
+  seen = t.stamp();
+  ASSERT_TRUE(t.Update(Id(1), FeatureParams::Crater(55.0, 50.0, 4.0)).ok());
+  EXPECT_TRUE(moved(crater_edge));  // in the old bounds only
+  EXPECT_FALSE(moved(far));
+
+  seen = t.stamp();
+  ASSERT_TRUE(t.Remove(Id(1)).ok());
+  EXPECT_TRUE(moved(here));
+  EXPECT_FALSE(moved(far));
+
+  // A post far from the crater's centre moves: the crater drapes over its squares, so all of the
+  // crater's squares change; a square beyond it does not.
+  ASSERT_TRUE(t.Add(Id(2), FeatureParams::Crater(55.0, 50.0, 5.0)).ok());
+  seen = t.stamp();
+  ASSERT_TRUE(t.SetPostElevation(30, 25, 20.0f).ok());  // x 60 m, z 50 m: under the rim
+  EXPECT_TRUE(moved(Rect{59.0, 49.0, 59.5, 49.5}));
+  EXPECT_TRUE(moved(Rect{50.5, 50.5, 50.6, 50.6}));  // the crater's far side
+  EXPECT_FALSE(moved(Rect{80.0, 50.0, 81.0, 51.0}));
+
+  seen = t.stamp();
+  ASSERT_TRUE(t.SetSoil({75, 75}, TriangleHalf::kLower, Material::kMud).ok());
+  EXPECT_TRUE(moved(Rect{150.5, 150.5, 151.0, 151.0}));
+  EXPECT_FALSE(moved(here));
+
+  seen = t.stamp();
+  t.RemoveAll();
+  EXPECT_TRUE(moved(far));
+  EXPECT_TRUE(moved(here));
+}
+
 }  // namespace dt

@@ -7,21 +7,6 @@
 namespace dt::test {
 namespace {
 
-// Ground that is flat at 10 m up to x = 100 m, then climbs along +x at `slope_deg`.
-std::unique_ptr<Terrain> SlopeTerrain(double slope_deg, Material soil = Material::kGrass) {
-  const int n = 201;
-  std::vector<float> posts(static_cast<size_t>(n) * n);
-  const double grade = std::tan(slope_deg * 3.14159265358979323846 / 180.0);
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      const double x = 2.0 * i;
-      posts[static_cast<size_t>(j) * n + i] =
-          static_cast<float>(10.0 + std::max(0.0, x - 100.0) * grade);
-    }
-  }
-  return std::make_unique<Terrain>(HeightGrid(n, 2.0, std::move(posts), soil));
-}
-
 struct Sample {
   Eigen::Vector3d x, v, w;
   Eigen::Quaterniond q;

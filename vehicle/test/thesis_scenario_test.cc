@@ -336,7 +336,7 @@ TEST(ThesisScenario, OneTireOffTheDeckWithTheCentrePastTheEdgeFalls) {
   EXPECT_EQ(l.mounted, 1);  // its left wheels stood on the deck
   EXPECT_EQ(l.fell_off, 1);
   EXPECT_FALSE(v.on_bridge());
-  EXPECT_GT(l.max_roll_rad, 0.5);    // over to the right first
+  EXPECT_GT(l.max_roll_rad, 0.5);  // over to the right first
   // On the ground below (10 m) as a wreck on its side or roof: the running gear's bottom no
   // higher than the hull is tall above it, with some slack for a wreck lying on a pier's rubble.
   EXPECT_LT(v.elevation_m(), 10.0 + PhysType("jeep").hull_height_m + 0.5);
@@ -445,8 +445,8 @@ TEST(ThesisScenario, OneTireOffTheDeckWithTheCentreOverItRests) {
     auto v = PhysicalVehicle::MakeAt(jeep, *t, 120, z, 0, 16.0).value();
     const DriveLog l = Drive(*t, v, 0, 0, 5);
     const double inside_m = z - 195.0;
-    const double rest_roll_rad = std::atan((jeep.clearance_m - kStaticSagM) /
-                                           (inside_m + jeep.base.width_m / 2.0));
+    const double rest_roll_rad =
+        std::atan((jeep.clearance_m - kStaticSagM) / (inside_m + jeep.base.width_m / 2.0));
     std::printf("centre %.1f m inside the edge: ", inside_m);
     Print("one tire off, centre over the deck", v, l);
     std::printf("  at rest roll %.1f deg (wheels and belly on the deck: %.1f deg)\n",

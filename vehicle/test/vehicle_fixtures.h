@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -31,6 +32,21 @@ inline std::unique_ptr<Terrain> FlatTerrain(double size_m = 400.0,
                                             Material soil = Material::kGrass) {
   const int posts = static_cast<int>(size_m / 2.0) + 1;
   return std::make_unique<Terrain>(HeightGrid(posts, 2.0, 10.0f, soil));
+}
+
+// Ground that is flat at 10 m up to x = 100 m, then climbs along +x at `slope_deg`.
+inline std::unique_ptr<Terrain> SlopeTerrain(double slope_deg, Material soil = Material::kGrass) {
+  const int n = 201;
+  std::vector<float> posts(static_cast<size_t>(n) * n);
+  const double grade = std::tan(slope_deg * 3.14159265358979323846 / 180.0);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const double x = 2.0 * i;
+      posts[static_cast<size_t>(j) * n + i] =
+          static_cast<float>(10.0 + std::max(0.0, x - 100.0) * grade);
+    }
+  }
+  return std::make_unique<Terrain>(HeightGrid(n, 2.0, std::move(posts), soil));
 }
 
 inline constexpr double kGround = 10.0;

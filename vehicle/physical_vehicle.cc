@@ -98,6 +98,7 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
   grid_neighbours_.assign(contacts_.size(), {-1, -1, -1, -1});
   grid_near_.assign(contacts_.size(), 0);
   grid_over_earthwork_.assign(contacts_.size(), 0);
+  grid_touched_until_s_.assign(contacts_.size(), 0.0);
   for (int i = 0; i < ga; ++i) {
     for (int j = 0; j < gl; ++j) {
       const int k = belly_grid_.ContactAt(i, j);

@@ -129,7 +129,7 @@ class PhysicalVehicle {
     Eigen::Vector3d body;     // from the centre of mass, body frame
     bool gear = true;         // running gear (drives) or belly (slides)
     double reach_m = 0.0;     // a solid top this far above the point still carries it
-    double air_s = 0.0;       // time clear of the ground
+    double air_s = 0.0;       // time clear of the ground (the grid's points: grid_touched_until_s_)
     bool dense = false;       // belly grid: only sampled where features lie under the footprint
     GroundPlaneCache ground;  // valid while the terrain's stamp is the one it was filled under
   };
@@ -248,6 +248,10 @@ class PhysicalVehicle {
   std::vector<uint8_t> grid_near_;
   // Grid points that may lie inside the bounds of an earthwork this step (BellyGrid::MarkUnder).
   std::vector<uint8_t> grid_over_earthwork_;
+  // The time the belly has been sampled for (steps with features near the footprint), and per
+  // grid point the belly clock after it last touched: its time in the air is the difference.
+  double belly_clock_s_ = 0.0;
+  std::vector<double> grid_touched_until_s_;
   Damage damage_ = Damage::kNone;
   bool frozen_ = false;  // tipped over: the wreck stays where it came to lie
   double sin_pitch_limit_ = 0.0, tan_roll_limit_ = 0.0;

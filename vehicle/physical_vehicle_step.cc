@@ -162,13 +162,15 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
     std::fill(grid_over_earthwork_.begin(), grid_over_earthwork_.end(), 0);
     belly_grid_.MarkUnder(x_, R, earthworks_, grid_over_earthwork_);
   }
-  for (size_t k = 0; k < forces.sampled && count < touches.size(); ++k) {
+  // A contact clear of the surface adds to its time in the air; the grid's points share the belly
+  // clock instead (below), so those no earthwork's bounds can hold are not visited.
+  auto clear = [&](Contact& c) {
+    if (!c.dense) c.air_s = std::min(c.air_s + h, kLatchCapS);
+  };
+  // Inlined for the reason AddTouch is.
+  auto visit = [&](size_t k) __attribute__((always_inline)) {
+    if (count >= touches.size()) return;
     Contact& c = contacts_[k];
-    if (grid_marked && c.dense && !grid_over_earthwork_[k]) {
-      grid_near_[k] = 0;
-      c.air_s = std::min(c.air_s + h, kLatchCapS);
-      continue;
-    }
     const Vector3d r = R * c.body;
     const Vector3d p = x_ + r;
     if (c.dense) {
@@ -179,10 +181,7 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
       double e = 0.0;
       const bool over = EarthworkElevationAt(terrain, earthworks_, p.x(), p.z(), e);
       grid_near_[k] = over && e > p.y() - kBellyRefineGapM;
-      if (solids.empty() && (!over || e <= p.y())) {
-        c.air_s = std::min(c.air_s + h, kLatchCapS);
-        continue;
-      }
+      if (solids.empty() && (!over || e <= p.y())) return;
     }
     if (c.ground.stamp != terrain.stamp()) {
       c.ground.valid = false;
@@ -193,10 +192,7 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
       // SampleSurface's answer from the kept plane, asked here first: most contacts are clear of
       // it, and they need no sample.
       s.height_m = c.ground.HeightAt(p.x(), p.z());
-      if ((s.height_m - p.y()) * c.ground.normal.y() <= 0.0) {
-        c.air_s = std::min(c.air_s + h, kLatchCapS);
-        continue;
-      }
+      if ((s.height_m - p.y()) * c.ground.normal.y() <= 0.0) return clear(c);
       s.normal = c.ground.normal;
       s.material = c.ground.material;
     } else {
@@ -204,14 +200,16 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
                         p.y() + c.reach_m, c.ground);
     }
     const double depth = (s.height_m - p.y()) * s.normal.y();
-    if (depth <= 0.0) {
-      c.air_s = std::min(c.air_s + h, kLatchCapS);
-      continue;
-    }
+    if (depth <= 0.0) return clear(c);
     const double vn = (v_ + w_.cross(r)).dot(s.normal);
-    if (c.air_s >= kLandingAirS - kLatchSlackS)
+    const double air_s = c.dense ? belly_clock_s_ - grid_touched_until_s_[k] : c.air_s;
+    if (air_s >= kLandingAirS - kLatchSlackS)
       report.max_landing_mps = std::max(report.max_landing_mps, -vn);
-    c.air_s = 0.0;
+    if (c.dense) {
+      grid_touched_until_s_[k] = belly_clock_s_ + h;
+    } else {
+      c.air_s = 0.0;
+    }
     const double normal_n = AddTouch(r, p, c.body, s, depth, vn, c.gear, forces, touches, count);
     if (c.gear) {
       forces.gear_touching = true;
@@ -221,6 +219,18 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
         forces.deck_point = p;
       }
     }
+  };
+  const size_t first_grid =
+      std::min(forces.sampled, always_count_ + static_cast<size_t>(per_side_));
+  for (size_t k = 0; k < first_grid; ++k) visit(k);
+  if (forces.sampled > always_count_) {
+    std::fill(grid_near_.begin(), grid_near_.end(), 0);
+    for (size_t k = first_grid; k < forces.sampled; ++k) {
+      if (!grid_marked || grid_over_earthwork_[k]) visit(k);
+    }
+    // The belly clock runs in the steps that sample the belly, as a point's time in the air did
+    // when each point counted its own.
+    belly_clock_s_ += h;
   }
   return count;
 }

@@ -139,6 +139,7 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
   const double m = type.mass_kg;
   inertia_ =
       Vector3d(m * (H * H + W * W) / 12.0, m * (L * L + W * W) / 12.0, m * (L * L + H * H) / 12.0);
+  inverse_inertia_ = inertia_.cwiseInverse();
   const double k_total = m * kGravityMps2 / kStaticSagM;
   spring_n_per_m_ = k_total / gear_count_;
   sin_pitch_limit_ = std::sin(type.StaticPitchLimitRad());
@@ -329,7 +330,7 @@ bool PhysicalVehicle::StaysAsleep(const Terrain& terrain) {
 }
 
 Matrix3d PhysicalVehicle::WorldInverseInertia(const Matrix3d& r) const {
-  return r * inertia_.cwiseInverse().asDiagonal() * r.transpose();
+  return r * inverse_inertia_.asDiagonal() * r.transpose();
 }
 
 void PhysicalVehicle::Damaged(Damage damage, std::string cause, PhysicalReport& report) {

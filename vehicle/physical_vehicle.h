@@ -211,6 +211,7 @@ class PhysicalVehicle {
   std::vector<Contact> contacts_;
   std::vector<Eigen::Vector3d> hull_points_;  // body frame, perimeter at three heights
   Eigen::Vector3d inertia_;                   // principal moments, body frame (ahead, up, left)
+  Eigen::Vector3d inverse_inertia_;           // their inverses
   double spring_n_per_m_ = 0.0;               // per contact
   double damper_n_s_per_m_ = 0.0;             // per contact
   int gear_count_ = 0;

@@ -313,6 +313,7 @@ void PhysicalVehicle::CountRest(const Terrain& terrain) {
   if (rest_s_ < kSleepAfterS - kLatchSlackS) return;
   // At rest: what is left of its speed is the springs' settling.
   asleep_ = true;
+  asleep_terrain_ = &terrain;
   asleep_stamp_ = terrain.stamp();
   v_ = Vector3d::Zero();
   w_ = Vector3d::Zero();
@@ -320,6 +321,8 @@ void PhysicalVehicle::CountRest(const Terrain& terrain) {
 
 bool PhysicalVehicle::StaysAsleep(const Terrain& terrain) {
   if (terrain.stamp() == asleep_stamp_) return true;
+  // Another terrain's squares may carry stamps older than the one it fell asleep under.
+  if (&terrain != asleep_terrain_) return false;
   // A resting vehicle touches only what lies under its hull box: ground, earthworks and solids
   // whose squares the box's plan touches (with a margin for the springs' sag and the edges).
   Rect plan{x_.x(), x_.z(), x_.x(), x_.z()};

@@ -264,7 +264,8 @@ class PhysicalVehicle {
   Eigen::Vector3d rest_x_ = Eigen::Vector3d::Zero();
   Eigen::Quaterniond rest_q_ = Eigen::Quaterniond::Identity();
   bool asleep_ = false;
-  uint64_t asleep_stamp_ = 0;  // the terrain's stamp when last seen unchanged under the hull
+  const Terrain* asleep_terrain_ = nullptr;  // the terrain it fell asleep on
+  uint64_t asleep_stamp_ = 0;  // that terrain's stamp when last seen unchanged under the hull
   double off_deck_s_ = 0.0;    // time since a deck last carried the running gear
 };
 

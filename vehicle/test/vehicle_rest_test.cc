@@ -72,6 +72,21 @@ TEST(VehicleRest, WakesForAChangeUnderItsHullAndNoOther) {
   EXPECT_TRUE(v.asleep());
 }
 
+// Advanced on another terrain, even one made before, it wakes and meets that terrain.
+TEST(VehicleRest, WakesOnAnotherTerrain) {
+  auto older = FlatTerrain();
+  ASSERT_TRUE(older->Add(FeatureId{1, 1, 1}, FeatureParams::Crater(150, 150, 8.0)).ok());
+  auto t = FlatTerrain();
+  auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 150, 150, 0.3).value();
+  Drive(*t, v, 0, 0, 5, [](const PhysicalVehicle& pv) { return pv.asleep(); });
+  ASSERT_TRUE(v.asleep());
+  const double parked = v.elevation_m();
+  (void)v.Advance(*older, kTick).value();
+  EXPECT_FALSE(v.asleep());
+  Drive(*older, v, 0, 0, 4);
+  EXPECT_GT(v.elevation_m(), parked + 0.3);  // on the older terrain's crater rim
+}
+
 TEST(VehicleRest, AnImmobilisedVehicleComesToRestAndSleeps) {
   auto t = FlatTerrain();
   auto v = PhysicalVehicle::MakeAt(PhysType("tank"), *t, 100, 100, 0, kGround + 3.0).value();

@@ -97,7 +97,7 @@ void Terrain::Index(const Feature* feature) {
     for (int i = lo.i; i <= hi.i; ++i) {
       squares_[SquareSlot({i, j})].push_back(feature);
       bits_[SquareSlot({i, j})] |= CellsMaybeCovered(*feature, {i, j});
-      square_stamps_[SquareSlot({i, j})] = stamp_;
+      MarkChanged(SquareIndex{i, j});
     }
   }
 }
@@ -112,7 +112,7 @@ void Terrain::Unindex(const Feature* feature) {
       list.erase(std::remove(list.begin(), list.end(), feature), list.end());
       if (list.empty()) list.shrink_to_fit();
       RecomputeBits({i, j});
-      square_stamps_[SquareSlot({i, j})] = stamp_;
+      MarkChanged(SquareIndex{i, j});
     }
   }
 }

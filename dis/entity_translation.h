@@ -4,11 +4,11 @@
 
 #include <cstdint>
 
+#include "base/result.h"
 #include "dis/dis_pdu.h"
 #include "dis/geodetic_frame.h"
 #include "dis/pdu_context.h"
 #include "pdu/vehicle_state.h"
-#include "terrain/result.h"
 
 namespace dt::dis {
 

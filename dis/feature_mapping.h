@@ -5,12 +5,12 @@
 #include <cstdint>
 #include <variant>
 
+#include "base/feature_id.h"
+#include "base/result.h"
 #include "dis/dis_pdu.h"
 #include "dis/geodetic_frame.h"
 #include "dis/pdu_context.h"
-#include "terrain/feature_id.h"
 #include "terrain/feature_params.h"
-#include "terrain/result.h"
 
 namespace dt::dis {
 

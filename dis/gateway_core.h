@@ -13,13 +13,13 @@
 #include <utility>
 #include <vector>
 
+#include "base/feature_id.h"
+#include "base/result.h"
 #include "dis/dis_codec.h"
 #include "dis/feature_mapping.h"
 #include "dis/geodetic_frame.h"
 #include "pdu/vehicle_state.h"
-#include "terrain/feature_id.h"
 #include "terrain/feature_params.h"
-#include "terrain/result.h"
 #include "terrain/terrain.h"
 #include "vehicle/dead_reckoning_policy.h"
 

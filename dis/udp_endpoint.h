@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "terrain/result.h"
+#include "base/result.h"
 
 namespace dt::dis {
 

@@ -1,11 +1,11 @@
 // A vehicle's pose as a DIS Entity State PDU, and an outside Entity State as a pose.
 #pragma once
 
+#include "base/result.h"
 #include "dis/dis_pdu.h"
 #include "dis/geodetic_frame.h"
 #include "dis/pdu_context.h"
 #include "dis/vehicle_pose.h"
-#include "terrain/result.h"
 
 namespace dt::dis {
 

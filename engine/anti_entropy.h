@@ -12,16 +12,16 @@
 #include <utility>
 #include <vector>
 
+#include "base/feature_id.h"
+#include "base/result.h"
 #include "dtpdu/anti_entropy_t.hpp"
 #include "engine/change.h"
 #include "engine/change_log.h"
 #include "engine/change_store.h"
 #include "engine/prefix_hashes.h"
 #include "engine/record_store.h"
-#include "pdu/pdu_bus.h"
 #include "pdu/pdu_type.h"
-#include "terrain/feature_id.h"
-#include "terrain/result.h"
+#include "transport/pdu_bus.h"
 
 namespace dt {
 

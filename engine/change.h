@@ -4,11 +4,11 @@
 #include <cstdint>
 #include <optional>
 
+#include "base/feature_id.h"
 #include "dtpdu/construct_t.hpp"
 #include "dtpdu/destruct_t.hpp"
 #include "dtpdu/update_t.hpp"
 #include "pdu/conversion.h"
-#include "terrain/feature_id.h"
 #include "terrain/feature_params.h"
 
 namespace dt {

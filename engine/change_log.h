@@ -8,8 +8,8 @@
 #include <optional>
 #include <vector>
 
+#include "base/feature_id.h"
 #include "engine/change.h"
-#include "terrain/feature_id.h"
 
 namespace dt {
 

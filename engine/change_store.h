@@ -4,8 +4,8 @@
 #include <span>
 #include <vector>
 
+#include "base/result.h"
 #include "engine/change.h"
-#include "terrain/result.h"
 
 namespace dt {
 

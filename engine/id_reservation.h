@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "terrain/result.h"
+#include "base/result.h"
 
 namespace dt {
 

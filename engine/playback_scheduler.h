@@ -7,8 +7,8 @@
 #include <optional>
 #include <vector>
 
+#include "base/feature_id.h"
 #include "engine/change_log.h"
-#include "terrain/feature_id.h"
 
 namespace dt {
 

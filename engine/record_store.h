@@ -8,8 +8,8 @@
 #include <span>
 #include <utility>
 
+#include "base/result.h"
 #include "engine/change.h"
-#include "terrain/result.h"
 #include "terrain/terrain.h"
 
 namespace dt {

@@ -4,9 +4,9 @@
 #include <optional>
 #include <span>
 
+#include "base/feature_id.h"
 #include "engine/change.h"
 #include "pdu/pdu_type.h"
-#include "terrain/feature_id.h"
 
 namespace dt {
 

@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "base/feature_id.h"
+#include "base/result.h"
 #include "dtpdu/max_feature_t.hpp"
 #include "dtpdu/playback_t.hpp"
 #include "engine/anti_entropy.h"
@@ -20,13 +22,11 @@
 #include "engine/id_reservation.h"
 #include "engine/playback_scheduler.h"
 #include "engine/record_store.h"
-#include "pdu/pdu_bus.h"
 #include "pdu/pdu_type.h"
-#include "terrain/feature_id.h"
 #include "terrain/feature_params.h"
 #include "terrain/height_grid.h"
-#include "terrain/result.h"
 #include "terrain/terrain.h"
+#include "transport/pdu_bus.h"
 
 namespace dt {
 

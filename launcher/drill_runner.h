@@ -10,16 +10,16 @@
 #include <string>
 #include <vector>
 
+#include "base/feature_id.h"
+#include "base/result.h"
 #include "launcher/chaos_plan.h"
 #include "launcher/drill_config.h"
 #include "launcher/exercise_commands.h"
 #include "launcher/supervisor.h"
-#include "runtime/vehicle_listing.h"
 #include "runtime/control_protocol.h"
 #include "runtime/exercise_config.h"
-#include "terrain/feature_id.h"
+#include "runtime/vehicle_listing.h"
 #include "terrain/feature_params.h"
-#include "terrain/result.h"
 
 namespace dt {
 

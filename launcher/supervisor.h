@@ -8,8 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "base/result.h"
 #include "launcher/child_process.h"
-#include "terrain/result.h"
 
 namespace dt {
 

@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "pdu/pdu_bus.h"
 #include "pdu/vehicle_state.h"
 #include "render/vehicle_sprite.h"
 #include "terrain/terrain.h"
+#include "transport/pdu_bus.h"
 #include "vehicle/dead_reckoning.h"
 #include "vehicle/dead_reckoning_policy.h"
 #include "vehicle/remote_vehicles.h"

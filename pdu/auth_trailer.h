@@ -8,8 +8,8 @@
 #include <span>
 #include <vector>
 
+#include "base/feature_id.h"
 #include "pdu/exercise_key.h"
-#include "terrain/feature_id.h"
 
 namespace dt {
 

@@ -3,14 +3,14 @@
 
 #include <cstdint>
 
+#include "base/feature_id.h"
+#include "base/result.h"
 #include "dtpdu/construct_t.hpp"
 #include "dtpdu/destruct_t.hpp"
 #include "dtpdu/earth_move_t.hpp"
 #include "dtpdu/node_address_t.hpp"
 #include "dtpdu/update_t.hpp"
-#include "terrain/feature_id.h"
 #include "terrain/feature_params.h"
-#include "terrain/result.h"
 
 namespace dt {
 

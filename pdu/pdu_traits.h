@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "base/feature_id.h"
 #include "dtpdu/anti_entropy_t.hpp"
 #include "dtpdu/construct_t.hpp"
 #include "dtpdu/destruct_t.hpp"
@@ -15,7 +16,6 @@
 #include "dtpdu/update_t.hpp"
 #include "dtpdu/vehicle_state_t.hpp"
 #include "pdu/pdu_type.h"
-#include "terrain/feature_id.h"
 
 namespace dt {
 

@@ -8,7 +8,6 @@
 #include "log/log.h"
 #include "pdu/conversion.h"
 #include "pdu/vehicle_state.h"
-#include "terrain/vehicle_type.h"
 
 namespace dt {
 namespace {
@@ -339,10 +338,10 @@ std::optional<Rejection> Validate(const dtpdu::vehicle_state_t& pdu, const Valid
     }
   }
   auto norm = [](const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
-  if (const double speed = norm(pdu.linear_velocity_mps); speed > kMaxVehicleSpeedMps) {
+  if (const double speed = norm(pdu.linear_velocity_mps); speed > kMaxVehicleStateSpeedMps) {
     return Reject(RejectReason::kOutOfRange,
                   fmt::format("speed {} m/s of entity {} is beyond any vehicle type's {} m/s",
-                              speed, s.id.ToString(), kMaxVehicleSpeedMps));
+                              speed, s.id.ToString(), kMaxVehicleStateSpeedMps));
   }
   if (const double a = norm(pdu.linear_acceleration_mps2); a > kMaxVehicleAccelerationMps2) {
     return Reject(RejectReason::kOutOfRange,

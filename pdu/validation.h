@@ -70,7 +70,9 @@ std::optional<Rejection> Validate(const dtpdu::anti_entropy_t& pdu, const Valida
 std::optional<Rejection> Validate(const dtpdu::vehicle_state_t& pdu, const ValidationContext& ctx);
 std::optional<Rejection> Validate(const dtpdu::earth_move_t& pdu, const ValidationContext& ctx);
 
-// VehicleState limits beyond which a value is absurd for every vehicle type (out_of_range).
+// VehicleState limits beyond which a value is absurd for every vehicle type (out_of_range). A
+// vehicle type may not declare a top speed above the first (vehicle/dead_reckoning.cc checks).
+inline constexpr double kMaxVehicleStateSpeedMps = 300.0;
 inline constexpr double kMaxVehicleAccelerationMps2 = 200.0;
 inline constexpr double kMaxVehicleAngularRateRadS = 20.0;
 inline constexpr double kMaxVehicleAltitudeM = 10000.0;  // |location y|

@@ -10,8 +10,8 @@
 #include <string>
 #include <string_view>
 
+#include "base/feature_id.h"
 #include "dtpdu/vehicle_state_t.hpp"
-#include "terrain/feature_id.h"
 
 namespace dt {
 

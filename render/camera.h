@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "terrain/rect.h"
+#include "base/rect.h"
 
 namespace dt {
 

@@ -3,8 +3,8 @@
 
 #include <string>
 
+#include "base/result.h"
 #include "render/image.h"
-#include "terrain/result.h"
 
 namespace dt {
 

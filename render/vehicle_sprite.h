@@ -3,7 +3,7 @@
 
 #include "render/image.h"
 #include "render/mesh.h"
-#include "terrain/vehicle.h"
+#include "vehicle/vehicle.h"
 
 namespace dt {
 

@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <string_view>
 
+#include "base/result.h"
 #include "runtime/control_protocol.h"
-#include "terrain/result.h"
 
 namespace dt {
 

@@ -6,12 +6,12 @@
 #include <string_view>
 #include <vector>
 
+#include "base/feature_id.h"
+#include "base/result.h"
 #include "runtime/control_protocol.h"
 #include "runtime/feature_edit.h"
 #include "runtime/node_actions.h"
-#include "terrain/feature_id.h"
 #include "terrain/feature_params.h"
-#include "terrain/result.h"
 
 namespace dt {
 

@@ -10,11 +10,11 @@
 
 #include <fmt/format.h>
 
-#include "pdu/transport.h"
 #include "runtime/toml_reader.h"
 #include "terrain/height_grid.h"
-#include "terrain/vehicle_type.h"
+#include "transport/transport.h"
 #include "vehicle/shipped_friction.h"
+#include "vehicle/vehicle_type.h"
 
 namespace dt {
 namespace {

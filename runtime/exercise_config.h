@@ -10,18 +10,18 @@
 #include <string_view>
 #include <vector>
 
+#include "base/feature_id.h"
 #include "pdu/exercise_key.h"
-#include "pdu/fault_model.h"
-#include "terrain/feature_id.h"
 #include "terrain/friction_table.h"
 #include "terrain/random_terrain.h"
+#include "transport/fault_model.h"
 #include "vehicle/dead_reckoning_policy.h"
 #include "vehicle/simulated_vehicle.h"
 #include "vehicle/wander.h"
 
 namespace dt {
 
-// A vehicle a node drives from the start (terrain/vehicle_type.h names the types).
+// A vehicle a node drives from the start (vehicle/vehicle_type.h names the types).
 struct VehicleConfig {
   std::string type = "tank";
   double x_m = 0.0;
@@ -102,7 +102,7 @@ struct ExerciseConfig {
   std::filesystem::path source;  // the file read
   std::string name;
   uint8_t exercise_id = 1;
-  std::string transport_url;      // pdu/transport.h MakeTransport
+  std::string transport_url;      // transport/transport.h MakeTransport
   std::filesystem::path run_dir;  // sockets, databases, renders (absolute)
   int tick_hz = 30;
   // The friction table vehicles grip by: [exercise] friction_file, read at load, or the built-in
@@ -112,7 +112,7 @@ struct ExerciseConfig {
   RandomTerrainParams terrain;
   ProtocolTiming protocol;
   AuthSettings auth;
-  FaultConfig faults;  // injected on receipt by every process (pdu/faulty_transport.h)
+  FaultConfig faults;  // injected on receipt by every process (transport/faulty_transport.h)
   // Shared vehicles' dead reckoning ([vehicles], docs/vehicles.md "Shared vehicles").
   DeadReckoningThresholds dead_reckoning;
   uint64_t fault_seed = 1;

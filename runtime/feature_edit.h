@@ -7,9 +7,9 @@
 #include <utility>
 #include <vector>
 
+#include "base/result.h"
 #include "terrain/feature_params.h"
 #include "terrain/material.h"
-#include "terrain/result.h"
 
 namespace dt {
 

@@ -4,8 +4,8 @@
 
 #include <filesystem>
 
+#include "base/feature_id.h"
 #include "engine/id_reservation.h"
-#include "terrain/feature_id.h"
 
 namespace dt {
 

@@ -7,14 +7,14 @@
 
 #include <fmt/format.h>
 
-#include "terrain/feature_id.h"
+#include "base/feature_id.h"
+#include "base/result.h"
 #include "terrain/feature_params.h"
-#include "terrain/result.h"
 
 namespace dt {
 
 // What a drive command set: the vehicle clamps the commanded values to its type's limits
-// (terrain/vehicle.h), so these may differ from what was asked.
+// (vehicle/vehicle.h), so these may differ from what was asked.
 struct AppliedDrive {
   std::string vehicle_type;  // "tank"
   double speed_mps = 0.0;

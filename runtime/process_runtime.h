@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "engine/replica.h"
-#include "pdu/faulty_transport.h"
-#include "pdu/pdu_bus.h"
-#include "pdu/retrying_transport.h"
 #include "render/vehicle_sprite.h"
 #include "runtime/control_command.h"
 #include "runtime/control_server.h"
 #include "runtime/exercise_config.h"
+#include "transport/faulty_transport.h"
+#include "transport/pdu_bus.h"
+#include "transport/retrying_transport.h"
 #include "vehicle/simulated_vehicle.h"
 
 namespace dt {

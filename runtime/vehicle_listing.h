@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "terrain/result.h"
+#include "base/result.h"
 
 namespace dt {
 

@@ -48,7 +48,7 @@ if ! python3 -c 'import lcm' 2>/dev/null; then
 fi
 
 # The cyclonedds Python package: its `cyclonedds` CLI reads our typed DDS topics by field name
-# (pdu_dds_python_subscribe_test). Version 0.10.2 matches Debian's Cyclone DDS; pip builds it
+# (transport_dds_python_subscribe_test). Version 0.10.2 matches Debian's Cyclone DDS; pip builds it
 # against the installed C library, looking for CYCLONEDDS_HOME/{include,bin,lib/libddsc.so}.
 # Debian keeps the library in the multiarch directory, so a directory of links stands in for the
 # install prefix during the build (the package then finds libddsc on the system path).

@@ -7,9 +7,9 @@
 #include <fmt/format.h>
 #include <xxhash.h>
 
+#include "base/bytes.h"
 #include "pdu/pdu_type.h"
 #include "pdu/validation.h"
-#include "terrain/bytes.h"
 
 namespace dt {
 namespace {

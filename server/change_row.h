@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "base/result.h"
 #include "engine/change.h"
-#include "terrain/result.h"
 
 namespace dt {
 

@@ -26,7 +26,7 @@ dt::ControlReply Handle(std::string_view line, const std::string& name, dt::Node
       quit = true;
       return dt::ControlReply::Ok("bye");
     // Both refuse, with a reply naming the path and the reason, anything but a regular file of
-    // bounded size, and neither can block the loop (terrain/regular_file.h).
+    // bounded size, and neither can block the loop (base/regular_file.h).
     case dt::ControlVerb::kExport:
       if (dt::Status s = server.ExportTerrain(c.value().path); !s) {
         DT_LOG_WARN("export refused: {}", s.error().message);

@@ -15,9 +15,9 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "base/regular_file.h"
 #include "log/log.h"
 #include "server/change_row.h"
-#include "terrain/regular_file.h"
 
 namespace dt {
 namespace {

@@ -4,9 +4,9 @@
 #include <array>
 #include <vector>
 
+#include "base/result.h"
 #include "terrain/berm.h"
 #include "terrain/feature_params.h"
-#include "terrain/result.h"
 
 namespace dt {
 

@@ -6,8 +6,8 @@
 #include <span>
 #include <string_view>
 
+#include "base/result.h"
 #include "terrain/height_grid.h"
-#include "terrain/result.h"
 
 namespace dt {
 

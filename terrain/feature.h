@@ -5,12 +5,12 @@
 #include <memory>
 #include <optional>
 
-#include "terrain/feature_id.h"
+#include "base/feature_id.h"
+#include "base/rect.h"
+#include "base/result.h"
 #include "terrain/feature_params.h"
 #include "terrain/height_grid.h"
 #include "terrain/material.h"
-#include "terrain/rect.h"
-#include "terrain/result.h"
 
 namespace dt {
 

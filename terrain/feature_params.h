@@ -8,9 +8,9 @@
 #include <string_view>
 #include <vector>
 
-#include "terrain/bytes.h"
+#include "base/bytes.h"
+#include "base/result.h"
 #include "terrain/material.h"
-#include "terrain/result.h"
 
 namespace dt {
 

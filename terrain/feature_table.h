@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "base/feature_id.h"
 #include "terrain/feature.h"
-#include "terrain/feature_id.h"
 
 namespace dt {
 

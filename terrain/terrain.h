@@ -8,12 +8,12 @@
 #include <unordered_map>
 #include <vector>
 
+#include "base/feature_id.h"
+#include "base/result.h"
 #include "terrain/feature.h"
-#include "terrain/feature_id.h"
 #include "terrain/feature_params.h"
 #include "terrain/feature_table.h"
 #include "terrain/height_grid.h"
-#include "terrain/result.h"
 
 namespace dt {
 

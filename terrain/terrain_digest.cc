@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 #include <xxhash.h>
 
-#include "terrain/bytes.h"
+#include "base/bytes.h"
 
 namespace dt {
 namespace {

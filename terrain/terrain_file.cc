@@ -15,8 +15,8 @@
 #include <fmt/format.h>
 #include <xxhash.h>
 
-#include "terrain/bytes.h"
-#include "terrain/regular_file.h"
+#include "base/bytes.h"
+#include "base/regular_file.h"
 
 namespace dt {
 namespace {

@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "terrain/result.h"
+#include "base/result.h"
 #include "terrain/terrain.h"
 
 namespace dt {
@@ -38,7 +38,7 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
 // file would exceed kMaxTerrainFileBytes.
 Status SaveTerrain(const Terrain& terrain, const std::filesystem::path& path);
 
-// Reads `path` with ReadRegularFile (terrain/regular_file.h: regular files only, at most
+// Reads `path` with ReadRegularFile (base/regular_file.h: regular files only, at most
 // kMaxTerrainFileBytes, never blocking on a FIFO or device), then DecodeTerrainFile. Never throws.
 Result<std::unique_ptr<Terrain>> LoadTerrain(const std::filesystem::path& path);
 

@@ -7,9 +7,9 @@
 #include <string_view>
 #include <vector>
 
+#include "base/result.h"
 #include "terrain/feature_params.h"
 #include "terrain/friction_table.h"
-#include "terrain/result.h"
 #include "terrain/terrain.h"
 
 namespace dt {

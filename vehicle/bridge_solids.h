@@ -3,8 +3,8 @@
 
 #include <vector>
 
+#include "base/feature_id.h"
 #include "terrain/bridge.h"
-#include "terrain/feature_id.h"
 #include "terrain/material.h"
 #include "terrain/terrain.h"
 

@@ -7,9 +7,9 @@
 
 #include <Eigen/Core>
 
-#include "terrain/feature_id.h"
+#include "base/feature_id.h"
+#include "base/rect.h"
 #include "terrain/material.h"
-#include "terrain/rect.h"
 #include "terrain/terrain.h"
 #include "vehicle/bridge_solids.h"
 

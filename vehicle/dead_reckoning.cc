@@ -6,9 +6,12 @@
 #include <Eigen/Geometry>
 
 #include "pdu/validation.h"
-#include "terrain/vehicle_type.h"
+#include "vehicle/vehicle_type.h"
 
 namespace dt {
+
+// A vehicle's own top speed must pass every receiver's validation of its VehicleState.
+static_assert(kMaxVehicleSpeedMps <= kMaxVehicleStateSpeedMps);
 namespace {
 
 Eigen::Matrix3d Skew(const Eigen::Vector3d& w) {

@@ -4,8 +4,8 @@
 
 #include <optional>
 
+#include "base/result.h"
 #include "pdu/vehicle_state.h"
-#include "terrain/result.h"
 #include "vehicle/dead_reckoning.h"
 
 namespace dt {

@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "terrain/feature_id.h"
+#include "base/feature_id.h"
 #include "vehicle/bridge_solids.h"
 
 namespace dt {

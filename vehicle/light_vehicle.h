@@ -1,11 +1,11 @@
-// LightVehicle: the thesis's kinematic rules (terrain/vehicle_traversal.h) as the light model,
+// LightVehicle: the thesis's kinematic rules (vehicle/vehicle_traversal.h) as the light model,
 // with a fall off a bridge reported once.
 #pragma once
 
-#include "terrain/result.h"
+#include "base/result.h"
 #include "terrain/terrain.h"
-#include "terrain/vehicle.h"
-#include "terrain/vehicle_traversal.h"
+#include "vehicle/vehicle.h"
+#include "vehicle/vehicle_traversal.h"
 
 namespace dt {
 

@@ -5,10 +5,10 @@
 #include <cstdint>
 #include <string_view>
 
+#include "base/result.h"
 #include "terrain/friction_table.h"
 #include "terrain/material.h"
-#include "terrain/result.h"
-#include "terrain/vehicle_type.h"
+#include "vehicle/vehicle_type.h"
 
 namespace dt {
 
@@ -26,7 +26,7 @@ struct SoilGrip {
 // `base` (length x width) from `clearance_m` above the bottom of the running gear up to
 // `hull_height_m`.
 struct PhysicalVehicleType {
-  VehicleType base;  // name, footprint, speed and turn limits (terrain/vehicle_type.h)
+  VehicleType base;  // name, footprint, speed and turn limits (vehicle/vehicle_type.h)
   RunningGear gear = RunningGear::kTracked;
   double mass_kg = 0.0;
   double hull_height_m = 0.0;      // bottom of the running gear to the roof

@@ -10,8 +10,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "terrain/feature_id.h"
-#include "terrain/result.h"
+#include "base/feature_id.h"
+#include "base/result.h"
 #include "terrain/terrain.h"
 #include "vehicle/belly_grid.h"
 #include "vehicle/bridge_solids.h"

@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "base/feature_id.h"
 #include "pdu/vehicle_state.h"
-#include "terrain/feature_id.h"
 #include "terrain/terrain.h"
-#include "terrain/vehicle_type.h"
 #include "vehicle/dead_reckoning.h"
 #include "vehicle/dead_reckoning_policy.h"
+#include "vehicle/vehicle_type.h"
 
 namespace dt {
 

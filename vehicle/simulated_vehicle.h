@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "terrain/result.h"
+#include "base/result.h"
 #include "terrain/terrain.h"
 #include "vehicle/light_vehicle.h"
 #include "vehicle/physical_vehicle.h"

@@ -4,8 +4,8 @@
 
 #include <cstdint>
 
-#include "terrain/vehicle_type.h"
 #include "vehicle/simulated_vehicle.h"
+#include "vehicle/vehicle_type.h"
 
 namespace dt {
 

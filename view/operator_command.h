@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "terrain/result.h"
+#include "base/result.h"
 
 namespace dt {
 

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "pdu/pdu_bus.h"
-#include "terrain/feature_id.h"
+#include "base/feature_id.h"
 #include "terrain/terrain.h"
+#include "transport/pdu_bus.h"
 #include "vehicle/remote_vehicles.h"
 #include "view/vehicle_source.h"
 

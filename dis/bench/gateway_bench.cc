@@ -27,8 +27,8 @@
 #include "dis/test/gateway_samples.h"
 #include "dis/udp_endpoint.h"
 #include "pdu/conversion.h"
-#include "pdu/pdu_bus.h"
-#include "pdu/transport.h"
+#include "transport/pdu_bus.h"
+#include "transport/transport.h"
 
 namespace {
 

@@ -11,7 +11,7 @@
 
 #include "engine/replica.h"
 #include "engine/test/replica_test_config.h"
-#include "engine/test/sim_cluster.h"
+#include "simulation/sim_cluster.h"
 
 namespace dt {
 namespace {

@@ -9,7 +9,7 @@
 #include "engine/memory_change_store.h"
 #include "engine/replica.h"
 #include "engine/test/replica_test_config.h"
-#include "engine/test/sim_cluster.h"
+#include "simulation/sim_cluster.h"
 
 namespace dt {
 namespace {

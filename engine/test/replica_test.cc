@@ -7,7 +7,7 @@
 #include "engine/change_hash.h"
 #include "engine/memory_change_store.h"
 #include "engine/test/replica_test_config.h"
-#include "engine/test/sim_cluster.h"
+#include "simulation/sim_cluster.h"
 
 namespace dt {
 namespace {

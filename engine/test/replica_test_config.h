@@ -8,9 +8,9 @@
 #include "engine/id_reservation.h"
 #include "engine/memory_change_store.h"
 #include "engine/replica.h"
-#include "engine/test/sim_cluster.h"
-#include "pdu/pdu_bus.h"
-#include "pdu/transport.h"
+#include "simulation/sim_cluster.h"
+#include "transport/pdu_bus.h"
+#include "transport/transport.h"
 
 namespace dt::testing {
 

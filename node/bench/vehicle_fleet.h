@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "node/vehicle_sharing.h"
-#include "pdu/transport.h"
 #include "terrain/random_terrain.h"
 #include "terrain/terrain.h"
+#include "transport/transport.h"
 #include "vehicle/physical_type.h"
 #include "vehicle/shipped_friction.h"
 #include "vehicle/wander.h"

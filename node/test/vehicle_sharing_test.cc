@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "pdu/test/test_bus_config.h"
-#include "pdu/transport.h"
+#include "transport/test/test_bus_config.h"
+#include "transport/transport.h"
 #include "vehicle/physical_type.h"
 #include "vehicle/shipped_friction.h"
 

@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "base/bytes.h"
 #include "pdu/pdu_type.h"
-#include "terrain/bytes.h"
 
 namespace dt {
 namespace {

@@ -125,7 +125,8 @@ TEST(ExerciseKey, IsKeyedBlake2bUnderTheDerivedKey) {
 }
 
 // Values computed with Python's hashlib, an implementation independent of libsodium, as a holder
-// of the key outside this code would (pdu/test/verify_mac_with_python.py does it on a capture):
+// of the key outside this code would (transport/test/verify_mac_with_python.py does it on a
+// capture):
 //   mac_key = hashlib.blake2b(key_file, digest_size=64, person=b"dt-pdu-mac-key-1").digest()
 //   hashlib.blake2b(message, key=mac_key, digest_size=32).digest()
 TEST(ExerciseKey, MatchesPythonHashlib) {

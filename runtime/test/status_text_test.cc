@@ -7,8 +7,8 @@
 #include <fmt/format.h>
 
 #include "engine/memory_change_store.h"
-#include "engine/test/sim_cluster.h"
 #include "runtime/process_runtime.h"
+#include "simulation/sim_cluster.h"
 
 namespace dt {
 namespace {

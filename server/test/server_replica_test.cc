@@ -13,8 +13,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "engine/test/sim_cluster.h"
-#include "pdu/sim_network.h"
+#include "simulation/sim_cluster.h"
+#include "simulation/sim_network.h"
 #include "terrain/terrain_file.h"
 
 namespace dt {

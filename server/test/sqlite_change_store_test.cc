@@ -16,8 +16,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "base/bytes.h"
 #include "server/change_row.h"
-#include "terrain/bytes.h"
 
 namespace dt {
 namespace {

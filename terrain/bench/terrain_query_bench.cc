@@ -13,8 +13,6 @@
 
 #include "terrain/crater.h"
 #include "terrain/terrain.h"
-#include "terrain/vehicle.h"
-#include "terrain/vehicle_traversal.h"
 
 namespace dt {
 namespace {
@@ -135,19 +133,6 @@ void BM_QueryDitchDeepCraterArea(benchmark::State& state) {
   Query(state, &CraterField::mixed_points);
 }
 
-void BM_SixPointOrientation(benchmark::State& state) {
-  CraterField& f = Field(state.range(0));
-  const auto [x, z] = f.four_points.front();
-  auto vehicle = Vehicle::Make(TankType(), x, z, 0.3, f.size_m);
-  if (!vehicle) std::abort();
-  Vehicle v = vehicle.value();
-  for (auto _ : state) {
-    auto report = SettleVehicle(*f.terrain, v);
-    if (!report || report.value().method != OrientationMethod::kSixPoint) std::abort();
-    benchmark::DoNotOptimize(v.elevation_m());
-  }
-}
-
 void BM_AddRemoveCrater(benchmark::State& state) {
   CraterField& f = Field(state.range(0));
   std::mt19937_64 rng(7);
@@ -163,7 +148,6 @@ BENCHMARK(BM_QueryBareSquare)->Arg(100'000)->Arg(1'000'000);
 BENCHMARK(BM_QueryOneCrater)->Arg(100'000)->Arg(1'000'000);
 BENCHMARK(BM_QueryFourCraters)->Arg(100'000)->Arg(1'000'000);
 BENCHMARK(BM_QueryDitchDeepCraterArea)->Arg(100'000)->Arg(1'000'000);
-BENCHMARK(BM_SixPointOrientation)->Arg(100'000)->Arg(1'000'000);
 BENCHMARK(BM_AddRemoveCrater)->Arg(100'000)->Arg(1'000'000);
 
 }  // namespace

@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
-#include "terrain/bytes.h"
+#include "base/bytes.h"
 #include "terrain/friction_table.h"
 #include "terrain/random_terrain.h"
 #include "terrain/slump.h"

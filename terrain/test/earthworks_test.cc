@@ -9,8 +9,6 @@
 #include "terrain/crater.h"
 #include "terrain/polyline_earthwork.h"
 #include "terrain/terrain.h"
-#include "terrain/vehicle.h"
-#include "terrain/vehicle_traversal.h"
 
 namespace dt {
 namespace {
@@ -212,26 +210,6 @@ TEST(Area, AFeatureOffTheTerrainIsRefused) {
   EXPECT_FALSE(t.Add(kA, Square(90, 90, 20, Material::kMud)).ok());
   EXPECT_FALSE(t.Add(kB, FeatureParams::Ditch({{50, 50, 2, 6}, {99, 50, 2, 6}}, 1.5)).ok());
   EXPECT_EQ(t.feature_count(), 0u);
-}
-
-// The light (thesis) vehicle model drives on the composed surface: a tank driving along a tank
-// ditch's floor rides the floor, six-point, whatever its length.
-TEST(Vehicles, ALightTankDrivesDownADitchAndOutOfIt) {
-  Terrain t(HeightGrid(201, 1.0, kGround, Material::kGrass));
-  ASSERT_TRUE(t.Add(kA, FeatureParams::Ditch({{40, 100, 2.5, 12}, {160, 100, 2.5, 12}}, 3.0)).ok());
-  auto made = Vehicle::Make(TankType(), 100, 100, 0.0, t.ground().size_m());
-  ASSERT_TRUE(made.ok());
-  Vehicle tank = made.value();
-  auto settled = SettleVehicle(t, tank);
-  ASSERT_TRUE(settled.ok()) << settled.error().message;
-  EXPECT_EQ(settled.value().method, OrientationMethod::kSixPoint);
-  EXPECT_NEAR(tank.elevation_m(), kGround - 2.5, 1e-9);  // on the 6 m floor
-  // Turned across the ditch, the tank's ends reach up its sides: it sits higher than the floor.
-  made = Vehicle::Make(TankType(), 100, 100, std::numbers::pi / 2, t.ground().size_m());
-  ASSERT_TRUE(made.ok());
-  Vehicle across = made.value();
-  ASSERT_TRUE(SettleVehicle(t, across).ok());
-  EXPECT_GT(across.elevation_m(), kGround - 2.5);
 }
 
 }  // namespace

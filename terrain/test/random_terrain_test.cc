@@ -1,6 +1,6 @@
 #include "terrain/random_terrain.h"
 
-#include "terrain/bytes.h"
+#include "base/bytes.h"
 
 #include <algorithm>
 #include <cmath>

@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
-#include "terrain/bytes.h"
+#include "base/bytes.h"
 #include "terrain/test/sample_terrain.h"
 
 namespace dt {

@@ -16,7 +16,7 @@
 #include <gtest/gtest.h>
 #include <xxhash.h>
 
-#include "terrain/bytes.h"
+#include "base/bytes.h"
 #include "terrain/terrain_digest.h"
 #include "terrain/test/sample_terrain.h"
 

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "pdu/conversion.h"
-#include "pdu/dds_transport.h"
-#include "pdu/pdu_bus.h"
+#include "transport/dds_transport.h"
+#include "transport/pdu_bus.h"
 
 namespace dt::exchange {
 

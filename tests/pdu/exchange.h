@@ -6,8 +6,8 @@
 #include <functional>
 #include <string>
 
-#include "pdu/transport.h"
-#include "terrain/feature_id.h"
+#include "base/feature_id.h"
+#include "transport/transport.h"
 
 namespace dt::exchange {
 

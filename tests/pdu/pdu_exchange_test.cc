@@ -14,8 +14,8 @@
 #include <gtest/gtest.h>
 
 #include "log/log.h"
-#include "pdu/test/private_netns.h"
 #include "tests/pdu/exchange.h"
+#include "transport/test/private_netns.h"
 
 extern char** environ;
 

@@ -20,9 +20,9 @@
 #include "terrain/random_terrain.h"
 #include "terrain/slump.h"
 #include "terrain/terrain.h"
-#include "terrain/vehicle_type.h"
 #include "vehicle/blade.h"
 #include "vehicle/shipped_friction.h"
+#include "vehicle/vehicle_type.h"
 
 namespace dt {
 namespace {

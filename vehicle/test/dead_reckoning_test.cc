@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
-#include "terrain/vehicle_type.h"
 #include "vehicle/dead_reckoning_policy.h"
+#include "vehicle/vehicle_type.h"
 
 namespace dt {
 namespace {

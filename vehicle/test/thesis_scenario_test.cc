@@ -5,9 +5,9 @@
 #include "terrain/berm.h"
 #include "terrain/berm_operations.h"
 #include "terrain/bridge.h"
-#include "terrain/vehicle_traversal.h"
 #include "vehicle/light_vehicle.h"
 #include "vehicle/test/vehicle_fixtures.h"
+#include "vehicle/vehicle_traversal.h"
 
 namespace dt::test {
 namespace {

@@ -15,8 +15,8 @@
 #include <fmt/format.h>
 
 #include "engine/memory_change_store.h"
-#include "engine/test/sim_cluster.h"
 #include "log/log.h"
+#include "simulation/sim_cluster.h"
 #include "view/view_model.h"
 
 namespace dt {

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "pdu/test/test_bus_config.h"
-#include "pdu/transport.h"
+#include "transport/test/test_bus_config.h"
+#include "transport/transport.h"
 
 namespace dt {
 namespace {

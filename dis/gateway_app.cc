@@ -44,9 +44,12 @@ GatewayApp::GatewayApp(const ExerciseConfig& exercise, const std::string& name)
           exercise, FindDis(exercise, name).process,
           FindDis(exercise, name).import_craters ? NodeRole::kNode : NodeRole::kObserver),
       dis_(FindDis(exercise, name)) {
-  socket_ = std::make_unique<UdpEndpoint>(
-      UdpEndpointConfig{dis_.bind_address, dis_.udp_port, dis_.destination, dis_.interface_address,
-                        dis_.multicast_ttl});
+  socket_ =
+      std::make_unique<UdpEndpoint>(UdpEndpointConfig{.bind_address = dis_.bind_address,
+                                                      .port = dis_.udp_port,
+                                                      .destination = dis_.destination,
+                                                      .interface_address = dis_.interface_address,
+                                                      .multicast_ttl = dis_.multicast_ttl});
   FeatureAuthor author;
   if (role() == NodeRole::kNode) {
     author.create = [this](const FeatureParams& p) { return replica_->Create(p); };

@@ -91,9 +91,13 @@ Replica::Replica(ReplicaConfig config, HeightGrid ground, PduBus& bus)
     }
   }
   anti_entropy_ = std::make_unique<AntiEntropy>(
-      AntiEntropyConfig{config_.address, config_.role, config_.anti_entropy_period_ms,
-                        config_.playback_retry_ms, config_.silence_ms, config_.store,
-                        config_.gap_give_up_ms},
+      AntiEntropyConfig{.self = config_.address,
+                        .role = config_.role,
+                        .period_ms = config_.anti_entropy_period_ms,
+                        .retry_ms = config_.playback_retry_ms,
+                        .silence_ms = config_.silence_ms,
+                        .store = config_.store,
+                        .drop_unreported_ms = config_.gap_give_up_ms},
       logs_, records_, bus_,
       [this](const Change& c, NodeAddress requester) {
         Publish(c, requester);

@@ -67,7 +67,7 @@ struct DrillConfig {
 };
 
 // Throws std::invalid_argument naming the file, key and value. Process names are checked
-// against the exercise by the runner.
+// against the exercise by CheckDrillAgainstExercise (launcher/drill_exercise_check.h).
 DrillConfig ParseDrillConfig(std::string_view toml_text, std::string_view source_name,
                              const std::filesystem::path& base_dir);
 DrillConfig LoadDrillConfig(const std::filesystem::path& path);

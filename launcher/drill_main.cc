@@ -1,15 +1,18 @@
 // dt_drill: runs a recovery drill (configs/drills/*.toml) and exits non-zero if a check fails.
-#include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <exception>
 #include <optional>
+#include <string>
+#include <utility>
 
-#include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
 #include "launcher/drill_config.h"
+#include "launcher/drill_exercise_check.h"
 #include "launcher/drill_runner.h"
 #include "launcher/stop_signal_pipe.h"
+#include "runtime/exercise_config.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Run a dynterrain recovery drill"};
@@ -31,65 +34,26 @@ int main(int argc, char** argv) {
   app.add_flag("--verbose", verbose, "show every line of every process");
   CLI11_PARSE(app, argc, argv);
 
-  dt::DrillConfig drill;
-  dt::ExerciseConfig exercise;
   try {
-    drill = dt::LoadDrillConfig(drill_path);
+    dt::DrillConfig drill = dt::LoadDrillConfig(drill_path);
     if (seed) dt::OverrideSeeds(drill, *seed);
-    exercise = dt::LoadExerciseConfig(drill.exercise);
+    dt::ExerciseConfig exercise = dt::LoadExerciseConfig(drill.exercise);
     dt::ApplyOverrides(exercise, transport, run_dir);
-    if (!exercise.server) {
-      // The checks are about what the server acknowledged and stored.
-      throw std::invalid_argument(
-          fmt::format("{}: {} has no server ([protocol] require_server = false); drills need one",
-                      drill_path, exercise.source.string()));
-    }
-    for (const dt::DrillAction& a : drill.actions) {
-      for (const auto* list : {&a.targets, &a.from}) {
-        for (const std::string& n : *list) {
-          if (exercise.FindProcess(n) == nullptr) {
-            throw std::invalid_argument(fmt::format("{}: {} has no process named \"{}\"", a.where,
-                                                    exercise.source.string(), n));
-          }
-        }
-      }
-      const auto is_node = [&](const std::string& n) {
-        return std::any_of(exercise.nodes.begin(), exercise.nodes.end(),
-                           [&](const dt::ProcessConfig& p) { return p.name == n; });
-      };
-      if (!a.owner.empty() && !is_node(a.owner)) {
-        throw std::invalid_argument(fmt::format("{}: {} has no node named \"{}\" (owner)", a.where,
-                                                exercise.source.string(), a.owner));
-      }
-      const bool vehicle_action = a.kind == dt::DrillActionKind::kVehiclesSeen ||
-                                  a.kind == dt::DrillActionKind::kSampleVehicles;
-      for (const std::string& n : vehicle_action ? a.targets : std::vector<std::string>{}) {
-        if (!is_node(n)) {
-          throw std::invalid_argument(
-              fmt::format("{}: \"{}\" is not a node (vehicle actions watch nodes)", a.where, n));
-        }
-      }
-      if (a.kind == dt::DrillActionKind::kChaos) {
-        const size_t targets = a.targets.empty() ? exercise.Processes().size() : a.targets.size();
-        if (static_cast<size_t>(a.max_down) > targets) {
-          throw std::invalid_argument(fmt::format("{}: chaos max_down {} exceeds its {} targets",
-                                                  a.where, a.max_down, targets));
-        }
-      }
-    }
+    dt::CheckDrillAgainstExercise(drill, exercise);
+    const int wake_fd = dt::InstallStopSignalPipe();
+    if (wake_fd < 0) return 2;
+    dt::DrillRunner runner(
+        std::move(drill), std::move(exercise),
+        dt::DrillOptions{
+            // Drills start the server, standby and nodes only: no view, no DIS gateway.
+            .programs = {.node = node_bin, .server = server_bin, .view = programs.view, .dis = {}},
+            .transport_override = transport,
+            .wake_fd = wake_fd,
+            .echo_output = verbose,
+        });
+    return runner.Run();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dt_drill: %s\n", e.what());
     return 2;
   }
-  const int wake_fd = dt::InstallStopSignalPipe();
-  if (wake_fd < 0) return 2;
-
-  dt::DrillOptions options;
-  // Drills start the server, standby and nodes only: no view, no DIS gateway.
-  options.programs = {node_bin, server_bin, programs.view, {}};
-  options.transport_override = transport;
-  options.wake_fd = wake_fd;
-  options.echo_output = verbose;
-  dt::DrillRunner runner(std::move(drill), std::move(exercise), options);
-  return runner.Run();
 }

@@ -8,8 +8,10 @@ ProgramPaths ProgramPaths::BesideSelf() {
   std::error_code ec;
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
   const std::filesystem::path dir = ec ? std::filesystem::path(".") : self.parent_path();
-  return {dir / ".." / "node" / "dt_node", dir / ".." / "server" / "dt_server",
-          dir / ".." / "view" / "dt_view", dir / ".." / "dis" / "dt_dis"};
+  return {.node = dir / ".." / "node" / "dt_node",
+          .server = dir / ".." / "server" / "dt_server",
+          .view = dir / ".." / "view" / "dt_view",
+          .dis = dir / ".." / "dis" / "dt_dis"};
 }
 
 std::vector<std::string> ProcessCommand(const ExerciseConfig& exercise,

@@ -79,7 +79,8 @@ Image Renderer::Render(const Terrain& terrain, std::span<const VehicleSprite> ve
       AppendBridge(static_cast<const Bridge&>(*f), terrain, extras);
     }
   }
-  const TerrainMeshOptions mesh_options{camera.pixel_footprint_m(), options.max_subdivisions};
+  const TerrainMeshOptions mesh_options{.min_sample_m = camera.pixel_footprint_m(),
+                                        .max_subdivisions = options.max_subdivisions};
   const int subdivisions = EarthworkSubdivisions(terrain, mesh_options);
   if (options.grid_spacing_m > 0.0) {
     AppendGridLines(terrain, options.grid_spacing_m, subdivisions, options.grid_colour, extras);

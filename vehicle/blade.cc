@@ -11,7 +11,9 @@ namespace dt {
 
 Result<BladeSpec> BladeOf(std::string_view vehicle_type_name) {
   // A D7-class semi-U blade, rounded.
-  if (vehicle_type_name == "bulldozer") return BladeSpec{3.7, 4.0, 0.5};
+  if (vehicle_type_name == "bulldozer") {
+    return BladeSpec{.width_m = 3.7, .capacity_m3 = 4.0, .max_depth_m = 0.5};
+  }
   return Error{
       fmt::format("vehicle type '{}' has no blade (types with one: bulldozer)", vehicle_type_name)};
 }

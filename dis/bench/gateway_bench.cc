@@ -73,8 +73,11 @@ std::vector<uint8_t> OutsideBytes(const GeodeticFrame& frame) {
 
 std::unique_ptr<UdpEndpoint> Loopback() {
   // Sends to itself: the socket is its own receiver.
-  return std::make_unique<UdpEndpoint>(
-      UdpEndpointConfig{"127.0.0.1", kPort, "127.0.0.1", "127.0.0.1", 1});
+  return std::make_unique<UdpEndpoint>(UdpEndpointConfig{.bind_address = "127.0.0.1",
+                                                         .port = kPort,
+                                                         .destination = "127.0.0.1",
+                                                         .interface_address = "127.0.0.1",
+                                                         .multicast_ttl = 1});
 }
 
 int Drain(UdpEndpoint& e) {

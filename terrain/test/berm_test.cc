@@ -266,7 +266,13 @@ TEST(BermBreach, PiecesOfABermKeepItsResolvedMaterial) {
 
 TEST(Emplacement, ThreeBermsFormAUWhoseCrestEndsMeet) {
   for (double facing : {0.0, 1.0, -2.2}) {
-    const EmplacementSpec spec{50, 50, facing, 20, 4, 1.5, Material::kDirt};
+    const EmplacementSpec spec{.centre_x_m = 50,
+                               .centre_z_m = 50,
+                               .facing_rad = facing,
+                               .size_m = 20,
+                               .width_m = 4,
+                               .height_m = 1.5,
+                               .material = Material::kDirt};
     auto made = EmplacementBerms(spec);
     ASSERT_TRUE(made.ok()) << made.error().message;
     std::vector<std::unique_ptr<Feature>> berms;

@@ -168,8 +168,8 @@ void DrillRunner::RecordAccepted(const std::string& node, const std::string& lin
   }
   // Every change of the command is at or below the node's sequence now: counting all of them as
   // acknowledged only once that sequence is errs toward "not acknowledged", never the other way.
-  const auto st = Status(node);
-  const int64_t seq = st.count("own_change_seq") != 0 ? std::stoll(st.at("own_change_seq")) : -1;
+  const Result<StatusReport> st = Status(node);
+  const int64_t seq = st ? st.value().own_change_seq : -1;
   for (Op& op : made) {
     op.seq = seq;
     op.incarnation = incarnation_[node];

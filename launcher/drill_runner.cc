@@ -101,23 +101,16 @@ Result<ControlReply> DrillRunner::Call(const std::string& name, const std::strin
   return CallControl(exercise_.SocketPath(name), line, timeout_ms);
 }
 
-std::map<std::string, std::string> DrillRunner::Status(const std::string& name) {
-  std::map<std::string, std::string> out;
+Result<StatusReport> DrillRunner::Status(const std::string& name) {
   Result<ControlReply> r = Call(name, "status");
-  if (!r || !r.value().ok) return out;
-  std::istringstream in(r.value().body);
-  for (std::string line; std::getline(in, line);) {
-    const size_t sp = line.find(' ');
-    if (sp == std::string::npos) continue;
-    // Repeated keys (max_feature, vehicle) keep their first word after the key.
-    out[line.substr(0, sp)] = line.substr(sp + 1);
-  }
-  if (out.count("acknowledged_change_seq") != 0) {
-    const int64_t ack = std::stoll(out["acknowledged_change_seq"]);
+  if (!r) return r.error();
+  if (!r.value().ok) return Error{r.value().error};
+  Result<StatusReport> status = StatusReport::Parse(r.value().body);
+  if (status) {
     int64_t& seen = acked_[{name, incarnation_[name]}];
-    seen = std::max(seen, ack);
+    seen = std::max(seen, status.value().acknowledged_change_seq);
   }
-  return out;
+  return status;
 }
 
 void DrillRunner::StartProcess(const std::string& name) {
@@ -288,16 +281,16 @@ bool DrillRunner::AgreeOnce(std::string& detail) {
   bool all_caught_up = true;
   bool all_acked = true;
   for (const std::string& n : Live()) {
-    auto st = Status(n);
-    if (st.empty()) {
+    const Result<StatusReport> st = Status(n);
+    if (!st) {
       all_caught_up = false;
       continue;
     }
-    digests[n] = st["digest"];
-    dropped_[n] = std::stoull(st["fault_dropped"].empty() ? "0" : st["fault_dropped"]);
-    all_caught_up &= st["caught_up"] == "1";
-    if (st["role"] == "node") {
-      all_acked &= st["acknowledged_change_seq"] == st["own_change_seq"];
+    digests[n] = st.value().digest;
+    dropped_[n] = st.value().fault_dropped;
+    all_caught_up &= st.value().caught_up;
+    if (st.value().role == NodeRole::kNode) {
+      all_acked &= st.value().acknowledged_change_seq == st.value().own_change_seq;
     }
   }
   std::set<std::string> distinct;

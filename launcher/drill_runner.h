@@ -18,6 +18,7 @@
 #include "launcher/supervisor.h"
 #include "runtime/control_protocol.h"
 #include "runtime/exercise_config.h"
+#include "runtime/status_report.h"
 #include "runtime/vehicle_listing.h"
 #include "terrain/feature_params.h"
 
@@ -89,8 +90,9 @@ class DrillRunner {
 
   Result<ControlReply> Call(const std::string& name, const std::string& line,
                             int timeout_ms = 3000);
-  // Reads status; records the acknowledged sequence. Empty map if the call fails.
-  std::map<std::string, std::string> Status(const std::string& name);
+  // Reads status; records the acknowledged sequence. An Error if the call fails, is refused, or
+  // the reply does not read.
+  Result<StatusReport> Status(const std::string& name);
 
   // Starts (or restarts) a process: a new incarnation, no longer counted as stopped.
   void StartProcess(const std::string& name);

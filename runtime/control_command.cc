@@ -88,14 +88,28 @@ std::string ClampNotes(const ControlCommand& c, const AppliedDrive& applied) {
   return out;
 }
 
+using Words = std::vector<std::string_view>;
+
+Error Takes(const ControlVerbSpec& spec) {
+  return Error{fmt::format("{} takes {}", spec.word, spec.synopsis)};
+}
+
+// A vehicle's index: a whole number in [0, 1e6].
+Result<int> VehicleIndex(double index, std::string_view text) {
+  if (index < 0.0 || index != std::floor(index) || index > 1e6) {
+    return Error{fmt::format("vehicle \"{}\" is not an index", text)};
+  }
+  return static_cast<int>(index);
+}
+
 // ditch|berm_line <key>=<value> ... <x,z,height,width> ...; area <soil> [level_m=<m>] <x,z> ...
-Result<FeatureParams> ParsePointFeature(const std::vector<std::string_view>& w) {
+Result<ControlCommand> ParsePointFeature(const ControlVerbSpec& spec, const Words& w) {
   const FeatureType type = ParseFeatureType(w[0]).value();
   const bool area = type == FeatureType::kArea;
   FeatureEdit edit;
   size_t first = 1;
   if (area) {
-    if (w.size() < 2) return Error{"area takes <soil> [level_m=<m>] <x,z> <x,z> <x,z> ..."};
+    if (w.size() < 2) return Takes(spec);
     const auto soil = ParseMaterial(w[1]);
     if (!soil || *soil == Material::kFromGround) {
       return Error{
@@ -133,30 +147,278 @@ Result<FeatureParams> ParsePointFeature(const std::vector<std::string_view>& w) 
     }
     ++point;
   }
-  return MakeFeature(type, edit);
+  Result<FeatureParams> p = MakeFeature(type, edit);
+  if (!p) return p.error();
+  ControlCommand c;
+  c.params = p.value();
+  return c;
 }
+
+// crater|berm|bridge with the type's required values in order.
+Result<ControlCommand> ParsePositionalFeature(const ControlVerbSpec&, const Words& w) {
+  const FeatureType type = ParseFeatureType(w[0]).value();
+  std::vector<std::string_view> keys = RequiredFeatureKeys(type);
+  // A crater may give its depth below the ground as a fourth number.
+  if (type == FeatureType::kCrater && w.size() == keys.size() + 2) keys.push_back("depth_m");
+  Result<std::vector<double>> v = Numbers(w, keys);
+  if (!v) return v.error();
+  FeatureEdit edit;
+  for (size_t i = 0; i < keys.size(); ++i) edit.values.emplace_back(keys[i], v.value()[i]);
+  Result<FeatureParams> p = MakeFeature(type, edit);
+  if (!p) return p.error();
+  ControlCommand c;
+  c.params = p.value();
+  return c;
+}
+
+Result<ControlCommand> ParseUpdate(const ControlVerbSpec& spec, const Words& w) {
+  if (w.size() < 3) return Takes(spec);
+  Result<FeatureId> id = ParseFeatureId(w[1]);
+  if (!id) return id.error();
+  ControlCommand c;
+  c.target = id.value();
+  for (size_t i = 2; i < w.size(); ++i) {
+    const size_t eq = w[i].find('=');
+    if (eq == std::string_view::npos || eq == 0) {
+      return Error{fmt::format("update argument \"{}\" is not key=value", w[i])};
+    }
+    const std::string_view key = w[i].substr(0, eq);
+    if (key == "soil") {  // an area's soil, by name
+      const auto soil = ParseMaterial(w[i].substr(eq + 1));
+      if (!soil || *soil == Material::kFromGround) {
+        return Error{fmt::format("soil \"{}\" is not a soil", w[i].substr(eq + 1))};
+      }
+      c.edit.soil = *soil;
+      continue;
+    }
+    Result<double> v = Number(key, w[i].substr(eq + 1));
+    if (!v) return v.error();
+    c.edit.values.emplace_back(std::string(key), v.value());
+  }
+  return c;
+}
+
+Result<ControlCommand> ParseDestroy(const ControlVerbSpec& spec, const Words& w) {
+  if (w.size() != 2) return Takes(spec);
+  Result<FeatureId> id = ParseFeatureId(w[1]);
+  if (!id) return id.error();
+  ControlCommand c;
+  c.target = id.value();
+  return c;
+}
+
+Result<ControlCommand> ParseBreach(const ControlVerbSpec& spec, const Words& w) {
+  if (w.size() != 4) return Takes(spec);
+  Result<FeatureId> id = ParseFeatureId(w[1]);
+  if (!id) return id.error();
+  Result<double> start = Number("gap_start_m", w[2]);
+  Result<double> width = Number("gap_width_m", w[3]);
+  if (!start) return start.error();
+  if (!width) return width.error();
+  if (start.value() < 0.0 || width.value() <= 0.0) {
+    return Error{fmt::format("breach needs gap_start_m >= 0 and gap_width_m > 0, got {} and {}",
+                             start.value(), width.value())};
+  }
+  ControlCommand c;
+  c.target = id.value();
+  c.gap_start_m = start.value();
+  c.gap_width_m = width.value();
+  return c;
+}
+
+Result<ControlCommand> ParseDrive(const ControlVerbSpec&, const Words& w) {
+  Result<std::vector<double>> v = Numbers(w, {"vehicle", "speed_mps", "heading_rate_deg_s"});
+  if (!v) return v.error();
+  Result<int> index = VehicleIndex(v.value()[0], w[1]);
+  if (!index) return index.error();
+  ControlCommand c;
+  c.vehicle = index.value();
+  c.speed_mps = v.value()[1];
+  c.heading_rate_rad_s = v.value()[2] * kDegToRad;
+  return c;
+}
+
+Result<ControlCommand> ParseSpawn(const ControlVerbSpec& spec, const Words& w) {
+  if (w.size() != 5 && w.size() != 6) return Takes(spec);
+  Result<double> x = Number("x_m", w[2]);
+  Result<double> z = Number("z_m", w[3]);
+  Result<double> h = Number("heading_deg", w[4]);
+  if (!x) return x.error();
+  if (!z) return z.error();
+  if (!h) return h.error();
+  ControlCommand c;
+  c.spawn.type = std::string(w[1]);
+  c.spawn.x_m = x.value();
+  c.spawn.z_m = z.value();
+  c.spawn.heading_rad = h.value() * kDegToRad;
+  if (w.size() == 6) {
+    if (w[5] != "physical" && w[5] != "light") {
+      return Error{fmt::format("spawn model \"{}\" is neither physical nor light", w[5])};
+    }
+    c.spawn.model = std::string(w[5]);
+  }
+  return c;
+}
+
+Result<ControlCommand> ParseRemove(const ControlVerbSpec&, const Words& w) {
+  Result<std::vector<double>> v = Numbers(w, {"vehicle"});
+  if (!v) return v.error();
+  Result<int> index = VehicleIndex(v.value()[0], w[1]);
+  if (!index) return index.error();
+  ControlCommand c;
+  c.vehicle = index.value();
+  return c;
+}
+
+Result<ControlCommand> ParseBlade(const ControlVerbSpec&, const Words& w) {
+  const bool down = w.size() == 4 && w[2] == "down";
+  const bool up = w.size() == 3 && w[2] == "up";
+  if (!down && !up) return Error{"blade takes <vehicle> down <depth_m> or <vehicle> up"};
+  Result<double> number = Number("vehicle", w[1]);
+  if (!number) return number.error();
+  Result<int> index = VehicleIndex(number.value(), w[1]);
+  if (!index) return index.error();
+  ControlCommand c;
+  c.vehicle = index.value();
+  if (down) {
+    Result<double> depth = Number("depth_m", w[3]);
+    if (!depth) return depth.error();
+    c.blade_depth_m = depth.value();
+  }
+  return c;
+}
+
+// render, export, import <file>.
+Result<ControlCommand> ParsePath(const ControlVerbSpec&, const Words& w) {
+  if (w.size() != 2) return Error{fmt::format("{} takes <file>", w[0])};
+  ControlCommand c;
+  c.path = std::string(w[1]);
+  return c;
+}
+
+Result<ControlCommand> ParseLoss(const ControlVerbSpec&, const Words& w) {
+  Result<std::vector<double>> v = Numbers(w, {"drop_probability"});
+  if (!v) return v.error();
+  if (v.value()[0] < 0.0 || v.value()[0] > 1.0) {
+    return Error{fmt::format("drop_probability {} is outside [0, 1]", v.value()[0])};
+  }
+  ControlCommand c;
+  c.drop_probability = v.value()[0];
+  return c;
+}
+
+Result<ControlCommand> ParsePartition(const ControlVerbSpec& spec, const Words& w) {
+  if (w.size() < 2) return Takes(spec);
+  ControlCommand c;
+  for (size_t i = 1; i < w.size(); ++i) {
+    Result<NodeAddress> a = ParseNodeAddress(w[i]);
+    if (!a) return a.error();
+    c.nodes.push_back(a.value());
+  }
+  return c;
+}
+
+Result<ControlCommand> ParseNoArguments(const ControlVerbSpec&, const Words& w) {
+  if (w.size() != 1) return Error{fmt::format("{} takes no arguments", w[0])};
+  return ControlCommand{};
+}
+
+// Every command word, in the usage's order (the usage text and the dispatch both come from it).
+constexpr bool kOwnLine = false;  // starts a usage line
+constexpr bool kJoins = true;     // on the previous row's usage line
+constexpr ControlVerbSpec kVerbTable[] = {
+    {"crater", ControlVerb::kCreate, "<x_m> <z_m> <radius_m> [<depth_m>]",
+     "makes a crater; a fourth number is its depth below the ground", kOwnLine,
+     ParsePositionalFeature},
+    {"ditch", ControlVerb::kCreate,
+     "side_run_m=<m> [spoil_height_m=<m> spoil_width_m=<m>] <x,z,depth,width> ...",
+     "digs a ditch along the points, its spoil heaped beside it", kOwnLine, ParsePointFeature},
+    {"berm_line", ControlVerb::kCreate, "<x,z,height,width> <x,z,height,width> ...",
+     "raises a berm along the points", kOwnLine, ParsePointFeature},
+    {"area", ControlVerb::kCreate, "<soil> [level_m=<m>] <x,z> <x,z> <x,z> ...",
+     "covers a polygon with a soil; water floods it to level_m", kOwnLine, ParsePointFeature},
+    {"berm", ControlVerb::kCreate, "<x_m> <z_m> <direction_deg> <length_m> <width_m> <height_m>",
+     "raises a straight berm", kOwnLine, ParsePositionalFeature},
+    {"bridge", ControlVerb::kCreate,
+     "<x_m> <z_m> <direction_deg> <width_m> <ramp1_m> <span_m> <ramp2_m> <height1_m> <height2_m>",
+     "lays a bridge: a ramp, a span and a ramp", kOwnLine, ParsePositionalFeature},
+    {"update", ControlVerb::kUpdate, "<site:host:number> <key>=<value> ...",
+     "changes a live feature's values (an area's soil=<name> too)", kOwnLine, ParseUpdate},
+    {"destroy", ControlVerb::kDestroy, "<site:host:number>", "destroys a live feature", kOwnLine,
+     ParseDestroy},
+    {"breach", ControlVerb::kBreach, "<site:host:number> <gap_start_m> <gap_width_m>",
+     "cuts a gap in a berm, leaving the pieces on either side", kOwnLine, ParseBreach},
+    {"drive", ControlVerb::kDrive, "<vehicle> <speed_mps> <heading_rate_deg_s>",
+     "commands a vehicle's speed and turn rate, clamped to its type's limits", kOwnLine,
+     ParseDrive},
+    {"spawn", ControlVerb::kSpawn, "<type> <x_m> <z_m> <heading_deg> [physical|light]",
+     "adds a vehicle to a node", kOwnLine, ParseSpawn},
+    {"remove", ControlVerb::kRemove, "<vehicle>", "removes a node's vehicle", kJoins, ParseRemove},
+    {"vehicles", ControlVerb::kVehicles, "", "a node's local and remote vehicles, one a line",
+     kJoins, ParseNoArguments},
+    // Two forms, shown as the usage has always shown them.
+    {"blade", ControlVerb::kBlade, "<vehicle> down <depth_m> | blade <vehicle> up",
+     "lowers a bulldozer's blade to cut and carry, or raises it to set its load down", kOwnLine,
+     ParseBlade},
+    {"status", ControlVerb::kStatus, "",
+     "the process's state and counters, key value lines (runtime/status_report.h)", kOwnLine,
+     ParseNoArguments},
+    {"digest", ControlVerb::kDigest, "", "the terrain digest", kJoins, ParseNoArguments},
+    {"features", ControlVerb::kFeatures, "", "every live feature ID, one a line", kJoins,
+     ParseNoArguments},
+    {"ping", ControlVerb::kPing, "", "answers pong", kJoins, ParseNoArguments},
+    {"quit", ControlVerb::kQuit, "", "stops the process", kJoins, ParseNoArguments},
+    {"render", ControlVerb::kRender, "<file.png>", "draws a map of the terrain and vehicles",
+     kOwnLine, ParsePath},
+    {"export", ControlVerb::kExport, "<file.dtt>", "the server saves its terrain as a terrain file",
+     kOwnLine, ParsePath},
+    // "(server)" covers both, as the usage has always shown it.
+    {"import", ControlVerb::kImport, "<file.dtt> (server)",
+     "the server issues a terrain file's features", kJoins, ParsePath},
+    {"loss", ControlVerb::kLoss, "<drop_probability>",
+     "drops received messages with this probability", kOwnLine, ParseLoss},
+    {"partition", ControlVerb::kPartition, "<site:host> ...",
+     "drops everything received from these nodes", kOwnLine, ParsePartition},
+    {"heal", ControlVerb::kHeal, "", "ends partitions", kJoins, ParseNoArguments},
+};
+
+// The command words of kCreate: one per feature type but kEarthMove (blade work makes those).
+constexpr int kCreateWords = 6;
+
+// Each verb has its row (kCreate its kCreateWords), each word one row, and the usage starts a line.
+constexpr bool VerbTableIsWhole() {
+  for (int v = 0; v < static_cast<int>(ControlVerb::kCount); ++v) {
+    int rows = 0;
+    for (const ControlVerbSpec& s : kVerbTable) rows += static_cast<int>(s.verb) == v ? 1 : 0;
+    if (rows != (static_cast<ControlVerb>(v) == ControlVerb::kCreate ? kCreateWords : 1)) {
+      return false;
+    }
+  }
+  for (size_t i = 0; i < std::size(kVerbTable); ++i) {
+    if (kVerbTable[i].verb == ControlVerb::kCount) return false;
+    for (size_t j = i + 1; j < std::size(kVerbTable); ++j) {
+      if (kVerbTable[i].word == kVerbTable[j].word) return false;
+    }
+  }
+  return !kVerbTable[0].joins_usage_line;
+}
+static_assert(VerbTableIsWhole(), "every ControlVerb needs its row in kVerbTable, once");
 
 }  // namespace
 
+std::span<const ControlVerbSpec> ControlVerbTable() { return kVerbTable; }
+
 std::string ControlUsage() {
-  return "crater <x_m> <z_m> <radius_m> [<depth_m>]\n"
-         "ditch side_run_m=<m> [spoil_height_m=<m> spoil_width_m=<m>] <x,z,depth,width> ...\n"
-         "berm_line <x,z,height,width> <x,z,height,width> ...\n"
-         "area <soil> [level_m=<m>] <x,z> <x,z> <x,z> ...\n"
-         "berm <x_m> <z_m> <direction_deg> <length_m> <width_m> <height_m>\n"
-         "bridge <x_m> <z_m> <direction_deg> <width_m> <ramp1_m> <span_m> <ramp2_m> "
-         "<height1_m> <height2_m>\n"
-         "update <site:host:number> <key>=<value> ...\n"
-         "destroy <site:host:number>\n"
-         "breach <site:host:number> <gap_start_m> <gap_width_m>\n"
-         "drive <vehicle> <speed_mps> <heading_rate_deg_s>\n"
-         "spawn <type> <x_m> <z_m> <heading_deg> [physical|light] | remove <vehicle> | vehicles\n"
-         "blade <vehicle> down <depth_m> | blade <vehicle> up\n"
-         "status | digest | features | ping | quit\n"
-         "render <file.png>\n"
-         "export <file.dtt> | import <file.dtt> (server)\n"
-         "loss <drop_probability>\n"
-         "partition <site:host> ... | heal";
+  std::string out;
+  for (const ControlVerbSpec& s : kVerbTable) {
+    if (!out.empty()) out += s.joins_usage_line ? " | " : "\n";
+    out += s.word;
+    if (!s.synopsis.empty()) {
+      out += ' ';
+      out += s.synopsis;
+    }
+  }
+  return out;
 }
 
 Result<FeatureId> ParseFeatureId(std::string_view text) {
@@ -189,189 +451,15 @@ Result<NodeAddress> ParseNodeAddress(std::string_view text) {
 }
 
 Result<ControlCommand> ParseControlCommand(std::string_view line) {
-  const std::vector<std::string_view> w = Split(line);
+  const Words w = Split(line);
   if (w.empty()) return Error{"empty command; commands:\n" + ControlUsage()};
-  const std::string_view verb = w[0];
-  ControlCommand c;
-  auto no_args = [&](ControlVerb v) -> Result<ControlCommand> {
-    if (w.size() != 1) return Error{fmt::format("{} takes no arguments", verb)};
-    c.verb = v;
-    return c;
-  };
-  if (verb == "ditch" || verb == "berm_line" || verb == "area") {
-    c.verb = ControlVerb::kCreate;
-    Result<FeatureParams> p = ParsePointFeature(w);
-    if (!p) return p.error();
-    c.params = p.value();
+  for (const ControlVerbSpec& spec : kVerbTable) {
+    if (spec.word != w[0]) continue;
+    Result<ControlCommand> c = spec.parse(spec, w);
+    if (c) c.value().verb = spec.verb;
     return c;
   }
-  if (verb == "crater" || verb == "berm" || verb == "bridge") {
-    c.verb = ControlVerb::kCreate;
-    const FeatureType type = ParseFeatureType(verb).value();
-    std::vector<std::string_view> keys = RequiredFeatureKeys(type);
-    // A crater may give its depth below the ground as a fourth number.
-    if (type == FeatureType::kCrater && w.size() == keys.size() + 2) keys.push_back("depth_m");
-    Result<std::vector<double>> v = Numbers(w, keys);
-    if (!v) return v.error();
-    FeatureEdit edit;
-    for (size_t i = 0; i < keys.size(); ++i) edit.values.emplace_back(keys[i], v.value()[i]);
-    Result<FeatureParams> p = MakeFeature(type, edit);
-    if (!p) return p.error();
-    c.params = p.value();
-    return c;
-  }
-  if (verb == "update") {
-    if (w.size() < 3) return Error{"update takes <site:host:number> <key>=<value> ..."};
-    Result<FeatureId> id = ParseFeatureId(w[1]);
-    if (!id) return id.error();
-    c.verb = ControlVerb::kUpdate;
-    c.target = id.value();
-    for (size_t i = 2; i < w.size(); ++i) {
-      const size_t eq = w[i].find('=');
-      if (eq == std::string_view::npos || eq == 0) {
-        return Error{fmt::format("update argument \"{}\" is not key=value", w[i])};
-      }
-      const std::string_view key = w[i].substr(0, eq);
-      if (key == "soil") {  // an area's soil, by name
-        const auto soil = ParseMaterial(w[i].substr(eq + 1));
-        if (!soil || *soil == Material::kFromGround) {
-          return Error{fmt::format("soil \"{}\" is not a soil", w[i].substr(eq + 1))};
-        }
-        c.edit.soil = *soil;
-        continue;
-      }
-      Result<double> v = Number(key, w[i].substr(eq + 1));
-      if (!v) return v.error();
-      c.edit.values.emplace_back(std::string(key), v.value());
-    }
-    return c;
-  }
-  if (verb == "destroy") {
-    if (w.size() != 2) return Error{"destroy takes <site:host:number>"};
-    Result<FeatureId> id = ParseFeatureId(w[1]);
-    if (!id) return id.error();
-    c.verb = ControlVerb::kDestroy;
-    c.target = id.value();
-    return c;
-  }
-  if (verb == "breach") {
-    if (w.size() != 4) return Error{"breach takes <site:host:number> <gap_start_m> <gap_width_m>"};
-    Result<FeatureId> id = ParseFeatureId(w[1]);
-    if (!id) return id.error();
-    Result<double> start = Number("gap_start_m", w[2]);
-    Result<double> width = Number("gap_width_m", w[3]);
-    if (!start) return start.error();
-    if (!width) return width.error();
-    if (start.value() < 0.0 || width.value() <= 0.0) {
-      return Error{fmt::format("breach needs gap_start_m >= 0 and gap_width_m > 0, got {} and {}",
-                               start.value(), width.value())};
-    }
-    c.verb = ControlVerb::kBreach;
-    c.target = id.value();
-    c.gap_start_m = start.value();
-    c.gap_width_m = width.value();
-    return c;
-  }
-  if (verb == "drive") {
-    Result<std::vector<double>> v = Numbers(w, {"vehicle", "speed_mps", "heading_rate_deg_s"});
-    if (!v) return v.error();
-    const double index = v.value()[0];
-    if (index < 0.0 || index != std::floor(index) || index > 1e6) {
-      return Error{fmt::format("vehicle \"{}\" is not an index", w[1])};
-    }
-    c.verb = ControlVerb::kDrive;
-    c.vehicle = static_cast<int>(index);
-    c.speed_mps = v.value()[1];
-    c.heading_rate_rad_s = v.value()[2] * kDegToRad;
-    return c;
-  }
-  if (verb == "spawn") {
-    if (w.size() != 5 && w.size() != 6) {
-      return Error{"spawn takes <type> <x_m> <z_m> <heading_deg> [physical|light]"};
-    }
-    Result<double> x = Number("x_m", w[2]);
-    Result<double> z = Number("z_m", w[3]);
-    Result<double> h = Number("heading_deg", w[4]);
-    if (!x) return x.error();
-    if (!z) return z.error();
-    if (!h) return h.error();
-    c.verb = ControlVerb::kSpawn;
-    c.spawn.type = std::string(w[1]);
-    c.spawn.x_m = x.value();
-    c.spawn.z_m = z.value();
-    c.spawn.heading_rad = h.value() * kDegToRad;
-    if (w.size() == 6) {
-      if (w[5] != "physical" && w[5] != "light") {
-        return Error{fmt::format("spawn model \"{}\" is neither physical nor light", w[5])};
-      }
-      c.spawn.model = std::string(w[5]);
-    }
-    return c;
-  }
-  if (verb == "blade") {
-    const bool down = w.size() == 4 && w.size() > 2 && w[2] == "down";
-    const bool up = w.size() == 3 && w[2] == "up";
-    if (!down && !up) return Error{"blade takes <vehicle> down <depth_m> or <vehicle> up"};
-    Result<double> index = Number("vehicle", w[1]);
-    if (!index) return index.error();
-    if (index.value() < 0.0 || index.value() != std::floor(index.value()) || index.value() > 1e6) {
-      return Error{fmt::format("vehicle \"{}\" is not an index", w[1])};
-    }
-    c.verb = ControlVerb::kBlade;
-    c.vehicle = static_cast<int>(index.value());
-    if (down) {
-      Result<double> depth = Number("depth_m", w[3]);
-      if (!depth) return depth.error();
-      c.blade_depth_m = depth.value();
-    }
-    return c;
-  }
-  if (verb == "remove") {
-    Result<std::vector<double>> v = Numbers(w, {"vehicle"});
-    if (!v) return v.error();
-    const double index = v.value()[0];
-    if (index < 0.0 || index != std::floor(index) || index > 1e6) {
-      return Error{fmt::format("vehicle \"{}\" is not an index", w[1])};
-    }
-    c.verb = ControlVerb::kRemove;
-    c.vehicle = static_cast<int>(index);
-    return c;
-  }
-  if (verb == "render" || verb == "export" || verb == "import") {
-    if (w.size() != 2) return Error{fmt::format("{} takes <file>", verb)};
-    c.verb = verb == "render" ? ControlVerb::kRender
-                              : (verb == "export" ? ControlVerb::kExport : ControlVerb::kImport);
-    c.path = std::string(w[1]);
-    return c;
-  }
-  if (verb == "loss") {
-    Result<std::vector<double>> v = Numbers(w, {"drop_probability"});
-    if (!v) return v.error();
-    if (v.value()[0] < 0.0 || v.value()[0] > 1.0) {
-      return Error{fmt::format("drop_probability {} is outside [0, 1]", v.value()[0])};
-    }
-    c.verb = ControlVerb::kLoss;
-    c.drop_probability = v.value()[0];
-    return c;
-  }
-  if (verb == "partition") {
-    if (w.size() < 2) return Error{"partition takes <site:host> ..."};
-    for (size_t i = 1; i < w.size(); ++i) {
-      Result<NodeAddress> a = ParseNodeAddress(w[i]);
-      if (!a) return a.error();
-      c.nodes.push_back(a.value());
-    }
-    c.verb = ControlVerb::kPartition;
-    return c;
-  }
-  if (verb == "status") return no_args(ControlVerb::kStatus);
-  if (verb == "digest") return no_args(ControlVerb::kDigest);
-  if (verb == "features") return no_args(ControlVerb::kFeatures);
-  if (verb == "heal") return no_args(ControlVerb::kHeal);
-  if (verb == "ping") return no_args(ControlVerb::kPing);
-  if (verb == "quit") return no_args(ControlVerb::kQuit);
-  if (verb == "vehicles") return no_args(ControlVerb::kVehicles);
-  return Error{fmt::format("unknown command \"{}\"; commands:\n{}", verb, ControlUsage())};
+  return Error{fmt::format("unknown command \"{}\"; commands:\n{}", w[0], ControlUsage())};
 }
 
 ControlReply RunFeatureCommand(const ControlCommand& c, NodeActions& actions) {

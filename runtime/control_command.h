@@ -2,6 +2,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -15,27 +16,30 @@
 
 namespace dt {
 
+// What a command does. runtime/control_command.cc holds the one table of command words: each
+// word's verb, arguments, help and parser; ControlUsage() and ParseControlCommand() come from it.
 enum class ControlVerb {
-  kCreate,     // crater / berm / bridge with positional values
-  kUpdate,     // update <id> key=value ...
-  kDestroy,    // destroy <id>
-  kBreach,     // breach <id> <gap_start_m> <gap_width_m>
-  kDrive,      // drive <vehicle> <speed_mps> <heading_rate_deg_s>
-  kStatus,     // status
-  kDigest,     // digest
-  kFeatures,   // features: every live feature ID, one a line
-  kRender,     // render <file.png>
-  kLoss,       // loss <drop_probability>
-  kPartition,  // partition <site:host> ...: drop everything received from these nodes
-  kHeal,       // heal: end partitions
-  kPing,       // ping
-  kExport,     // export <file.dtt>: the server saves its terrain as a terrain file
-  kImport,     // import <file.dtt>: the server issues a terrain file's features
-  kQuit,       // quit
-  kVehicles,   // vehicles: local and remote vehicles, one a line (nodes)
-  kSpawn,      // spawn <type> <x_m> <z_m> <heading_deg> [physical|light]
-  kRemove,     // remove <vehicle>
-  kBlade,      // blade <vehicle> down <depth_m> | blade <vehicle> up
+  kCreate,  // crater, ditch, berm_line, area, berm, bridge: one command word per feature type
+  kUpdate,
+  kDestroy,
+  kBreach,
+  kDrive,
+  kStatus,
+  kDigest,
+  kFeatures,
+  kRender,
+  kLoss,
+  kPartition,
+  kHeal,
+  kPing,
+  kExport,
+  kImport,
+  kQuit,
+  kVehicles,
+  kSpawn,
+  kRemove,
+  kBlade,
+  kCount,  // not a verb: how many there are (keep it last)
 };
 
 struct ControlCommand {
@@ -54,6 +58,22 @@ struct ControlCommand {
   SpawnRequest spawn;                   // spawn
   std::optional<double> blade_depth_m;  // blade: the depth when lowered, nullopt when raised
 };
+
+// One command word of the control socket: a row of the verb table.
+struct ControlVerbSpec {
+  std::string_view word;      // the command's first word
+  ControlVerb verb;           // what ParseControlCommand sets for it
+  std::string_view synopsis;  // its arguments, as the usage shows them
+  std::string_view help;      // what it does, one line
+  bool joins_usage_line;      // listed on the previous row's usage line, after " | "
+  // Reads the whole line split into words (words[0] is `word`); the verb is set by the caller.
+  Result<ControlCommand> (*parse)(const ControlVerbSpec& spec,
+                                  const std::vector<std::string_view>& words);
+};
+
+// Every command word, in the usage's order: each verb has one row (kCreate one per feature
+// type with a command of its own).
+std::span<const ControlVerbSpec> ControlVerbTable();
 
 // The usage text listing every command (docs/node.md "Control socket").
 std::string ControlUsage();

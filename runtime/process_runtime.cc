@@ -116,59 +116,81 @@ int64_t MonotonicMs() {
       .count();
 }
 
-std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
-                       const ProcessTransport& transport,
-                       const std::vector<SimulatedVehicle>& vehicles) {
+StatusReport MakeStatusReport(const std::string& name, NodeRole role, const Replica& replica,
+                              const ProcessTransport& transport,
+                              const std::vector<SimulatedVehicle>& vehicles) {
   const Replica::Counters c = replica.counters();
   const RetryingTransport::Counters w = transport.retrying->counters();
-  std::string s = fmt::format(
-      "name {}\naddress {}\nrole {}\nrequire_server {}\nsigned_on {}\ncaught_up {}\n"
-      "diverged {}\ndiverged_since_ms {}\nfeatures {}\ndigest {}\n"
-      "own_feature_number {}\nown_change_seq {}\nacknowledged_change_seq {}\n"
-      "sent {}\nreceived {}\nrejected {}\nplayed_back {}\napplied {}\nignored_stale {}\n"
-      "fault_dropped {}\ndrop_probability {}\nwrite_queued {}\nwrite_retried {}\n"
-      "write_failed {}\nwrite_given_up {}",
-      name, replica.config().address.ToString(), NodeRoleName(role),
-      replica.config().require_server ? 1 : 0, replica.signed_on() ? 1 : 0,
-      replica.caught_up() ? 1 : 0, replica.diverged() ? 1 : 0, replica.diverged_since_ms(),
-      replica.live_feature_count(), replica.Digest(), replica.own_feature_number(),
-      replica.own_change_seq(), replica.acknowledged_change_seq(), c.sent, c.received, c.rejected,
-      c.played_back, c.applied, c.ignored_stale, transport.faults->dropped(),
-      transport.faults->faults().config().drop_probability, w.queued, w.retried, w.failed_writes,
-      w.given_up);
-  s += fmt::format(
-      "\nvoided {}\ngave_up {}\nrefused_stranger {}\nrefused_role {}\nrefused_claim "
-      "{}\nrefused_lamport {}",
-      c.voided, c.gave_up, c.refused_stranger, c.refused_role, c.refused_claim, c.refused_lamport);
+  StatusReport r;
+  r.name = name;
+  r.address = replica.config().address;
+  r.role = role;
+  r.require_server = replica.config().require_server;
+  r.signed_on = replica.signed_on();
+  r.caught_up = replica.caught_up();
+  r.diverged = replica.diverged();
+  r.diverged_since_ms = replica.diverged_since_ms();
+  r.features = replica.live_feature_count();
+  r.digest = replica.Digest();
+  r.own_feature_number = replica.own_feature_number();
+  r.own_change_seq = replica.own_change_seq();
+  r.acknowledged_change_seq = replica.acknowledged_change_seq();
+  r.sent = c.sent;
+  r.received = c.received;
+  r.rejected = c.rejected;
+  r.played_back = c.played_back;
+  r.applied = c.applied;
+  r.ignored_stale = c.ignored_stale;
+  r.fault_dropped = transport.faults->dropped();
+  r.drop_probability = transport.faults->faults().config().drop_probability;
+  r.write_queued = w.queued;
+  r.write_retried = w.retried;
+  r.write_failed = w.failed_writes;
+  r.write_given_up = w.given_up;
+  r.voided = c.voided;
+  r.gave_up = c.gave_up;
+  r.refused_stranger = c.refused_stranger;
+  r.refused_role = c.refused_role;
+  r.refused_claim = c.refused_claim;
+  r.refused_lamport = c.refused_lamport;
   // The bus's rejections by reason (validation and authentication), all of them, zeros too.
   const RejectCounters& rejects = transport.bus->rejects();
   for (size_t i = 0; i < kRejectReasonCount; ++i) {
-    const auto reason = static_cast<RejectReason>(i);
-    s += fmt::format("\nrejected_{} {}", RejectReasonName(reason), rejects.count(reason));
+    r.rejected_by_reason[i] = rejects.count(static_cast<RejectReason>(i));
   }
   // Senders whose authenticated PDUs this process tracks for replays (itself included).
   const PduAuthenticator* auth = transport.bus->authenticator();
-  s += fmt::format("\nauthenticated {}\nauth_senders {}", auth != nullptr ? 1 : 0,
-                   auth != nullptr ? auth->senders_tracked() : 0);
+  r.authenticated = auth != nullptr;
+  r.auth_senders = auth != nullptr ? auth->senders_tracked() : 0;
   for (const auto& [origin, max] : replica.max_feature_known()) {
-    s += fmt::format("\nmax_feature {} {}", origin.ToString(), max);
+    r.max_features.push_back({origin, max});
   }
   for (const AntiEntropy::Divergence& d : replica.divergences()) {
-    s += fmt::format("\ndivergence {} with {} changes {}..{}{} since_ms {}", d.author.ToString(),
-                     d.peer.ToString(), d.first_seq, d.last_seq, d.located ? "" : " (not located)",
-                     d.since_ms);
+    r.divergences.push_back({d.author, d.peer, d.first_seq, d.last_seq, d.located, d.since_ms});
   }
   for (size_t i = 0; i < vehicles.size(); ++i) {
     const SimulatedVehicle& v = vehicles[i];
     const VehiclePose p = v.pose();
-    s += fmt::format(
-        "\nvehicle {} {} x_m={:.2f} z_m={:.2f} y_m={:.2f} heading_rad={:.3f} "
-        "speed_mps={:.2f} on_bridge={} alive={} model={} damage={}",
-        i, v.type_name(), p.x_m, p.z_m, p.elevation_m, p.heading_rad, p.speed_mps,
-        v.bridge().number != 0 ? v.bridge().ToString() : "-", v.alive() ? 1 : 0,
-        VehicleModelName(v.model()), v.damage_name());
+    StatusReport::Vehicle& out = r.vehicles.emplace_back();
+    out.index = i;
+    out.type = v.type_name();
+    out.x_m = p.x_m;
+    out.z_m = p.z_m;
+    out.y_m = p.elevation_m;
+    out.heading_rad = p.heading_rad;
+    out.speed_mps = p.speed_mps;
+    if (v.bridge().number != 0) out.on_bridge = v.bridge();
+    out.alive = v.alive();
+    out.model = v.model();
+    out.damage = v.damage();
   }
-  return s;
+  return r;
+}
+
+std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
+                       const ProcessTransport& transport,
+                       const std::vector<SimulatedVehicle>& vehicles) {
+  return MakeStatusReport(name, role, replica, transport, vehicles).ToText();
 }
 
 Status RenderMapPng(const Terrain& terrain, const std::vector<SimulatedVehicle>& vehicles,

@@ -13,6 +13,7 @@
 #include "runtime/control_command.h"
 #include "runtime/control_server.h"
 #include "runtime/exercise_config.h"
+#include "runtime/status_report.h"
 #include "transport/faulty_transport.h"
 #include "transport/pdu_bus.h"
 #include "transport/retrying_transport.h"
@@ -59,11 +60,12 @@ void WaitForWork(int transport_fd, bool needs_handling, const ControlServer& con
 // Milliseconds since the first call (steady clock).
 int64_t MonotonicMs();
 
-// "key value" lines: name, address, role, require_server, signed_on, caught_up, diverged,
-// diverged_since_ms, features, digest, own numbers, acknowledged sequence, counters, fault and
-// write-retry counters, refusals by the protocol's rules, rejected_<reason> per PDU rejection
-// reason, authenticated, auth_senders, max_feature per origin, divergences, vehicles
-// (docs/node.md "status").
+// The `status` reply of a process: its replica's state and counters, its transport's fault,
+// write-retry, rejection and authentication counters, and its vehicles.
+StatusReport MakeStatusReport(const std::string& name, NodeRole role, const Replica& replica,
+                              const ProcessTransport& transport,
+                              const std::vector<SimulatedVehicle>& vehicles);
+// Its text (runtime/status_report.h defines the format; docs/node.md "status").
 std::string StatusText(const std::string& name, NodeRole role, const Replica& replica,
                        const ProcessTransport& transport,
                        const std::vector<SimulatedVehicle>& vehicles);

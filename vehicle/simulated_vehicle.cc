@@ -80,9 +80,9 @@ bool SimulatedVehicle::alive() const {
   return light_ ? light_->vehicle().alive() : physical_->alive();
 }
 
-std::string_view SimulatedVehicle::damage_name() const {
-  if (light_) return DamageName(light_->vehicle().alive() ? Damage::kNone : Damage::kDestroyed);
-  return DamageName(physical_->damage());
+Damage SimulatedVehicle::damage() const {
+  if (light_) return light_->vehicle().alive() ? Damage::kNone : Damage::kDestroyed;
+  return physical_->damage();
 }
 
 FeatureId SimulatedVehicle::bridge() const {

@@ -54,8 +54,10 @@ class SimulatedVehicle {
 
   VehiclePose pose() const;
   bool alive() const;
+  // kNone, kImmobilised or kDestroyed (the light model: kNone or kDestroyed).
+  Damage damage() const;
   // "none", "immobilised", "destroyed" (the light model: "none" or "destroyed").
-  std::string_view damage_name() const;
+  std::string_view damage_name() const { return DamageName(damage()); }
   FeatureId bridge() const;
   // The model's own state: exactly one is non-null.
   const PhysicalVehicle* physical() const { return physical_ ? &*physical_ : nullptr; }

@@ -1,8 +1,9 @@
 #include "view/process_poller.h"
 
 #include <chrono>
-#include <sstream>
+#include <map>
 
+#include "log/log.h"
 #include "runtime/control_client.h"
 
 namespace dt {
@@ -30,6 +31,8 @@ std::vector<ProcessRow> ProcessPoller::Rows() const {
 }
 
 void ProcessPoller::Run() {
+  // Per process, why its last reply did not read: each new reason is logged once, not each poll.
+  std::map<std::string, std::string> unreadable;
   while (!stop_) {
     const auto start = std::chrono::steady_clock::now();
     std::vector<ProcessRow> rows;
@@ -41,7 +44,12 @@ void ProcessPoller::Run() {
       auto reply = CallControl(p.socket, "status", timeout_ms_);
       if (reply && reply.value().ok) {
         r.reachable = true;
-        ParseStatusInto(reply.value().body, r);
+        const Status read = ParseStatusInto(reply.value().body, r);
+        const std::string why = read ? "" : read.error().message;
+        if (!why.empty() && why != unreadable[p.name]) {
+          DT_LOG_WARN("{}: status left out of the panel: {}", p.name, why);
+        }
+        unreadable[p.name] = why;
       }
       rows.push_back(std::move(r));
     }

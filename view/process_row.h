@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/result.h"
+
 namespace dt {
 
 struct ProcessRow {
@@ -27,7 +29,8 @@ struct ProcessRow {
   nlohmann::json ToJson() const;
 };
 
-// Fills the control-socket fields from a `status` reply's "key value" lines.
-void ParseStatusInto(const std::string& status_text, ProcessRow& row);
+// Fills the control-socket fields from a `status` reply (runtime/status_report.h). A reply that
+// does not read is an Error naming the key or line and leaves the row as it was.
+Status ParseStatusInto(const std::string& status_text, ProcessRow& row);
 
 }  // namespace dt

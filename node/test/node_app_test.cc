@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 
 #include "runtime/exercise_config.h"
+#include "runtime/status_report.h"
 
 namespace dt {
 namespace {
@@ -147,6 +148,13 @@ TEST_F(NodeAppTest, APhysicalTankDiesAtADestroyedBridgesDropWhereALightOneDrives
 
   const ControlReply status = node.Handle("status");
   ASSERT_TRUE(status.ok) << status.error;
+  // A node's whole reply reads back, its own lines kept after the common ones, byte for byte.
+  const Result<StatusReport> report = StatusReport::Parse(status.body);
+  ASSERT_TRUE(report) << report.error().message;
+  EXPECT_EQ(report.value().ToText(), status.body);
+  EXPECT_EQ(report.value().vehicles.size(), 2u);
+  ASSERT_FALSE(report.value().other_lines.empty());
+  EXPECT_EQ(report.value().other_lines.front().first, "local_vehicles");
   const auto lines = VehicleLines(status.body);
   ASSERT_EQ(lines.size(), 2u) << status.body;
   // The physical tank got on the south bridge, fell at the break and died there.

@@ -7,7 +7,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
+#include <set>
 #include <string>
 #include <thread>
 
@@ -133,6 +135,69 @@ TEST(ControlCommandTest, RefusesBadCommandsWithTheValue) {
   EXPECT_NE(err("remove -1").find("not an index"), std::string::npos);
   EXPECT_NE(err("remove 1.5").find("not an index"), std::string::npos);
   EXPECT_NE(err("").find("empty"), std::string::npos);
+}
+
+TEST(ControlVerbTableTest, EveryVerbHasOneRowAndEachFeatureTypeItsCreateWord) {
+  std::map<ControlVerb, int> rows;
+  std::set<std::string_view> create_words, words;
+  for (const ControlVerbSpec& spec : ControlVerbTable()) {
+    ++rows[spec.verb];
+    EXPECT_TRUE(words.insert(spec.word).second) << spec.word << " has two rows";
+    EXPECT_FALSE(spec.help.empty()) << spec.word;
+    EXPECT_NE(spec.parse, nullptr) << spec.word;
+    if (spec.verb == ControlVerb::kCreate) create_words.insert(spec.word);
+  }
+  for (int v = 0; v < static_cast<int>(ControlVerb::kCount); ++v) {
+    if (static_cast<ControlVerb>(v) == ControlVerb::kCreate) continue;
+    EXPECT_EQ(rows[static_cast<ControlVerb>(v)], 1) << "ControlVerb " << v;
+  }
+  EXPECT_EQ(rows.count(ControlVerb::kCount), 0u);
+  // kCreate: one word per feature type but earth moves (blade work makes those).
+  std::set<std::string_view> feature_types;
+  for (FeatureType t : {FeatureType::kCrater, FeatureType::kBerm, FeatureType::kBridge,
+                        FeatureType::kDitch, FeatureType::kBermLine, FeatureType::kArea}) {
+    feature_types.insert(FeatureTypeName(t));
+  }
+  EXPECT_EQ(create_words, feature_types);
+}
+
+TEST(ControlVerbTableTest, EachWordReachesItsVerb) {
+  for (const ControlVerbSpec& spec : ControlVerbTable()) {
+    // Bare, most commands lack arguments; either way the word's own parser answered.
+    Result<ControlCommand> c = ParseControlCommand(spec.word);
+    if (c) {
+      EXPECT_EQ(c.value().verb, spec.verb) << spec.word;
+    } else {
+      EXPECT_EQ(c.error().message.find("unknown command"), std::string::npos) << spec.word;
+    }
+  }
+}
+
+TEST(ControlVerbTableTest, UsageIsTheTextItHasAlwaysBeen) {
+  EXPECT_EQ(ControlUsage(),
+            "crater <x_m> <z_m> <radius_m> [<depth_m>]\n"
+            "ditch side_run_m=<m> [spoil_height_m=<m> spoil_width_m=<m>] <x,z,depth,width> ...\n"
+            "berm_line <x,z,height,width> <x,z,height,width> ...\n"
+            "area <soil> [level_m=<m>] <x,z> <x,z> <x,z> ...\n"
+            "berm <x_m> <z_m> <direction_deg> <length_m> <width_m> <height_m>\n"
+            "bridge <x_m> <z_m> <direction_deg> <width_m> <ramp1_m> <span_m> <ramp2_m> "
+            "<height1_m> <height2_m>\n"
+            "update <site:host:number> <key>=<value> ...\n"
+            "destroy <site:host:number>\n"
+            "breach <site:host:number> <gap_start_m> <gap_width_m>\n"
+            "drive <vehicle> <speed_mps> <heading_rate_deg_s>\n"
+            "spawn <type> <x_m> <z_m> <heading_deg> [physical|light] | remove <vehicle> | "
+            "vehicles\n"
+            "blade <vehicle> down <depth_m> | blade <vehicle> up\n"
+            "status | digest | features | ping | quit\n"
+            "render <file.png>\n"
+            "export <file.dtt> | import <file.dtt> (server)\n"
+            "loss <drop_probability>\n"
+            "partition <site:host> ... | heal");
+  EXPECT_EQ(ParseControlCommand("fly").error().message,
+            "unknown command \"fly\"; commands:\n" + ControlUsage());
+  EXPECT_EQ(ParseControlCommand(" ").error().message,
+            "empty command; commands:\n" + ControlUsage());
 }
 
 TEST(ControlCommandTest, BadFeatureCommandChangesNothing) {

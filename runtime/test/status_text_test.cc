@@ -8,6 +8,7 @@
 
 #include "engine/memory_change_store.h"
 #include "runtime/process_runtime.h"
+#include "runtime/status_report.h"
 #include "simulation/sim_cluster.h"
 
 namespace dt {
@@ -56,6 +57,14 @@ TEST(StatusTextTest, ShowsADivergenceFromWhenItIsFoundUntilItIsRepaired) {
             std::string::npos)
       << text;
   EXPECT_NE(text.find("\ndivergence 1:1 with "), std::string::npos) << text;
+  // The text reads back as a report and writes back byte for byte.
+  Result<StatusReport> report = StatusReport::Parse(text);
+  ASSERT_TRUE(report) << report.error().message << "\n" << text;
+  EXPECT_EQ(report.value().ToText(), text);
+  EXPECT_TRUE(report.value().diverged);
+  EXPECT_EQ(report.value().diverged_since_ms, node.diverged_since_ms());
+  EXPECT_FALSE(report.value().divergences.empty());
+  EXPECT_TRUE(report.value().other_lines.empty()) << text;
 
   ASSERT_TRUE(RunUntil(cluster, 2000, [&] { return !node.diverged(); }));
   EXPECT_NE(status().find("\ndiverged 0\ndiverged_since_ms -1\n"), std::string::npos) << status();

@@ -94,6 +94,9 @@ class Exercise:
         return r.stdout.strip()
 
     def status(self, name):
+        """`status` as a dict: the first value of each key, every max_feature line in a list.
+        runtime/status_report.h is the format's one definition; this reads only what the test
+        needs and must agree with it."""
         out = {"max_feature": []}
         for line in self.call(name, "status").splitlines():
             key, _, value = line.partition(" ")

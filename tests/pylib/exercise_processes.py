@@ -54,7 +54,8 @@ class ExerciseProcesses:
         return r.stdout.strip()
 
     def status(self, name):
-        """`status` as a dict of its "key value" lines."""
+        """`status` as a dict of its "key value" lines (runtime/status_report.h defines them;
+        of a repeated key such as max_feature or vehicle, the last line)."""
         return dict(line.split(" ", 1) for line in self.ctl(name, "status").splitlines()
                     if " " in line)
 

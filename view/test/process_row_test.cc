@@ -1,6 +1,7 @@
 // Tests reading a process's `status` reply into the panel's row and its vehicles.
 #include <gtest/gtest.h>
 
+#include "runtime/status_report.h"
 #include "view/process_poller.h"
 #include "view/process_row.h"
 
@@ -8,11 +9,18 @@ namespace dt {
 namespace {
 
 TEST(ProcessRow, StatusLinesFillTheRow) {
+  StatusReport status;
+  status.name = "node-1";
+  status.signed_on = true;
+  status.caught_up = false;
+  status.diverged = true;
+  status.features = 12;
+  status.digest = "abc123";
+  status.sent = 40;
+  status.received = 99;
+  status.voided = 3;
   ProcessRow r;
-  ParseStatusInto(
-      "name node-1\nsigned_on 1\ncaught_up 0\ndiverged 1\nfeatures 12\ndigest abc123\nsent 40\n"
-      "received 99\nvoided 3\n",
-      r);
+  ASSERT_TRUE(ParseStatusInto(status.ToText(), r));
   EXPECT_TRUE(r.signed_on);
   EXPECT_FALSE(r.caught_up);
   EXPECT_TRUE(r.diverged);
@@ -21,6 +29,16 @@ TEST(ProcessRow, StatusLinesFillTheRow) {
   EXPECT_EQ(r.counters.at("sent"), 40);
   EXPECT_EQ(r.counters.at("received"), 99);
   EXPECT_EQ(r.counters.count("voided"), 0u);
+}
+
+TEST(ProcessRow, AStatusThatDoesNotReadLeavesTheRowAndSaysWhy) {
+  ProcessRow r;
+  r.digest = "before";
+  const Status read = ParseStatusInto("name node-1\nsigned_on 1\n", r);
+  ASSERT_FALSE(read);
+  EXPECT_EQ(read.error().message, "status has no \"address\" line");
+  EXPECT_EQ(r.digest, "before");
+  EXPECT_FALSE(r.signed_on);
 }
 
 }  // namespace

@@ -81,7 +81,7 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv) {
 
 ChildProcess::~ChildProcess() {
   if (!exited() && pid_ > 0) {
-    kill(pid_, SIGKILL);
+    kill(-pid_, SIGKILL);
     int status = 0;
     while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
     }
@@ -127,7 +127,25 @@ bool ChildProcess::Reap() {
 }
 
 void ChildProcess::Signal(int signal_number) const {
-  if (!exited() && pid_ > 0) kill(pid_, signal_number);
+  // The child made its own group (setpgid in the fork), so its PID is the group's ID.
+  if (!exited() && pid_ > 0) kill(-pid_, signal_number);
+}
+
+std::vector<std::string> ChildProcess::FinishOutput() {
+  if (!exited() || out_fd_ < 0) return {};
+  // The group's ID cannot be reused while a member lives, and a member is what may hold the
+  // pipe: the kill reaches only the dead child's own descendants.
+  kill(-pid_, SIGKILL);
+  std::vector<std::string> lines = ReadLines();
+  if (out_fd_ >= 0) {
+    // Still open: a descendant outside the group holds the write end. What the child wrote
+    // before it exited was in the pipe and has been read; stop here.
+    if (!partial_.empty()) lines.push_back(std::move(partial_));
+    partial_.clear();
+    close(out_fd_);
+    out_fd_ = -1;
+  }
+  return lines;
 }
 
 }  // namespace dt

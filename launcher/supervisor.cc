@@ -2,7 +2,9 @@
 
 #include <poll.h>
 #include <signal.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
@@ -21,9 +23,26 @@ int MsLeft(Clock::time_point deadline) {
   return left < 0 ? 0 : static_cast<int>(left);
 }
 
-// A child's exit is noticed when its output ends, but a child may close its output and live on;
-// this bounds how long Poll waits before reaping such children.
+// A child's exit does not always end its output (a descendant may hold the pipe) and its output
+// may end long before it exits: while any child runs, Poll waits at most this long between
+// reaping attempts.
 constexpr int kReapCheckMs = 100;
+
+// Reads everything in the (non-blocking) wake pipe; true if there was anything.
+bool DrainWakeFd(int fd) {
+  if (fd < 0) return false;
+  bool any = false;
+  char buf[64];
+  for (;;) {
+    const ssize_t n = read(fd, buf, sizeof(buf));
+    if (n > 0) {
+      any = true;
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    return any;
+  }
+}
 
 }  // namespace
 
@@ -66,31 +85,29 @@ void Supervisor::Drain(const std::string& name, Entry& e) {
   }
 }
 
-bool Supervisor::ReapIfDone(Entry& e) {
+bool Supervisor::ReapIfDone(const std::string& name, Entry& e) {
   if (e.process->exited()) return true;
-  if (e.process->Reap()) {
-    e.ready = false;
-    e.last_wait_status = e.process->wait_status();
-    return true;
-  }
-  return false;
+  if (!e.process->Reap()) return false;
+  for (std::string& line : e.process->FinishOutput()) sink_(name, line);
+  e.ready = false;
+  e.last_wait_status = e.process->wait_status();
+  return true;
 }
 
 bool Supervisor::Poll(int timeout_ms) {
   std::vector<pollfd> fds;
   std::vector<std::pair<const std::string*, Entry*>> owners;
-  bool live_without_output = false;
+  bool any_live = false;
   for (auto& [name, e] : children_) {
     if (!e.process) continue;
     if (e.process->output_fd() >= 0) {
       fds.push_back({e.process->output_fd(), POLLIN, 0});
       owners.emplace_back(&name, &e);
-    } else if (!e.process->exited()) {
-      live_without_output = true;
     }
+    any_live |= !e.process->exited();
   }
   if (wake_fd_ >= 0) fds.push_back({wake_fd_, POLLIN, 0});
-  const int wait_ms = live_without_output && timeout_ms > kReapCheckMs ? kReapCheckMs : timeout_ms;
+  const int wait_ms = any_live && timeout_ms > kReapCheckMs ? kReapCheckMs : timeout_ms;
   const int r = poll(fds.data(), fds.size(), wait_ms);
   bool woken = false;
   if (r > 0) {
@@ -99,9 +116,9 @@ bool Supervisor::Poll(int timeout_ms) {
     }
     woken = wake_fd_ >= 0 && (fds.back().revents & POLLIN) != 0;
   }
+  // A dead child's last lines are still in the pipe when it is reaped: ReapIfDone reads them.
   for (auto& [name, e] : children_) {
-    // Reap only after the output has ended, so no line of a dead child is lost.
-    if (e.process && e.process->output_fd() < 0) ReapIfDone(e);
+    if (e.process) ReapIfDone(name, e);
   }
   return woken;
 }
@@ -148,18 +165,28 @@ void Supervisor::Signal(const std::string& name, int signal_number) {
 }
 
 void Supervisor::StopAll(int grace_ms) {
+  // The stop signal that brought us here (if any) is used up; another one, from here on, asks
+  // to stop at once. Left in the pipe, it would end every Poll below at once: a busy loop.
+  DrainWakeFd(wake_fd_);
   for (auto& [name, e] : children_) {
     if (e.process) e.process->Signal(SIGTERM);
   }
   const auto deadline = Clock::now() + std::chrono::milliseconds(grace_ms);
-  while (any_running() && MsLeft(deadline) > 0) Poll(MsLeft(deadline));
+  bool signalled_again = false;
+  while (any_running() && MsLeft(deadline) > 0 && !signalled_again) {
+    signalled_again = Poll(MsLeft(deadline)) && DrainWakeFd(wake_fd_);
+  }
   for (auto& [name, e] : children_) {
     if (e.process && !e.process->exited()) {
       e.process->Signal(SIGKILL);
-      sink_(name, fmt::format("(still running {} ms after SIGTERM: sent SIGKILL)", grace_ms));
+      sink_(name, signalled_again
+                      ? std::string("(another stop signal during the stop: sent SIGKILL)")
+                      : fmt::format("(still running {} ms after SIGTERM: sent SIGKILL)", grace_ms));
     }
   }
-  while (any_running()) Poll(kReapCheckMs);
+  while (any_running()) {
+    if (Poll(kReapCheckMs)) DrainWakeFd(wake_fd_);
+  }
 }
 
 bool Supervisor::running(const std::string& name) const {

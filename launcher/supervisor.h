@@ -43,9 +43,10 @@ class Supervisor {
   // Polls until the child has exited; false on timeout or wake.
   bool WaitExit(const std::string& name, int timeout_ms);
 
-  // Signals one child by PID (no-op if it is not running).
+  // Signals one child's process group (no-op if it is not running).
   void Signal(const std::string& name, int signal_number);
-  // SIGTERM to every running child, then SIGKILL to those still running after grace_ms.
+  // SIGTERM to every running child's group, then SIGKILL to those still running after grace_ms,
+  // or at once if the wake fd becomes readable again (a second Ctrl-C). Drains the wake fd.
   void StopAll(int grace_ms);
 
   bool running(const std::string& name) const;
@@ -62,8 +63,8 @@ class Supervisor {
     int last_wait_status = -1;
   };
   void Drain(const std::string& name, Entry& e);
-  // Reaps a child whose output has ended; true if it exited.
-  bool ReapIfDone(Entry& e);
+  // Reaps a child that has exited, handing its last lines to the sink; true if it exited.
+  bool ReapIfDone(const std::string& name, Entry& e);
 
   LineSink sink_;
   int wake_fd_ = -1;

@@ -1,9 +1,15 @@
 #include "launcher/supervisor.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -23,9 +29,48 @@ std::vector<std::string> Fake(const std::string& name, const std::string& mode,
 
 class SupervisorTest : public ::testing::Test {
  protected:
-  Supervisor sup{
-      [this](const std::string& name, std::string_view line) { lines[name].emplace_back(line); }};
+  Supervisor sup{[this](const std::string& name, std::string_view line) {
+    lines[name].emplace_back(line);
+    if (on_line) on_line(line);
+  }};
   std::map<std::string, std::vector<std::string>> lines;
+  std::function<void(std::string_view)> on_line;
+};
+
+// The PID a wrapper-mode fake child printed for its descendant.
+pid_t DescendantOf(const std::vector<std::string>& child_lines) {
+  for (const std::string& l : child_lines) {
+    if (l.rfind("descendant ", 0) == 0) return static_cast<pid_t>(std::stoi(l.substr(11)));
+  }
+  return -1;
+}
+
+// Waits up to timeout_ms for a process to end (a pidfd becomes readable), then reaps it: this
+// test is the orphan's subreaper. Returns its wait status, or -1 if it is still running.
+int WaitForEnd(pid_t pid, int timeout_ms) {
+  const int pidfd = static_cast<int>(syscall(SYS_pidfd_open, pid, 0));
+  if (pidfd < 0) return -1;
+  pollfd p{pidfd, POLLIN, 0};
+  const int ready = poll(&p, 1, timeout_ms);
+  close(pidfd);
+  if (ready != 1) return -1;
+  int status = 0;
+  return waitpid(pid, &status, 0) == pid ? status : -1;
+}
+
+// Orphaned descendants of the fake children become this process's children, to be reaped. The
+// alarm ends the test binary ("Alarm clock") if a stop hangs, as it did while a descendant
+// holding the pipe kept a dead child "running".
+class Subreaper {
+ public:
+  Subreaper() {
+    prctl(PR_SET_CHILD_SUBREAPER, 1);
+    alarm(60);
+  }
+  ~Subreaper() {
+    alarm(0);
+    prctl(PR_SET_CHILD_SUBREAPER, 0);
+  }
 };
 
 TEST_F(SupervisorTest, WaitsForEveryReadyAndStopsCleanly) {
@@ -81,6 +126,62 @@ TEST_F(SupervisorTest, EscalatesToSigkillAndRestartsUnderTheSameName) {
   EXPECT_TRUE(sup.WaitExit("stubborn", 10000));
   EXPECT_EQ(DescribeWaitStatus(sup.last_wait_status("stubborn")), "killed by signal 9 (Killed)");
   EXPECT_EQ(sup.names().size(), 1u);
+}
+
+// A child started through a wrapper that forks: stopping it stops the whole group.
+TEST_F(SupervisorTest, StoppingAChildStopsWhatItStarted) {
+  Subreaper subreaper;
+  sup.Start("node-1", Fake("node-1", "wrapper"));
+  ASSERT_TRUE(sup.WaitReady({"node-1"}, 10000));
+  const pid_t descendant = DescendantOf(lines["node-1"]);
+  ASSERT_GT(descendant, 0);
+  sup.StopAll(5000);
+  EXPECT_FALSE(sup.running("node-1"));
+  EXPECT_EQ(DescribeWaitStatus(sup.last_wait_status("node-1")), "exited 0");
+  EXPECT_EQ(lines["node-1"].back(), "stopping node-1");
+  const int st = WaitForEnd(descendant, 5000);
+  ASSERT_NE(st, -1) << "the descendant outlived the stop";
+  // SIGTERM with the child, or SIGKILL when the child's exit is seen first.
+  EXPECT_TRUE(WIFSIGNALED(st) && (WTERMSIG(st) == SIGTERM || WTERMSIG(st) == SIGKILL))
+      << DescribeWaitStatus(st);
+}
+
+// A descendant in a group of its own keeps the output pipe open after the child has exited:
+// the child still counts as exited, with every line it wrote.
+TEST_F(SupervisorTest, AnExitedChildIsNotKeptRunningByWhoHoldsItsPipe) {
+  Subreaper subreaper;
+  sup.Start("node-1", Fake("node-1", "escaping-wrapper"));
+  ASSERT_TRUE(sup.WaitReady({"node-1"}, 10000));
+  const pid_t descendant = DescendantOf(lines["node-1"]);
+  ASSERT_GT(descendant, 0);
+  sup.Signal("node-1", SIGTERM);
+  EXPECT_TRUE(sup.WaitExit("node-1", 10000));
+  EXPECT_FALSE(sup.running("node-1"));
+  EXPECT_EQ(DescribeWaitStatus(sup.last_wait_status("node-1")), "exited 0");
+  EXPECT_EQ(lines["node-1"].back(), "stopping node-1");
+  ASSERT_EQ(kill(descendant, SIGKILL), 0);
+  EXPECT_NE(WaitForEnd(descendant, 5000), -1);
+}
+
+// Ctrl-C starts the stop; a second Ctrl-C during the grace period kills at once.
+TEST_F(SupervisorTest, ASecondStopSignalKillsAtOnce) {
+  int wake[2];
+  ASSERT_EQ(pipe2(wake, O_NONBLOCK | O_CLOEXEC), 0);
+  sup.set_wake_fd(wake[0]);
+  sup.Start("stubborn", Fake("stubborn", "ignore-term"));
+  ASSERT_TRUE(sup.WaitReady({"stubborn"}, 10000));
+  ASSERT_EQ(write(wake[1], "s", 1), 1);  // the first stop signal, as dt_launch sees it
+  ASSERT_TRUE(sup.Poll(0));
+  on_line = [&](std::string_view line) {
+    if (line == "ignoring SIGTERM") {
+      ASSERT_EQ(write(wake[1], "s", 1), 1);  // the second stop signal
+    }
+  };
+  sup.StopAll(60000);
+  EXPECT_EQ(DescribeWaitStatus(sup.last_wait_status("stubborn")), "killed by signal 9 (Killed)");
+  EXPECT_EQ(lines["stubborn"].back(), "(another stop signal during the stop: sent SIGKILL)");
+  close(wake[0]);
+  close(wake[1]);
 }
 
 TEST_F(SupervisorTest, MissingProgramFailsAtStart) {

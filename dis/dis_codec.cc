@@ -4,9 +4,9 @@
 
 #include <bit>
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
 
+#include "base/demand.h"
 #include "dis/big_endian.h"
 
 namespace dt::dis {
@@ -390,7 +390,7 @@ void EncodeInto(const EntityStatePdu& p, std::vector<uint8_t>& out) {
     w.U8(v.record_type);
     w.Bytes(v.data);
   }
-  if (!w.complete()) std::abort();  // the layout's size and the fields written disagree
+  DT_DEMAND(w.complete());  // else the layout's size and the fields written disagree
   PatchLength(out);
 }
 
@@ -412,7 +412,7 @@ std::vector<uint8_t> Encode(const PointObjectStatePdu& p) {
   PutAddress(w, p.requester_id);
   PutAddress(w, p.receiving_id);
   w.Zeros(4);
-  if (!w.complete()) std::abort();  // the layout's size and the fields written disagree
+  DT_DEMAND(w.complete());  // else the layout's size and the fields written disagree
   PatchLength(out);
   return out;
 }
@@ -450,7 +450,7 @@ std::vector<uint8_t> Encode(const LinearObjectStatePdu& p) {
     w.F32(s.depth_m);
     w.Zeros(4);
   }
-  if (!w.complete()) std::abort();  // the layout's size and the fields written disagree
+  DT_DEMAND(w.complete());  // else the layout's size and the fields written disagree
   PatchLength(out);
   return out;
 }
@@ -480,11 +480,11 @@ std::string_view DecodeFailureName(DecodeFailure failure) {
 }
 
 const Pdu& DecodeResult::pdu() const {
-  if (!ok()) std::abort();
+  DT_DEMAND(ok());
   return std::get<Pdu>(v_);
 }
 const DecodeError& DecodeResult::error() const {
-  if (ok()) std::abort();
+  DT_DEMAND(!ok());
   return std::get<DecodeError>(v_);
 }
 
@@ -542,7 +542,7 @@ DecodeResult DecodePdu(std::span<const uint8_t> in, std::optional<uint8_t> exerc
     case PduType::kLinearObjectState:
       return DecodeLinearObjectState(in, h);
   }
-  std::abort();  // every type was checked above
+  DT_UNREACHABLE();  // every type was checked above
 }
 
 uint64_t DecodeCounters::rejected_total() const {

@@ -4,6 +4,7 @@
 
 #include <bit>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 
 #include "base/demand.h"
@@ -456,27 +457,10 @@ std::vector<uint8_t> Encode(const LinearObjectStatePdu& p) {
 }
 
 std::string_view DecodeFailureName(DecodeFailure failure) {
-  switch (failure) {
-    case DecodeFailure::kTooShort:
-      return "too short";
-    case DecodeFailure::kTooLong:
-      return "too long";
-    case DecodeFailure::kLengthMismatch:
-      return "length mismatch";
-    case DecodeFailure::kUnsupportedVersion:
-      return "unsupported version";
-    case DecodeFailure::kForeignExercise:
-      return "foreign exercise";
-    case DecodeFailure::kUnsupportedPduType:
-      return "unsupported PDU type";
-    case DecodeFailure::kFamilyMismatch:
-      return "protocol family mismatch";
-    case DecodeFailure::kNonFinite:
-      return "non-finite field";
-    case DecodeFailure::kBadField:
-      return "bad field";
-  }
-  return "unknown";
+  static constexpr std::string_view kNames[] = {DT_DECODE_FAILURES(DT_ENUM_NAME)};
+  static_assert(std::size(kNames) == kDecodeFailureCount);
+  const auto i = static_cast<size_t>(failure);
+  return i < std::size(kNames) ? kNames[i] : "unknown";
 }
 
 const Pdu& DecodeResult::pdu() const {

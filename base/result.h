@@ -1,10 +1,11 @@
 // Result<T>: the value of an operation that can fail at run time for expected reasons.
 #pragma once
 
-#include <cstdlib>
 #include <string>
 #include <utility>
 #include <variant>
+
+#include "base/demand.h"
 
 namespace dt {
 
@@ -24,19 +25,19 @@ class [[nodiscard]] Result {
   explicit operator bool() const { return ok(); }
 
   const T& value() const& {
-    if (!ok()) std::abort();
+    DT_DEMAND(ok());
     return std::get<T>(v_);
   }
   T& value() & {
-    if (!ok()) std::abort();
+    DT_DEMAND(ok());
     return std::get<T>(v_);
   }
   T&& value() && {
-    if (!ok()) std::abort();
+    DT_DEMAND(ok());
     return std::get<T>(std::move(v_));
   }
   const Error& error() const {
-    if (ok()) std::abort();
+    DT_DEMAND(!ok());
     return std::get<Error>(v_);
   }
 
@@ -54,7 +55,7 @@ class [[nodiscard]] Status {
   bool ok() const { return ok_; }
   explicit operator bool() const { return ok_; }
   const Error& error() const {
-    if (ok_) std::abort();
+    DT_DEMAND(!ok_);
     return error_;
   }
 

@@ -4,10 +4,11 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <span>
 #include <vector>
+
+#include "base/demand.h"
 
 namespace dt::dis {
 
@@ -49,7 +50,7 @@ class BigEndianWriter {
     std::memcpy(Take(sizeof v), &v, sizeof v);
   }
   uint8_t* Take(size_t n) {
-    if (n > size_ - pos_) std::abort();  // broken invariant: the size was computed first
+    DT_DEMAND(n <= size_ - pos_);  // the size was computed first
     uint8_t* p = data_ + pos_;
     pos_ += n;
     return p;
@@ -89,7 +90,7 @@ class BigEndianReader {
 };
 
 inline const uint8_t* BigEndianReader::Take(size_t n) {
-  if (n > in_.size() - pos_) std::abort();  // broken invariant: sizes are checked first
+  DT_DEMAND(n <= in_.size() - pos_);  // sizes are checked first
   const uint8_t* p = in_.data() + pos_;
   pos_ += n;
   return p;

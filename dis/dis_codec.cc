@@ -4,9 +4,10 @@
 
 #include <bit>
 #include <cmath>
-#include <cstdlib>
+#include <iterator>
 #include <stdexcept>
 
+#include "base/demand.h"
 #include "dis/big_endian.h"
 
 namespace dt::dis {
@@ -390,7 +391,7 @@ void EncodeInto(const EntityStatePdu& p, std::vector<uint8_t>& out) {
     w.U8(v.record_type);
     w.Bytes(v.data);
   }
-  if (!w.complete()) std::abort();  // the layout's size and the fields written disagree
+  DT_DEMAND(w.complete());  // else the layout's size and the fields written disagree
   PatchLength(out);
 }
 
@@ -412,7 +413,7 @@ std::vector<uint8_t> Encode(const PointObjectStatePdu& p) {
   PutAddress(w, p.requester_id);
   PutAddress(w, p.receiving_id);
   w.Zeros(4);
-  if (!w.complete()) std::abort();  // the layout's size and the fields written disagree
+  DT_DEMAND(w.complete());  // else the layout's size and the fields written disagree
   PatchLength(out);
   return out;
 }
@@ -450,41 +451,24 @@ std::vector<uint8_t> Encode(const LinearObjectStatePdu& p) {
     w.F32(s.depth_m);
     w.Zeros(4);
   }
-  if (!w.complete()) std::abort();  // the layout's size and the fields written disagree
+  DT_DEMAND(w.complete());  // else the layout's size and the fields written disagree
   PatchLength(out);
   return out;
 }
 
 std::string_view DecodeFailureName(DecodeFailure failure) {
-  switch (failure) {
-    case DecodeFailure::kTooShort:
-      return "too short";
-    case DecodeFailure::kTooLong:
-      return "too long";
-    case DecodeFailure::kLengthMismatch:
-      return "length mismatch";
-    case DecodeFailure::kUnsupportedVersion:
-      return "unsupported version";
-    case DecodeFailure::kForeignExercise:
-      return "foreign exercise";
-    case DecodeFailure::kUnsupportedPduType:
-      return "unsupported PDU type";
-    case DecodeFailure::kFamilyMismatch:
-      return "protocol family mismatch";
-    case DecodeFailure::kNonFinite:
-      return "non-finite field";
-    case DecodeFailure::kBadField:
-      return "bad field";
-  }
-  return "unknown";
+  static constexpr std::string_view kNames[] = {DT_DECODE_FAILURES(DT_ENUM_NAME)};
+  static_assert(std::size(kNames) == kDecodeFailureCount);
+  const auto i = static_cast<size_t>(failure);
+  return i < std::size(kNames) ? kNames[i] : "unknown";
 }
 
 const Pdu& DecodeResult::pdu() const {
-  if (!ok()) std::abort();
+  DT_DEMAND(ok());
   return std::get<Pdu>(v_);
 }
 const DecodeError& DecodeResult::error() const {
-  if (ok()) std::abort();
+  DT_DEMAND(!ok());
   return std::get<DecodeError>(v_);
 }
 
@@ -542,7 +526,7 @@ DecodeResult DecodePdu(std::span<const uint8_t> in, std::optional<uint8_t> exerc
     case PduType::kLinearObjectState:
       return DecodeLinearObjectState(in, h);
   }
-  std::abort();  // every type was checked above
+  DT_UNREACHABLE();  // every type was checked above
 }
 
 uint64_t DecodeCounters::rejected_total() const {

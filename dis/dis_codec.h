@@ -12,6 +12,7 @@
 #include <variant>
 #include <vector>
 
+#include "base/enum_list.h"
 #include "dis/dis_pdu.h"
 
 namespace dt::dis {
@@ -28,19 +29,33 @@ void EncodeInto(const EntityStatePdu& pdu, std::vector<uint8_t>& out);
 
 using Pdu = std::variant<EntityStatePdu, PointObjectStatePdu, LinearObjectStatePdu>;
 
-// Why a datagram was dropped. Values index DecodeCounters::rejected.
-enum class DecodeFailure : uint8_t {
-  kTooShort = 0,        // shorter than a header, or than its PDU type's fixed part
-  kTooLong,             // longer than a DIS PDU can be
-  kLengthMismatch,      // length field differs from the datagram, or from the record counts
-  kUnsupportedVersion,  // not DIS 7 (DIS 6 is accepted for Entity State, same layout)
-  kForeignExercise,     // another exercise ID than the decoder's
-  kUnsupportedPduType,  // a PDU type dynterrain does not read
-  kFamilyMismatch,      // protocol family not the one the PDU type belongs to
-  kNonFinite,           // a NaN or infinity in a floating-point field
-  kBadField,            // a field outside its enumeration (e.g. dead-reckoning algorithm)
-};
-inline constexpr size_t kDecodeFailureCount = 9;
+// Why a datagram was dropped: one X(enumerator, value, name) each (base/enum_list.h). Values
+// index DecodeCounters::rejected.
+#define DT_DECODE_FAILURES(X)                                             \
+  /* shorter than a header, or than its PDU type's fixed part */          \
+  X(kTooShort, 0, "too short")                                            \
+  /* longer than a DIS PDU can be */                                      \
+  X(kTooLong, 1, "too long")                                              \
+  /* length field differs from the datagram, or from the record counts */ \
+  X(kLengthMismatch, 2, "length mismatch")                                \
+  /* not DIS 7 (DIS 6 is accepted for Entity State, same layout) */       \
+  X(kUnsupportedVersion, 3, "unsupported version")                        \
+  /* another exercise ID than the decoder's */                            \
+  X(kForeignExercise, 4, "foreign exercise")                              \
+  /* a PDU type dynterrain does not read */                               \
+  X(kUnsupportedPduType, 5, "unsupported PDU type")                       \
+  /* protocol family not the one the PDU type belongs to */               \
+  X(kFamilyMismatch, 6, "protocol family mismatch")                       \
+  /* a NaN or infinity in a floating-point field */                       \
+  X(kNonFinite, 7, "non-finite field")                                    \
+  /* a field outside its enumeration (e.g. dead-reckoning algorithm) */   \
+  X(kBadField, 8, "bad field")
+
+enum class DecodeFailure : uint8_t { DT_DECODE_FAILURES(DT_ENUM_ENUMERATOR) };
+
+inline constexpr size_t kDecodeFailureCount = 0 DT_DECODE_FAILURES(DT_ENUM_PLUS_ONE);
+// Values run 0, 1, 2, ... in the list's order, so a value indexes the counters and the names.
+static_assert(EnumValuesRunOn({DT_DECODE_FAILURES(DT_ENUM_VALUE)}, 0));
 std::string_view DecodeFailureName(DecodeFailure failure);
 
 struct DecodeError {

@@ -1,13 +1,13 @@
 // An observer drops the changes only it holds: their author crashed before anyone else got them,
 // so they are in no one else's log and never will be (docs/protocol.md, "Observers").
 #include <algorithm>
-#include <cstdlib>
 #include <set>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "base/demand.h"
 #include "engine/anti_entropy.h"
 #include "engine/prefix_hashes.h"
 #include "log/log.h"
@@ -74,7 +74,7 @@ void AntiEntropy::Drop(NodeAddress author, int64_t keep_upto, const std::string&
   std::set<FeatureId> ids;
   for (int64_t seq : seqs) {
     auto gone = log.Remove(seq);
-    if (!gone) std::abort();  // just listed as held
+    DT_DEMAND(gone);  // just listed as held
     ids.insert(gone->id);
   }
   // Sums past the gap-free point are of changes no longer held: Extend hashes whatever fills

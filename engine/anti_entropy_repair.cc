@@ -1,12 +1,12 @@
 // Repairing a slot whose copies differ: which copy wins, putting it in the log and the records,
 // and storing it (docs/protocol.md, "Anti-entropy").
-#include <cstdlib>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "base/demand.h"
 #include "engine/anti_entropy.h"
 #include "engine/change_hash.h"
 #include "engine/repair_rule.h"
@@ -60,7 +60,7 @@ void AntiEntropy::Decide(NodeAddress peer, const Change& theirs) {
 
 void AntiEntropy::Put(const Change& old_copy, const Change& change) {
   auto lit = logs_.find(change.author());
-  if (lit == logs_.end() || !lit->second.Replace(change)) std::abort();  // callers checked
+  DT_DEMAND(lit != logs_.end() && lit->second.Replace(change));  // callers checked
   prefixes_[change.author()].Replace(change.stamp.change_seq, ChangeHash(old_copy),
                                      ChangeHash(change));
   // Last writer wins cannot be undone by one change: the records of both features are applied

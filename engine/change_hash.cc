@@ -4,8 +4,9 @@
 
 #include <array>
 #include <bit>
-#include <cstdlib>
 #include <cstring>
+
+#include "base/demand.h"
 
 namespace dt {
 namespace {
@@ -46,13 +47,12 @@ class Bytes {
 
 void Encode(const Change& c, Bytes& w) {
   // Validated parameters hold at most one edit per vertex; more is a broken invariant.
-  if (c.params.vertex_edits.size() > size_t{kCraterSpokes * kCraterRings}) std::abort();
-  if (c.params.points.size() > size_t{kMaxFeaturePoints}) std::abort();
-  if (c.params.post_deltas.size() > size_t{kMaxEarthMovePosts}) std::abort();
-  if (!c.params.vertex_edits.empty() + !c.params.points.empty() + !c.params.post_deltas.empty() >
-      1) {
-    std::abort();  // validation allows one list per type
-  }
+  DT_DEMAND(c.params.vertex_edits.size() <= size_t{kCraterSpokes * kCraterRings});
+  DT_DEMAND(c.params.points.size() <= size_t{kMaxFeaturePoints});
+  DT_DEMAND(c.params.post_deltas.size() <= size_t{kMaxEarthMovePosts});
+  const int lists =
+      !c.params.vertex_edits.empty() + !c.params.points.empty() + !c.params.post_deltas.empty();
+  DT_DEMAND(lists <= 1);  // validation allows one list per type
   w.U8(static_cast<uint8_t>(c.kind));
   w.U16(c.id.site);
   w.U16(c.id.host);

@@ -1,18 +1,17 @@
 #include "engine/prefix_hashes.h"
 
-#include <cstdlib>
-
+#include "base/demand.h"
 #include "engine/change_hash.h"
 
 namespace dt {
 
 void PrefixHashes::Extend(const ChangeLog& log) {
   const int64_t upto = log.contiguous();
-  if (upto < length()) std::abort();  // a gap-free point never moves back
+  DT_DEMAND(upto >= length());  // a gap-free point never moves back
   prefix_.reserve(static_cast<size_t>(upto) + 1);
   for (int64_t s = length() + 1; s <= upto; ++s) {
     const Change* c = log.Find(s);
-    if (c == nullptr) std::abort();  // below the gap-free point every slot is held
+    DT_DEMAND(c != nullptr);  // below the gap-free point every slot is held
     prefix_.push_back(prefix_.back() + ChangeHash(*c));
   }
 }
@@ -24,7 +23,7 @@ void PrefixHashes::Replace(int64_t seq, uint64_t old_hash, uint64_t new_hash) {
 }
 
 void PrefixHashes::Truncate(int64_t upto) {
-  if (upto < 0) std::abort();  // a gap-free point is never negative
+  DT_DEMAND(upto >= 0);  // a gap-free point is never negative
   if (upto < length()) prefix_.resize(static_cast<size_t>(upto) + 1);
 }
 

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "base/demand.h"
 #include "terrain/feature.h"
 
 namespace dt {
@@ -64,7 +65,7 @@ void RecordStore::Rebuild(FeatureId id, std::span<const Change* const> changes) 
   bool bridge_involved = false;
   if (auto it = records_.find(id); it != records_.end()) {
     Record& r = it->second;
-    if (r.placed && !terrain_.Remove(id)) std::abort();  // placed means the terrain holds it
+    DT_DEMAND(!r.placed || terrain_.Remove(id));  // placed means the terrain holds it
     if (!r.destroyed) {
       --live_;
       if (r.params.type == FeatureType::kBridge) {
@@ -84,7 +85,7 @@ void RecordStore::Rebuild(FeatureId id, std::span<const Change* const> changes) 
     records_.erase(it);
   }
   for (const Change* c : changes) {
-    if (c->id != id) std::abort();  // the caller gathers the changes of this feature only
+    DT_DEMAND(c->id == id);  // the caller gathers the changes of this feature only
     Apply(*c);
   }
   // A bridge that was there may have kept a later one out: place the live bridges again.
@@ -93,7 +94,7 @@ void RecordStore::Rebuild(FeatureId id, std::span<const Change* const> changes) 
 
 void RecordStore::Materialise(FeatureId id, Record& r, bool bridge_involved) {
   if (r.placed) {
-    if (!terrain_.Remove(id)) std::abort();  // placed means the terrain holds it
+    DT_DEMAND(terrain_.Remove(id));  // placed means the terrain holds it
     r.placed = false;
   }
   if (bridge_involved) {
@@ -109,7 +110,7 @@ void RecordStore::RematerialiseBridges() {
   for (FeatureId b : live_bridges_) {
     Record& r = records_.at(b);
     if (r.placed) {
-      if (!terrain_.Remove(b)) std::abort();
+      DT_DEMAND(terrain_.Remove(b));
       r.placed = false;
     }
   }

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstdlib>
 #include <type_traits>
 
 #include <fmt/format.h>
 
+#include "base/demand.h"
 #include "pdu/pdu_type.h"
 #include "terrain/height_grid.h"
 
@@ -213,7 +213,7 @@ dtpdu::earth_move_t ToEarthMove(const FeaturePdu& f) {
   for (const PostDelta& d : deltas) {
     const int k = (d.j - min_j) * pdu.columns + (d.i - min_i);
     pdu.changed_mask[static_cast<size_t>(k / 8)] |= static_cast<uint8_t>(1u << (k % 8));
-    if (d.delta_mm > INT16_MAX || d.delta_mm < INT16_MIN) std::abort();  // validated: +-10 000
+    DT_DEMAND(d.delta_mm <= INT16_MAX && d.delta_mm >= INT16_MIN);  // validated: +-10 000
     pdu.delta_mm.push_back(static_cast<int16_t>(d.delta_mm));
   }
   return pdu;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -10,6 +9,8 @@
 
 #include <fmt/format.h>
 #include <sodium.h>
+
+#include "base/demand.h"
 
 namespace dt {
 
@@ -44,7 +45,7 @@ ExerciseKey::ExerciseKey(std::span<const uint8_t> key)
                                                      kMacBytes) == 0;
   sodium_memzero(mac_key.data(), mac_key.size());
   // Only lengths outside BLAKE2b's limits make these fail, and the static_asserts exclude them.
-  if (!keyed) std::abort();
+  DT_DEMAND(keyed);
 }
 
 ExerciseKey::~ExerciseKey() { sodium_memzero(state_.get(), sizeof(State)); }

@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "base/demand.h"
 #include "base/feature_id.h"
 #include "dtpdu/anti_entropy_t.hpp"
 #include "dtpdu/construct_t.hpp"
@@ -65,7 +66,7 @@ template <AnyPdu Pdu>
 void EncodePduInto(const Pdu& pdu, std::vector<uint8_t>& out) {
   out.resize(static_cast<size_t>(pdu.getEncodedSize()));
   const int n = pdu.encode(out.data(), 0, static_cast<int>(out.size()));
-  if (n != static_cast<int>(out.size())) std::abort();  // LCM sized the buffer itself
+  DT_DEMAND(n == static_cast<int>(out.size()));  // LCM sized the buffer itself
 }
 
 template <AnyPdu Pdu>

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <exception>
+#include <iterator>
 
 #include <fmt/format.h>
 
@@ -122,17 +123,10 @@ std::optional<Rejection> ValidateFeature(const Pdu& pdu, const ValidationContext
 }  // namespace
 
 std::string_view RejectReasonName(RejectReason reason) {
-  static constexpr std::array<std::string_view, kRejectReasonCount> kNames = {
-      "oversized",          "truncated",         "wrong_fingerprint",
-      "trailing_bytes",     "wrong_protocol",    "foreign_exercise",
-      "unknown_pdu_type",   "pdu_type_mismatch", "unknown_feature",
-      "unknown_material",   "not_finite",        "out_of_range",
-      "off_terrain",        "bad_field",         "inverted_range",
-      "huge_range",         "unauthenticated",   "bad_mac",
-      "sender_mismatch",    "replayed",          "stale",
-      "unknown_entity_type"};
+  static constexpr std::string_view kNames[] = {DT_REJECT_REASONS(DT_ENUM_NAME)};
+  static_assert(std::size(kNames) == kRejectReasonCount);
   const auto i = static_cast<size_t>(reason);
-  return i < kNames.size() ? kNames[i] : "unknown";
+  return i < std::size(kNames) ? kNames[i] : "unknown";
 }
 
 std::optional<Rejection> Validate(const dtpdu::construct_t& pdu, const ValidationContext& ctx) {

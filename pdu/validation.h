@@ -9,39 +9,66 @@
 #include <string>
 #include <string_view>
 
+#include "base/enum_list.h"
 #include "pdu/pdu_traits.h"
 
 namespace dt {
 
-// Why a received PDU was dropped. Append, never renumber (counters are reported by index).
-enum class RejectReason : uint8_t {
-  kOversized,             // more than kMaxPduBytes bytes
-  kTruncated,             // fewer bytes than the type needs (or an impossible array length)
-  kWrongFingerprint,      // the first 8 bytes are not this type's LCM fingerprint
-  kTrailingBytes,         // bytes left over after the PDU
-  kWrongProtocolVersion,  // header.protocol_version != kProtocolVersion
-  kForeignExercise,       // header.exercise_id is another exercise's
-  kUnknownPduType,        // header.pdu_type names no PDU type
-  kPduTypeMismatch,       // header.pdu_type names another PDU type than the channel's
-  kUnknownFeatureType,    // feature_type names no FeatureType
-  kUnknownMaterial,       // material names no Material
-  kNotFinite,             // a NaN or infinity in a real-valued field
-  kOutOfRange,            // sizes <= 0 or beyond the documented maxima (ValidateFeatureParams)
-  kOffTerrain,            // position outside [0, terrain size] on x or z
-  kBadField,              // a counter, enumeration or flag outside its range
-  kInvertedRange,         // playback or anti-entropy start > end
-  kHugeRange,             // playback range longer than kMaxPlaybackSpan (copies: kMaxCopySpan)
-  // Authentication (pdu/pdu_auth.h), checked before any of the above:
-  kUnauthenticated,  // no authentication trailer (sent without the exercise key, or not by us)
-  kBadMac,           // the trailer's MAC is not the exercise key's MAC of the bytes
-  kSenderMismatch,   // the trailer's sender is not the PDU's sender field
-  kReplayed,         // an older incarnation of the sender, or a sequence seen or out of the window
-  kStale,            // send time further from the receiver's clock than the tolerance
-  // VehicleState (pdu/vehicle_state.h):
-  kUnknownEntityType,  // an entity type no vehicle type of the exercise has
-};
-inline constexpr size_t kRejectReasonCount = 22;
-static_assert(static_cast<size_t>(RejectReason::kUnknownEntityType) + 1 == kRejectReasonCount);
+// Why a received PDU was dropped: one X(enumerator, value, name) each (base/enum_list.h), the
+// name as used in logs and reports. Append, never renumber (counters are reported by index).
+#define DT_REJECT_REASONS(X)                                                        \
+  /* more than kMaxPduBytes bytes */                                                \
+  X(kOversized, 0, "oversized")                                                     \
+  /* fewer bytes than the type needs (or an impossible array length) */             \
+  X(kTruncated, 1, "truncated")                                                     \
+  /* the first 8 bytes are not this type's LCM fingerprint */                       \
+  X(kWrongFingerprint, 2, "wrong_fingerprint")                                      \
+  /* bytes left over after the PDU */                                               \
+  X(kTrailingBytes, 3, "trailing_bytes")                                            \
+  /* header.protocol_version != kProtocolVersion */                                 \
+  X(kWrongProtocolVersion, 4, "wrong_protocol")                                     \
+  /* header.exercise_id is another exercise's */                                    \
+  X(kForeignExercise, 5, "foreign_exercise")                                        \
+  /* header.pdu_type names no PDU type */                                           \
+  X(kUnknownPduType, 6, "unknown_pdu_type")                                         \
+  /* header.pdu_type names another PDU type than the channel's */                   \
+  X(kPduTypeMismatch, 7, "pdu_type_mismatch")                                       \
+  /* feature_type names no FeatureType */                                           \
+  X(kUnknownFeatureType, 8, "unknown_feature")                                      \
+  /* material names no Material */                                                  \
+  X(kUnknownMaterial, 9, "unknown_material")                                        \
+  /* a NaN or infinity in a real-valued field */                                    \
+  X(kNotFinite, 10, "not_finite")                                                   \
+  /* sizes <= 0 or beyond the documented maxima (ValidateFeatureParams) */          \
+  X(kOutOfRange, 11, "out_of_range")                                                \
+  /* position outside [0, terrain size] on x or z */                                \
+  X(kOffTerrain, 12, "off_terrain")                                                 \
+  /* a counter, enumeration or flag outside its range */                            \
+  X(kBadField, 13, "bad_field")                                                     \
+  /* playback or anti-entropy start > end */                                        \
+  X(kInvertedRange, 14, "inverted_range")                                           \
+  /* playback range longer than kMaxPlaybackSpan (copies: kMaxCopySpan) */          \
+  X(kHugeRange, 15, "huge_range")                                                   \
+  /* Authentication (pdu/pdu_auth.h), checked before any of the above: */           \
+  /* no authentication trailer (sent without the exercise key, or not by us) */     \
+  X(kUnauthenticated, 16, "unauthenticated")                                        \
+  /* the trailer's MAC is not the exercise key's MAC of the bytes */                \
+  X(kBadMac, 17, "bad_mac")                                                         \
+  /* the trailer's sender is not the PDU's sender field */                          \
+  X(kSenderMismatch, 18, "sender_mismatch")                                         \
+  /* an older incarnation of the sender, or a sequence seen or out of the window */ \
+  X(kReplayed, 19, "replayed")                                                      \
+  /* send time further from the receiver's clock than the tolerance */              \
+  X(kStale, 20, "stale")                                                            \
+  /* VehicleState (pdu/vehicle_state.h): */                                         \
+  /* an entity type no vehicle type of the exercise has */                          \
+  X(kUnknownEntityType, 21, "unknown_entity_type")
+
+enum class RejectReason : uint8_t { DT_REJECT_REASONS(DT_ENUM_ENUMERATOR) };
+
+inline constexpr size_t kRejectReasonCount = 0 DT_REJECT_REASONS(DT_ENUM_PLUS_ONE);
+// Values run 0, 1, 2, ... in the list's order, so a value indexes the counters and the names.
+static_assert(EnumValuesRunOn({DT_REJECT_REASONS(DT_ENUM_VALUE)}, 0));
 
 // "oversized", "truncated", ... as used in logs and reports.
 std::string_view RejectReasonName(RejectReason reason);

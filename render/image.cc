@@ -1,10 +1,11 @@
 #include "render/image.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "base/demand.h"
 
 namespace dt {
 
@@ -20,13 +21,13 @@ Image::Image(int width_px, int height_px, Rgba fill) {
 }
 
 Rgba Image::at(int col, int row) const {
-  if (!Contains(col, row)) std::abort();
+  DT_DEMAND(Contains(col, row));
   const size_t o = Offset(col, row);
   return {bytes_[o], bytes_[o + 1], bytes_[o + 2], bytes_[o + 3]};
 }
 
 void Image::set(int col, int row, Rgba rgba) {
-  if (!Contains(col, row)) std::abort();
+  DT_DEMAND(Contains(col, row));
   std::copy(rgba.begin(), rgba.end(), &bytes_[Offset(col, row)]);
 }
 

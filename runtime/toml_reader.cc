@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "base/demand.h"
 
 namespace dt {
 
@@ -105,11 +106,12 @@ void TomlReader::FailOnUnknownKeys() const {
 }
 
 const toml::node* TomlReader::Get(std::string_view key) const {
-  if (!known_.empty() && !Known(key)) {
+  const bool known = known_.empty() || Known(key);
+  if (!known) {
     std::fprintf(stderr, "TomlReader: %s is read but not among the table's known keys\n",
                  KeyPath(key).c_str());
-    std::abort();
   }
+  DT_DEMAND(known);
   const toml::node* n = table_->get(key);
   if (n != nullptr) read_.emplace(key);
   return n;

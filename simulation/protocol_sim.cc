@@ -1,12 +1,12 @@
 // The protocol simulation's schedule: replicas started, crashed and restarted, commands, faults,
 // the steps "anti-entropy" and "gone author", then the heal (docs/protocol.md, "The proof").
 #include <cstdio>
-#include <cstdlib>
 
 #include <fmt/format.h>
 
 #include "simulation/protocol_sim.h"
 
+#include "base/demand.h"
 #include "pdu/conversion.h"
 #include "server/sqlite_change_store.h"
 #include "terrain/slump.h"
@@ -123,7 +123,7 @@ FeatureParams SimRun::RandomParams(FeatureType type) {
           {{static_cast<uint16_t>(Next(17)), static_cast<uint16_t>(Next(17)),
             static_cast<int32_t>(Uniform(-800, 800)) | 1}});
   }
-  std::abort();
+  DT_UNREACHABLE();
 }
 
 int64_t earth_moves_issued = 0;
@@ -415,10 +415,11 @@ void SimRun::GhostSendsOneChange() {
   f.change.change_seq = seq;
   f.change.lamport = 1 + corrupt_rng_() % 50;
   ghost_change_ = ChangeFrom(f, ChangeKind::kConstruct);
-  if (auto sent = ghost_bus_->Publish(ToConstruct(f)); !sent) {
+  auto sent = ghost_bus_->Publish(ToConstruct(f));
+  if (!sent) {
     std::fprintf(stderr, "gone author's change refused: %s\n", sent.error().message.c_str());
-    std::abort();  // a valid PDU
   }
+  DT_DEMAND(sent);  // a valid PDU
   if (trace_) {
     std::printf("t=%lld gone author %s sends change %u alone\n",
                 static_cast<long long>(cluster_->now_ms()), kGhost.ToString().c_str(), seq);
@@ -453,7 +454,7 @@ void AlterUsedField(FeatureParams& p) {
       return;
     }
   }
-  std::abort();
+  DT_UNREACHABLE();
 }
 
 }  // namespace
@@ -485,9 +486,9 @@ void SimRun::CorruptOneSlot() {
     AlterUsedField(bad.params);
     // Still a valid change, so a repair that re-sends this copy is refused by nothing but the
     // repair rule.
-    if (!ValidateFeatureParams(bad.params).ok()) std::abort();
+    DT_DEMAND(ValidateFeatureParams(bad.params).ok());
   }
-  if (!r.anti_entropy().Overwrite(bad).ok()) std::abort();  // the slot is held
+  DT_DEMAND(r.anti_entropy().Overwrite(bad).ok());  // the slot is held
   corruption_ = Corruption{victim, author, seq, crashes_[victim]};
   if (trace_) {
     std::printf("t=%lld corrupt %s's copy of %s:%lld\n", static_cast<long long>(cluster_->now_ms()),

@@ -1,5 +1,6 @@
 #include "simulation/sim_cluster.h"
 
+#include "base/demand.h"
 #include "transport/retrying_transport.h"
 
 namespace dt::testing {
@@ -40,7 +41,7 @@ void SimCluster::Run(int64_t ms, int64_t step_ms) {
     net_.AdvanceMs(step_ms);
     for (auto& [a, m] : members_) {
       auto r = m->bus->HandleTimeout(0);
-      if (!r) std::abort();  // SimNetwork never fails
+      DT_DEMAND(r);  // SimNetwork never fails
     }
     for (auto& [a, m] : members_) m->replica->Tick(net_.now_ms());
   }
@@ -50,7 +51,7 @@ void SimCluster::Deliver(int64_t ms, int64_t step_ms) {
   for (int64_t t = 0; t < ms; t += step_ms) {
     net_.AdvanceMs(step_ms);
     for (auto& [a, m] : members_) {
-      if (!m->bus->HandleTimeout(0)) std::abort();  // SimNetwork never fails
+      DT_DEMAND(m->bus->HandleTimeout(0));  // SimNetwork never fails
     }
   }
 }

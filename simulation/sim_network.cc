@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "base/demand.h"
+
 namespace dt {
 
 class SimNetwork::Endpoint final : public Transport {
@@ -95,7 +97,7 @@ class SimNetwork::Endpoint final : public Transport {
 SimNetwork::SimNetwork(uint64_t seed, FaultConfig faults) : faults_(faults, seed) {}
 
 SimNetwork::~SimNetwork() {
-  if (!endpoints_.empty()) std::abort();  // endpoints hold references into the network
+  DT_DEMAND(endpoints_.empty());  // endpoints hold references into the network
 }
 
 std::unique_ptr<Transport> SimNetwork::Join(NodeAddress node, uint8_t exercise_id) {

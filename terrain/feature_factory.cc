@@ -1,6 +1,7 @@
 // MakeFeature: validates parameters and dispatches to the feature classes.
 #include <fmt/format.h>
 
+#include "base/demand.h"
 #include "terrain/area_feature.h"
 #include "terrain/berm.h"
 #include "terrain/bridge.h"
@@ -39,7 +40,7 @@ Result<std::unique_ptr<Feature>> MakeFeature(FeatureId id, const FeatureParams& 
     case FeatureType::kEarthMove:
       return MakeEarthMove(id, params, ground);
   }
-  std::abort();  // ValidateFeatureParams accepted an unknown type
+  DT_UNREACHABLE();  // ValidateFeatureParams refuses an unknown type
 }
 
 Result<Material> CheckPlacementBasics(FeatureId id, const FeatureParams& params,

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <iterator>
 
 namespace dt {
 namespace {
@@ -35,23 +36,10 @@ Status CheckFinite(std::string_view field, double value) {
 }  // namespace
 
 std::string_view FeatureTypeName(FeatureType type) {
-  switch (type) {
-    case FeatureType::kCrater:
-      return "crater";
-    case FeatureType::kBerm:
-      return "berm";
-    case FeatureType::kBridge:
-      return "bridge";
-    case FeatureType::kDitch:
-      return "ditch";
-    case FeatureType::kBermLine:
-      return "berm_line";
-    case FeatureType::kArea:
-      return "area";
-    case FeatureType::kEarthMove:
-      return "earth_move";
-  }
-  return "unknown";
+  static constexpr std::string_view kNames[] = {DT_FEATURE_TYPES(DT_ENUM_NAME)};
+  static_assert(std::size(kNames) == kFeatureTypeCount);
+  const auto raw = static_cast<uint16_t>(type);
+  return IsValidFeatureType(raw) ? kNames[raw - 1] : "unknown";
 }
 
 FeatureParams FeatureParams::Crater(double x_m, double z_m, double radius_m, Material material) {

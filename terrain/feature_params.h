@@ -9,25 +9,37 @@
 #include <vector>
 
 #include "base/bytes.h"
+#include "base/enum_list.h"
 #include "base/result.h"
 #include "terrain/material.h"
 
 namespace dt {
 
-// Values are part of the PDU and save-file formats: append, never renumber.
-enum class FeatureType : uint16_t {
-  kCrater = 1,
-  kBerm = 2,
-  kBridge = 3,
-  kDitch = 4,      // a polyline cut below the ground, optional spoil berm (polyline_earthwork.h)
-  kBermLine = 5,   // a multi-segment berm (polyline_earthwork.h)
-  kArea = 6,       // an areal feature: a polygon of other soil or water (area_feature.h)
-  kEarthMove = 7,  // blade work: additive height changes of grid posts (earth_move.h)
-};
+// One X(enumerator, value, name) per feature type (base/enum_list.h); the name is lower case, as
+// used in messages and commands. Values are part of the PDU and save-file formats: append, never
+// renumber.
+#define DT_FEATURE_TYPES(X)                                                         \
+  X(kCrater, 1, "crater")                                                           \
+  X(kBerm, 2, "berm")                                                               \
+  X(kBridge, 3, "bridge")                                                           \
+  /* a polyline cut below the ground, optional spoil berm (polyline_earthwork.h) */ \
+  X(kDitch, 4, "ditch")                                                             \
+  /* a multi-segment berm (polyline_earthwork.h) */                                 \
+  X(kBermLine, 5, "berm_line")                                                      \
+  /* an areal feature: a polygon of other soil or water (area_feature.h) */         \
+  X(kArea, 6, "area")                                                               \
+  /* blade work: additive height changes of grid posts (earth_move.h) */            \
+  X(kEarthMove, 7, "earth_move")
+
+enum class FeatureType : uint16_t { DT_FEATURE_TYPES(DT_ENUM_ENUMERATOR) };
+
+inline constexpr uint16_t kFeatureTypeCount = 0 DT_FEATURE_TYPES(DT_ENUM_PLUS_ONE);
+// Values run 1, 2, 3, ... in the list's order: 0 is no type, and value - 1 indexes the names.
+static_assert(EnumValuesRunOn({DT_FEATURE_TYPES(DT_ENUM_VALUE)}, 1));
 
 // "crater", "berm", "bridge", "ditch", "berm_line", "area", "earth_move"
 std::string_view FeatureTypeName(FeatureType type);
-inline bool IsValidFeatureType(uint16_t raw) { return raw >= 1 && raw <= 7; }
+inline bool IsValidFeatureType(uint16_t raw) { return raw >= 1 && raw <= kFeatureTypeCount; }
 // True for the types whose parameters carry a list of points (FeatureParams::points).
 inline bool HasFeaturePoints(FeatureType type) {
   return type == FeatureType::kDitch || type == FeatureType::kBermLine ||

@@ -4,12 +4,12 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <functional>
 #include <memory>
 #include <utility>
 #include <vector>
 
+#include "base/demand.h"
 #include "base/feature_id.h"
 #include "terrain/feature.h"
 
@@ -33,13 +33,13 @@ class FeatureTable {
     }
   }
 
-  // Takes `feature` under `id`; the ID must not be held (checked: std::abort otherwise).
+  // Takes `feature` under `id`; the ID must not be held (checked: DT_DEMAND).
   Feature* Insert(FeatureId id, std::unique_ptr<Feature> feature) {
-    if (!feature) std::abort();
+    DT_DEMAND(feature);
     if ((size_ + 1) * 4 > slots_.size() * 3) Grow();
     size_t i = Home(id);
     for (; slots_[i].feature; i = (i + 1) & mask_) {
-      if (slots_[i].id == id) std::abort();
+      DT_DEMAND(slots_[i].id != id);
     }
     slots_[i] = {id, std::move(feature)};
     ++size_;
@@ -102,7 +102,7 @@ class FeatureTable {
 
   size_t IndexOf(FeatureId id) const {
     for (size_t i = Home(id);; i = (i + 1) & mask_) {
-      if (!slots_[i].feature) std::abort();  // callers hold the ID
+      DT_DEMAND(slots_[i].feature);  // callers hold the ID
       if (slots_[i].id == id) return i;
     }
   }

@@ -5,26 +5,37 @@
 #include <optional>
 #include <string_view>
 
+#include "base/enum_list.h"
+
 namespace dt {
 
-// Values are part of the PDU and save-file formats: append, never renumber.
-enum class Material : uint16_t {
-  kFromGround = 0,  // a feature takes the material of the ground under its placement point
-  kGrass = 1,
-  kDirt = 2,
-  kSand = 3,
-  kRock = 4,
-  kMud = 5,
-  kGravel = 6,
-  kConcrete = 7,
-  kAsphalt = 8,
-  kSteel = 9,
-  kWater = 10,  // standing water (a flooded area below its level)
-  kBurnt = 11,  // burnt ground
-  kOil = 12,    // ground slick with spilt oil
-};
+// One X(enumerator, value, name) per material (base/enum_list.h); the name is lower case, as
+// used in configs and commands. Values are part of the PDU and save-file formats: append, never
+// renumber.
+#define DT_MATERIALS(X)                                                      \
+  /* a feature takes the material of the ground under its placement point */ \
+  X(kFromGround, 0, "from_ground")                                           \
+  X(kGrass, 1, "grass")                                                      \
+  X(kDirt, 2, "dirt")                                                        \
+  X(kSand, 3, "sand")                                                        \
+  X(kRock, 4, "rock")                                                        \
+  X(kMud, 5, "mud")                                                          \
+  X(kGravel, 6, "gravel")                                                    \
+  X(kConcrete, 7, "concrete")                                                \
+  X(kAsphalt, 8, "asphalt")                                                  \
+  X(kSteel, 9, "steel")                                                      \
+  /* standing water (a flooded area below its level) */                      \
+  X(kWater, 10, "water")                                                     \
+  /* burnt ground */                                                         \
+  X(kBurnt, 11, "burnt")                                                     \
+  /* ground slick with spilt oil */                                          \
+  X(kOil, 12, "oil")
 
-inline constexpr uint16_t kMaterialCount = 13;
+enum class Material : uint16_t { DT_MATERIALS(DT_ENUM_ENUMERATOR) };
+
+inline constexpr uint16_t kMaterialCount = 0 DT_MATERIALS(DT_ENUM_PLUS_ONE);
+// Values run 0, 1, 2, ... in the list's order, so a value indexes tables of kMaterialCount.
+static_assert(EnumValuesRunOn({DT_MATERIALS(DT_ENUM_VALUE)}, 0));
 
 // Lower-case name ("grass", "from_ground"), as used in configs and commands.
 std::string_view MaterialName(Material material);

@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
+
+#include "base/demand.h"
 
 namespace dt {
 
@@ -40,7 +41,7 @@ std::vector<PostDelta> PostWindow::Deltas() const {
     for (int i = i0_; i < i0_ + columns_; ++i) {
       const int64_t d = h_mm_[Slot(i, j)] - initial_mm_[Slot(i, j)];
       if (d == 0) continue;
-      if (d > kMaxPostDeltaMm || d < -kMaxPostDeltaMm) std::abort();
+      DT_DEMAND(d <= kMaxPostDeltaMm && d >= -kMaxPostDeltaMm);
       out.push_back({static_cast<uint16_t>(i), static_cast<uint16_t>(j), static_cast<int32_t>(d)});
     }
   }

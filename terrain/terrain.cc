@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "base/demand.h"
 #include "terrain/area_feature.h"
 #include "terrain/earth_move.h"
 
@@ -187,7 +188,7 @@ void Terrain::ApplyEarthMove(const std::vector<PostDelta>& deltas, int sign) {
     it->second.sum_mm += sign * static_cast<int64_t>(d.delta_mm);
     const float post = it->second.sum_mm == 0 ? it->second.bare_m
                                               : ComposedPost(it->second.bare_m, it->second.sum_mm);
-    if (!std::isfinite(post)) std::abort();  // millimetre sums stay far inside a float's range
+    DT_DEMAND(std::isfinite(post));  // millimetre sums stay far inside a float's range
     ground_.set_post(d.i, d.j, post);
     posts.emplace_back(d.i, d.j);
   }
@@ -277,7 +278,7 @@ std::vector<FeatureId> Terrain::RemoveAt(double x_m, double z_m) {
   std::sort(ids.begin(), ids.end());
   for (const auto& id : ids) {
     auto removed = Remove(id);
-    if (!removed) std::abort();  // the ID came from the index: it must exist
+    DT_DEMAND(removed);  // the ID came from the index: it must exist
   }
   return ids;
 }

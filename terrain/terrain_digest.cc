@@ -1,7 +1,6 @@
 #include "terrain/terrain_digest.h"
 
 #include <bit>
-#include <cstdlib>
 #include <memory>
 #include <string_view>
 
@@ -9,6 +8,7 @@
 #include <xxhash.h>
 
 #include "base/bytes.h"
+#include "base/demand.h"
 
 namespace dt {
 namespace {
@@ -23,7 +23,7 @@ constexpr size_t kFlushBytes = 64 * 1024;
 class DigestStream {
  public:
   DigestStream() : state_(XXH3_createState(), &XXH3_freeState) {
-    if (!state_ || XXH3_128bits_reset(state_.get()) != XXH_OK) std::abort();
+    DT_DEMAND(state_ && XXH3_128bits_reset(state_.get()) == XXH_OK);
   }
   ByteWriter& out() {
     if (out_.bytes().size() >= kFlushBytes) Flush();
@@ -38,7 +38,7 @@ class DigestStream {
  private:
   void Flush() {
     auto& bytes = out_.bytes();
-    if (XXH3_128bits_update(state_.get(), bytes.data(), bytes.size()) != XXH_OK) std::abort();
+    DT_DEMAND(XXH3_128bits_update(state_.get(), bytes.data(), bytes.size()) == XXH_OK);
     bytes.clear();
   }
   std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> state_;

@@ -11,6 +11,7 @@
 #include <dds/dds.h>
 #include <fmt/format.h>
 
+#include "base/demand.h"
 #include "log/log.h"
 #include "transport/dds_codec.h"
 
@@ -21,7 +22,7 @@ size_t IndexOf(PduType type) {
   for (size_t i = 0; i < kAllPduTypes.size(); ++i) {
     if (kAllPduTypes[i] == type) return i;
   }
-  std::abort();  // every PduType is in kAllPduTypes
+  DT_UNREACHABLE();  // every PduType is in kAllPduTypes
 }
 
 std::runtime_error DdsError(const std::string& what, dds_return_t rc) {

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <lcm/lcm.h>
 
+#include "base/demand.h"
 #include "log/log.h"
 
 namespace dt {
@@ -15,7 +16,7 @@ size_t IndexOf(PduType type) {
   for (size_t i = 0; i < kAllPduTypes.size(); ++i) {
     if (kAllPduTypes[i] == type) return i;
   }
-  std::abort();  // PduType values are all in kAllPduTypes
+  DT_UNREACHABLE();  // PduType values are all in kAllPduTypes
 }
 
 // Adds recv_buf_size to a udpm URL that sets none, and warns when the kernel caps it lower:

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "base/demand.h"
 #include "log/log.h"
 
 namespace dt {
@@ -14,7 +15,7 @@ size_t IndexOf(PduType type) {
   for (size_t i = 0; i < kAllPduTypes.size(); ++i) {
     if (kAllPduTypes[i] == type) return i;
   }
-  std::abort();  // every PduType is in kAllPduTypes
+  DT_UNREACHABLE();  // every PduType is in kAllPduTypes
 }
 
 }  // namespace

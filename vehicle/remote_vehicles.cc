@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "base/demand.h"
 #include "log/log.h"
 
 namespace dt {
@@ -62,7 +63,7 @@ RemoteApply RemoteVehicles::Apply(NodeAddress sender, const VehicleStateFields& 
   }
   // Validation accepted only known entity types, so the name is a built-in's.
   auto type = BuiltInVehicleType(VehicleNameOfEntityType(state.type));
-  if (!type) std::abort();
+  DT_DEMAND(type);
   const bool added = it == vehicles_.end();
   if (added) {
     it = vehicles_.emplace(state.id, RemoteVehicle{}).first;

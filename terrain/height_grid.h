@@ -55,10 +55,6 @@ class HeightGrid {
   double size_x_m() const { return spacing_m_ * (nx_ - 1); }
   double size_z_m() const { return spacing_m_ * (nz_ - 1); }
   bool is_square() const { return nx_ == nz_; }
-  // Square-only: removed once every caller takes posts_x/posts_z and size_x_m/size_z_m.
-  int posts_per_side() const { return nx_; }
-  int squares_per_side() const { return nx_ - 1; }
-  double size_m() const { return size_x_m(); }
 
   // True if (x, z) is finite and inside [0, size_x_m()] x [0, size_z_m()].
   bool Contains(double x_m, double z_m) const;

@@ -289,7 +289,7 @@ TEST_F(NodeAppTest, AGroupWandersDeterministicallyIsSharedAndCountedAndADriveTak
     for (const SimulatedVehicle& v : node.vehicles()) start.push_back(v.pose());
     node.Start(0);
     for (int64_t ms = 33; ms <= 20000; ms += 33) node.Tick(ms, 0.033);
-    const double size_m = exercise.terrain_size_m();
+    const double size_x_m = exercise.terrain_size_x_m(), size_z_m = exercise.terrain_size_z_m();
     for (size_t i = 0; i < node.vehicles().size(); ++i) {
       const VehiclePose p = node.vehicles()[i].pose();
       const double moved_m = std::hypot(p.x_m - start[i].x_m, p.z_m - start[i].z_m);
@@ -297,7 +297,8 @@ TEST_F(NodeAppTest, AGroupWandersDeterministicallyIsSharedAndCountedAndADriveTak
         EXPECT_EQ(moved_m, 0.0);  // the tank is nobody's to drive
       } else {
         EXPECT_GT(moved_m, 10.0) << "truck " << i;
-        EXPECT_GT(std::min({p.x_m, p.z_m, size_m - p.x_m, size_m - p.z_m}), 5.0) << "truck " << i;
+        EXPECT_GT(std::min({p.x_m, p.z_m, size_x_m - p.x_m, size_z_m - p.z_m}), 5.0)
+            << "truck " << i;
       }
       if (run == 0) {
         first_run.push_back(p);

@@ -30,7 +30,7 @@ class DtRenderCliTest : public ::testing::Test {
            ("dt_render_cli_test_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir_);
     RandomTerrainParams p;
-    p.posts_per_side = 33;
+    p.posts_x = p.posts_z = 33;
     p.spacing_m = 4.0;
     p.relief_m = 8.0;
     terrain_ = std::make_unique<Terrain>(MakeRandomTerrain(p));

@@ -66,7 +66,8 @@ Result<EntityStatePdu> EntityStateOfVehicle(const VehicleStateFields& s, const A
 }
 
 Result<VehicleStateFields> VehicleOfEntityState(const EntityStatePdu& pdu,
-                                                const GeodeticFrame& frame, double terrain_size_m) {
+                                                const GeodeticFrame& frame, double terrain_size_x_m,
+                                                double terrain_size_z_m) {
   if (pdu.entity_type.kind != 1 || pdu.entity_type.domain != 1) {
     return Error{fmt::format("entity {}: type {}.{}.{} is no land platform (1.1)",
                              IdText(pdu.entity_id), pdu.entity_type.kind, pdu.entity_type.domain,
@@ -75,11 +76,11 @@ Result<VehicleStateFields> VehicleOfEntityState(const EntityStatePdu& pdu,
   Result<VehiclePose> pose = FromEntityState(pdu, frame);
   if (!pose.ok()) return pose.error();
   const VehiclePose& p = pose.value();
-  if (!(p.position_m.x_m >= 0.0 && p.position_m.x_m <= terrain_size_m && p.position_m.z_m >= 0.0 &&
-        p.position_m.z_m <= terrain_size_m)) {
-    return Error{fmt::format("entity {} at ({:.1f}, {:.1f}) m is off the {} m terrain",
+  if (!(p.position_m.x_m >= 0.0 && p.position_m.x_m <= terrain_size_x_m &&
+        p.position_m.z_m >= 0.0 && p.position_m.z_m <= terrain_size_z_m)) {
+    return Error{fmt::format("entity {} at ({:.1f}, {:.1f}) m is off the {} x {} m terrain",
                              IdText(pdu.entity_id), p.position_m.x_m, p.position_m.z_m,
-                             terrain_size_m)};
+                             terrain_size_x_m, terrain_size_z_m)};
   }
   VehicleStateFields s;
   s.id = {p.entity_id.site, p.entity_id.application, p.entity_id.entity};

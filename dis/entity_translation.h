@@ -22,7 +22,8 @@ Result<EntityStatePdu> EntityStateOfVehicle(const VehicleStateFields& state,
                                             const AttitudeTrig& trig, const GeodeticFrame& frame,
                                             const PduContext& context);
 
-// What an outside Entity State becomes on the exercise bus. terrain_size_m bounds x and z.
+// What an outside Entity State becomes on the exercise bus. terrain_size_x_m bounds x,
+// terrain_size_z_m bounds z.
 // Fails, naming the values, for an entity off the terrain, an entity type that is no land
 // platform (kind 1, domain 1), or a reserved entity number. Mapped, documented in docs/dis.md:
 // land platforms of category 1 are tanks, category 6 jeeps, any other truck (an exact built-in
@@ -31,6 +32,7 @@ Result<EntityStatePdu> EntityStateOfVehicle(const VehicleStateFields& state,
 // keeps the damage, mobility-kill and deactivated bits only; marking characters outside
 // printable ASCII end the marking.
 Result<VehicleStateFields> VehicleOfEntityState(const EntityStatePdu& pdu,
-                                                const GeodeticFrame& frame, double terrain_size_m);
+                                                const GeodeticFrame& frame, double terrain_size_x_m,
+                                                double terrain_size_z_m);
 
 }  // namespace dt::dis

@@ -24,7 +24,8 @@ GatewaySettings SettingsOf(const ExerciseConfig& exercise, const DisConfig& dis)
   s.origin = {dis.latitude_deg, dis.longitude_deg, dis.height_m};
   s.exercise_id = dis.dis_exercise_id;
   s.thresholds = exercise.dead_reckoning;
-  s.terrain_size_m = exercise.terrain_size_m();
+  s.terrain_size_x_m = exercise.terrain_size_x_m();
+  s.terrain_size_z_m = exercise.terrain_size_z_m();
   s.feature_period_s = dis.feature_period_ms / 1000.0;
   s.import_craters = dis.import_craters;
   s.self = dis.process.address;

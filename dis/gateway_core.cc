@@ -239,7 +239,8 @@ void GatewayCore::OnEntityState(const EntityStatePdu& pdu, double now_s) {
     ++counters_.own_dropped;
     return;
   }
-  Result<VehicleStateFields> s = VehicleOfEntityState(pdu, frame_, settings_.terrain_size_m);
+  Result<VehicleStateFields> s =
+      VehicleOfEntityState(pdu, frame_, settings_.terrain_size_x_m, settings_.terrain_size_z_m);
   if (!s.ok()) {
     ++counters_.entities_unmapped;
     if (now_s - last_error_log_s_ > kErrorLogPeriodS) {

@@ -29,7 +29,10 @@ struct GatewaySettings {
   GeodeticOrigin origin;
   uint8_t exercise_id = 1;  // the DIS exercise ID sent and required on input
   DeadReckoningThresholds thresholds;
-  double terrain_size_m = 0.0;
+  // The terrain covers [0, terrain_size_x_m] x [0, terrain_size_z_m]: outside entities beyond it
+  // are refused.
+  double terrain_size_x_m = 0.0;
+  double terrain_size_z_m = 0.0;
   double feature_period_s = 5.0;  // every live feature's Object State again this often
   bool import_craters = false;
   NodeAddress self;  // the gateway's own address: it owns the vehicles it imports

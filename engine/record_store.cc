@@ -129,9 +129,9 @@ Status RecordStore::CheckPlaceable(FeatureId id, const FeatureParams& params) co
   if (!g.Contains(bounds.min_x, bounds.min_z) || !g.Contains(bounds.max_x, bounds.max_z)) {
     return Error{
         fmt::format("{} {} covers x [{}, {}] z [{}, {}] m, which leaves the terrain "
-                    "[0, {}]^2",
+                    "[0, {}] x [0, {}] m",
                     FeatureTypeName(params.type), id.ToString(), bounds.min_x, bounds.max_x,
-                    bounds.min_z, bounds.max_z, g.size_m())};
+                    bounds.min_z, bounds.max_z, g.size_x_m(), g.size_z_m())};
   }
   for (FeatureId b : live_bridges_) {
     if (b == id) continue;

@@ -38,10 +38,16 @@ void DrillRunner::RandomOp(Burst& b) {
   ++b.issued;
   if (candidates.empty()) return;
   const std::string node = candidates[b.rng() % candidates.size()];
-  const double size_m = exercise_.terrain_size_m();
-  auto coordinate = [&](double margin_m) {
+  // A coordinate along an axis of size_m, margin_m (at most a quarter of it) from either edge.
+  auto coordinate = [&](double margin_m, double size_m) {
     margin_m = std::min(margin_m, size_m / 4.0);
     return SeededUniform(b.rng, margin_m, size_m - margin_m);
+  };
+  auto x_coordinate = [&](double margin_m) {
+    return coordinate(margin_m, exercise_.terrain_size_x_m());
+  };
+  auto z_coordinate = [&](double margin_m) {
+    return coordinate(margin_m, exercise_.terrain_size_z_m());
   };
   // Creates 55 % (a third of them berms), updates 20 %, destroys 15 %, breaches 10 % (of a berm
   // the drill made; a create when it knows none).
@@ -49,13 +55,13 @@ void DrillRunner::RandomOp(Burst& b) {
   std::string line;
   if (dice < 11 || alive_.empty() || (dice >= 18 && berms_.empty())) {
     if (b.rng() % 3 == 0) {
-      line = fmt::format("berm {:.2f} {:.2f} {:.1f} {:.2f} {:.2f} {:.2f}", coordinate(60.0),
-                         coordinate(60.0), SeededUniform(b.rng, 0.0, 360.0),
+      line = fmt::format("berm {:.2f} {:.2f} {:.1f} {:.2f} {:.2f} {:.2f}", x_coordinate(60.0),
+                         z_coordinate(60.0), SeededUniform(b.rng, 0.0, 360.0),
                          SeededUniform(b.rng, 20.0, 40.0), SeededUniform(b.rng, 3.0, 6.0),
                          SeededUniform(b.rng, 1.0, 3.0));
     } else {
-      const double x_m = coordinate(20.0);
-      const double z_m = coordinate(20.0);
+      const double x_m = x_coordinate(20.0);
+      const double z_m = z_coordinate(20.0);
       line = fmt::format("crater {:.2f} {:.2f} {:.2f}", x_m, z_m, SeededUniform(b.rng, 2.0, 8.0));
     }
   } else if (dice < 18) {

@@ -20,8 +20,9 @@ NodeApp::NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process)
   }
   const int64_t t0 = MonotonicMs();
   HeightGrid ground = MakeRandomTerrain(exercise.terrain);
-  DT_LOG_INFO("terrain {} x {} posts ({} m) ready in {} ms", exercise.terrain.posts_per_side,
-              exercise.terrain.posts_per_side, exercise.terrain_size_m(), MonotonicMs() - t0);
+  DT_LOG_INFO("terrain {} x {} posts ({} x {} m) ready in {} ms", exercise.terrain.posts_x,
+              exercise.terrain.posts_z, exercise.terrain_size_x_m(), exercise.terrain_size_z_m(),
+              MonotonicMs() - t0);
   transport_ = MakeProcessTransport(exercise, process);
   ReplicaConfig rc = MakeReplicaConfig(exercise, process, NodeRole::kNode);
   ids_ = std::make_unique<IdReservationFile>(exercise.run_dir / (process.name + ".ids"),
@@ -56,10 +57,10 @@ void NodeApp::SpawnGroup(size_t g, const VehicleGroupConfig& group) {
   constexpr int kPlacementTries = 100;
   Result<PhysicalVehicleType> type = BuiltInPhysicalType(group.type, *exercise_.friction);
   if (!type) throw std::invalid_argument(type.error().message);
-  const double size_m = replica_->terrain().ground().size_m();
+  const HeightGrid& ground = replica_->terrain().ground();
   for (int i = 0; i < group.count; ++i) {
     const uint64_t seed = WanderSeed(group.seed, static_cast<uint64_t>(i));
-    Wanderer wanderer(type.value().base, group.area, size_m, seed);
+    Wanderer wanderer(type.value().base, group.area, ground.size_x_m(), ground.size_z_m(), seed);
     WanderRandom place(seed + 1);
     std::optional<SimulatedVehicle> made;
     std::string last_error;

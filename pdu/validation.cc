@@ -3,6 +3,7 @@
 #include <cmath>
 #include <exception>
 #include <iterator>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -98,19 +99,20 @@ std::optional<Rejection> ValidateFeature(const Pdu& pdu, const ValidationContext
                   fmt::format("Construct of {} created_by {}: only the origin creates a feature",
                               f.id.ToString(), f.change.changed_by.ToString()));
   }
-  for (const auto& [name, v] : {std::pair{"x", f.params.x_m}, std::pair{"z", f.params.z_m}}) {
-    if (v < 0.0 || v > ctx.terrain_size_m) {
+  for (const auto& [name, v, size_m] : {std::tuple{"x", f.params.x_m, ctx.terrain_size_x_m},
+                                        std::tuple{"z", f.params.z_m, ctx.terrain_size_z_m}}) {
+    if (v < 0.0 || v > size_m) {
       return Reject(RejectReason::kOffTerrain,
-                    fmt::format("{} = {} m is outside [0, {}] m", name, v, ctx.terrain_size_m));
+                    fmt::format("{} = {} m is outside [0, {}] m", name, v, size_m));
     }
   }
   for (size_t i = 0; i < f.params.points.size(); ++i) {
     const FeaturePoint& q = f.params.points[i];
-    for (const auto& [name, v] : {std::pair{"x_m", q.x_m}, std::pair{"z_m", q.z_m}}) {
-      if (v < 0.0 || v > ctx.terrain_size_m) {
+    for (const auto& [name, v, size_m] : {std::tuple{"x_m", q.x_m, ctx.terrain_size_x_m},
+                                          std::tuple{"z_m", q.z_m, ctx.terrain_size_z_m}}) {
+      if (v < 0.0 || v > size_m) {
         return Reject(RejectReason::kOffTerrain,
-                      fmt::format("points[{}].{} = {} m is outside [0, {}] m", i, name, v,
-                                  ctx.terrain_size_m));
+                      fmt::format("points[{}].{} = {} m is outside [0, {}] m", i, name, v, size_m));
       }
     }
   }
@@ -154,14 +156,14 @@ std::optional<Rejection> Validate(const dtpdu::earth_move_t& pdu, const Validati
                   fmt::format("EarthMove {} moved_by {}: only the origin makes an earth move",
                               f.id.ToString(), f.change.changed_by.ToString()));
   }
-  if (ctx.terrain_posts_per_side > 0) {
+  if (ctx.terrain_posts_x > 0 && ctx.terrain_posts_z > 0) {
     const int last_i = pdu.first_post_i + pdu.columns - 1;
     const int last_j = pdu.first_post_j + pdu.rows - 1;
-    if (last_i >= ctx.terrain_posts_per_side || last_j >= ctx.terrain_posts_per_side) {
-      return Reject(RejectReason::kOffTerrain,
-                    fmt::format("posts ({}, {}) .. ({}, {}) leave the {} x {} grid",
-                                pdu.first_post_i, pdu.first_post_j, last_i, last_j,
-                                ctx.terrain_posts_per_side, ctx.terrain_posts_per_side));
+    if (last_i >= ctx.terrain_posts_x || last_j >= ctx.terrain_posts_z) {
+      return Reject(
+          RejectReason::kOffTerrain,
+          fmt::format("posts ({}, {}) .. ({}, {}) leave the {} x {} grid", pdu.first_post_i,
+                      pdu.first_post_j, last_i, last_j, ctx.terrain_posts_x, ctx.terrain_posts_z));
     }
   }
   if (auto s = ValidateFeatureParams(f.params); !s) {
@@ -354,11 +356,12 @@ std::optional<Rejection> Validate(const dtpdu::vehicle_state_t& pdu, const Valid
                               "or pitch or roll beyond half a turn",
                               s.heading_rad, s.pitch_rad, s.roll_rad));
   }
-  for (const auto& [name, v] : {std::pair{"x", s.location_m[0]}, std::pair{"z", s.location_m[2]}}) {
-    if (v < 0.0 || v > ctx.terrain_size_m) {
+  for (const auto& [name, v, size_m] : {std::tuple{"x", s.location_m[0], ctx.terrain_size_x_m},
+                                        std::tuple{"z", s.location_m[2], ctx.terrain_size_z_m}}) {
+    if (v < 0.0 || v > size_m) {
       return Reject(RejectReason::kOffTerrain,
                     fmt::format("entity {} at {} = {} m is outside [0, {}] m", s.id.ToString(),
-                                name, v, ctx.terrain_size_m));
+                                name, v, size_m));
     }
   }
   if (std::abs(s.location_m[1]) > kMaxVehicleAltitudeM) {

@@ -81,10 +81,13 @@ struct Rejection {
 // What a receiver checks PDUs against.
 struct ValidationContext {
   uint8_t exercise_id = 0;
-  double terrain_size_m = 0.0;  // the terrain covers [0, size] x [0, size]
-  // Posts per side of the grid: an EarthMove's posts must lie on it (0: only checked against the
-  // largest grid, kMaxPostsPerSide; Terrain::Add checks the rest).
-  int terrain_posts_per_side = 0;
+  // The terrain covers [0, terrain_size_x_m] x [0, terrain_size_z_m].
+  double terrain_size_x_m = 0.0;
+  double terrain_size_z_m = 0.0;
+  // Posts along x and along z: an EarthMove's posts must lie on the grid (0: only checked against
+  // the largest grid, kMaxPostsPerSide; Terrain::Add checks the rest).
+  int terrain_posts_x = 0;
+  int terrain_posts_z = 0;
 };
 
 // Checks a decoded PDU; nullopt if it may be used.

@@ -1,5 +1,6 @@
 #include "render/camera.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -98,6 +99,15 @@ Camera Camera::MapOf(const Rect& area, int width_px) {
   // Keep the area's west and south edges on the image's left and bottom edges.
   return Map(area.min_x + 0.5 * width_px * mpp, area.min_z + 0.5 * height_px * mpp, mpp, width_px,
              height_px);
+}
+
+Camera Camera::MapFitting(const Rect& area, int longest_side_px) {
+  const double dx = area.max_x - area.min_x;
+  const double dz = area.max_z - area.min_z;
+  if (!(dz > dx)) return MapOf(area, longest_side_px);  // also an empty or non-finite area
+  CheckSize(longest_side_px, 1);
+  const double width = std::max(1.0, std::round(longest_side_px * (dx / dz)));
+  return MapOf(area, static_cast<int>(width));
 }
 
 Camera Camera::Perspective(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,

@@ -25,6 +25,9 @@ class Camera {
   // The map that shows `area` exactly across width_px; the height follows the area's aspect
   // (rounded up). Throws as Map does, or for an empty area.
   static Camera MapOf(const Rect& area, int width_px);
+  // The map that shows `area` with its longer side across longest_side_px (at least one pixel
+  // wide): MapOf(area, longest_side_px) unless the area is taller than wide. Throws as MapOf.
+  static Camera MapFitting(const Rect& area, int longest_side_px);
   // Perspective from `eye` looking at `target`, world up is +y (north is up when looking
   // straight down). fov_y_rad is the vertical field of view. Throws std::invalid_argument for
   // eye == target, fov outside (0, pi), near_m <= 0, far_m <= near_m, or bad sizes.

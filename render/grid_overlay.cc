@@ -1,5 +1,6 @@
 #include "render/grid_overlay.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -14,19 +15,31 @@ void AppendGridLines(const Terrain& terrain, double spacing_m, int samples_per_s
         fmt::format("grid overlay spacing {} m must be positive and samples per square {} >= 1",
                     spacing_m, samples_per_square));
   }
-  const double size = terrain.ground().size_m();
-  const int steps = terrain.ground().squares_per_side() * samples_per_square;
-  const double step_m = size / steps;
-  const long lines = static_cast<long>(std::floor(size / spacing_m));
+  const HeightGrid& g = terrain.ground();
   auto point = [&](double x, double z) {
     return Eigen::Vector3d(x, terrain.ElevationAt(x, z) + kGridLiftM, z);
   };
-  for (long k = 0; k <= lines; ++k) {
-    const double c = std::min(static_cast<double>(k) * spacing_m, size);
-    for (int s = 0; s < steps; ++s) {
-      const double t0 = s * step_m, t1 = std::min((s + 1) * step_m, size);
-      mesh.AddLine(point(c, t0), point(c, t1), colour);  // north-south line
-      mesh.AddLine(point(t0, c), point(t1, c), colour);  // east-west line
+  // North-south lines at x = k * spacing_m, followed along z in samples_per_square steps per grid
+  // square, and east-west lines likewise; emitted interleaved, line k of each then segment s of
+  // each, in the order a square grid always had.
+  const double size_x = g.size_x_m(), size_z = g.size_z_m();
+  const int steps_x = g.squares_x() * samples_per_square;
+  const int steps_z = g.squares_z() * samples_per_square;
+  const double step_x_m = size_x / steps_x, step_z_m = size_z / steps_z;
+  const long lines_x = static_cast<long>(std::floor(size_x / spacing_m));
+  const long lines_z = static_cast<long>(std::floor(size_z / spacing_m));
+  for (long k = 0; k <= std::max(lines_x, lines_z); ++k) {
+    const double cx = std::min(static_cast<double>(k) * spacing_m, size_x);
+    const double cz = std::min(static_cast<double>(k) * spacing_m, size_z);
+    for (int s = 0; s < std::max(steps_x, steps_z); ++s) {
+      if (k <= lines_x && s < steps_z) {  // north-south line
+        const double t0 = s * step_z_m, t1 = std::min((s + 1) * step_z_m, size_z);
+        mesh.AddLine(point(cx, t0), point(cx, t1), colour);
+      }
+      if (k <= lines_z && s < steps_x) {  // east-west line
+        const double t0 = s * step_x_m, t1 = std::min((s + 1) * step_x_m, size_x);
+        mesh.AddLine(point(t0, cz), point(t1, cz), colour);
+      }
     }
   }
 }

@@ -51,16 +51,16 @@ void CheckOptions(const RenderOptions& o) {
 // The squares [first, end) that can appear: for a map, those under its area (looking straight
 // down, nothing outside it projects into the image); for a perspective view, all of them.
 std::pair<SquareIndex, SquareIndex> VisibleSquares(const Terrain& terrain, const Camera& camera) {
-  const int m = terrain.ground().squares_per_side();
-  if (camera.kind() != CameraKind::kMap) return {{0, 0}, {m, m}};
+  const int mx = terrain.ground().squares_x(), mz = terrain.ground().squares_z();
+  if (camera.kind() != CameraKind::kMap) return {{0, 0}, {mx, mz}};
   const Rect area = camera.map_area();
   const double s = terrain.ground().spacing_m();
-  auto index = [&](double v) {
+  auto index = [&](double v, int m) {
     return static_cast<int>(std::clamp(std::floor(v / s), 0.0, static_cast<double>(m)));
   };
-  const SquareIndex first{index(area.min_x), index(area.min_z)};
-  const SquareIndex end{std::max(first.i, std::min(m, index(area.max_x) + 1)),
-                        std::max(first.j, std::min(m, index(area.max_z) + 1))};
+  const SquareIndex first{index(area.min_x, mx), index(area.min_z, mz)};
+  const SquareIndex end{std::max(first.i, std::min(mx, index(area.max_x, mx) + 1)),
+                        std::max(first.j, std::min(mz, index(area.max_z, mz) + 1))};
   return {first, end};
 }
 

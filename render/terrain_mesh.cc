@@ -83,13 +83,13 @@ Colour SurfaceColour(const Terrain& terrain, SquareIndex sq, double x_m, double 
 // Every square that uses a point computes it the same way, so shared vertices are bit-identical.
 Eigen::Vector3d SamplePoint(const Terrain& terrain, int k, long gi, long gj) {
   const HeightGrid& g = terrain.ground();
-  const double s = g.spacing_m(), sub = s / k, size = g.size_m();
-  auto coord = [&](long idx) {
+  const double s = g.spacing_m(), sub = s / k;
+  auto coord = [&](long idx, double size_m) {
     const double c =
         idx % k == 0 ? static_cast<double>(idx / k) * s : static_cast<double>(idx) * sub;
-    return std::min(c, size);
+    return std::min(c, size_m);
   };
-  const double x = coord(gi), z = coord(gj);
+  const double x = coord(gi, g.size_x_m()), z = coord(gj, g.size_z_m());
   // Water is drawn as its own level surface over the ground it floods.
   const std::optional<double> water = terrain.WaterLevelAt(x, z);
   return Eigen::Vector3d(x, water ? *water : terrain.ElevationAt(x, z), z);
@@ -151,9 +151,9 @@ void EmitGridTriangle(const std::vector<Eigen::Vector3d>& loop, const Eigen::Vec
 void EmitPlainSquare(const Terrain& terrain, SquareIndex sq, int k, const ElevationRange& range,
                      Mesh& mesh) {
   const HeightGrid& g = terrain.ground();
-  const int m = g.squares_per_side();
+  const int mx = g.squares_x(), mz = g.squares_z();
   auto refined = [&](int i, int j) {
-    return k > 1 && i >= 0 && j >= 0 && i < m && j < m && SquareHasEarthwork(terrain, {i, j});
+    return k > 1 && i >= 0 && j >= 0 && i < mx && j < mz && SquareHasEarthwork(terrain, {i, j});
   };
   const bool south = refined(sq.i, sq.j - 1), north = refined(sq.i, sq.j + 1);
   const bool west = refined(sq.i - 1, sq.j), east = refined(sq.i + 1, sq.j);
@@ -228,12 +228,12 @@ const Feature* TopEarthworkAt(const Terrain& terrain, SquareIndex square, double
 
 void AppendTerrainSquares(const Terrain& terrain, SquareIndex first, SquareIndex end,
                           int subdivisions, const ElevationRange& range, Mesh& mesh) {
-  const int m = terrain.ground().squares_per_side();
-  if (first.i < 0 || first.j < 0 || end.i > m || end.j > m || first.i > end.i || first.j > end.j ||
-      subdivisions < 1) {
+  const int mx = terrain.ground().squares_x(), mz = terrain.ground().squares_z();
+  if (first.i < 0 || first.j < 0 || end.i > mx || end.j > mz || first.i > end.i ||
+      first.j > end.j || subdivisions < 1) {
     throw std::invalid_argument(
-        fmt::format("terrain mesh: squares [{}, {}) x [{}, {}) of {} with {} subdivisions", first.i,
-                    end.i, first.j, end.j, m, subdivisions));
+        fmt::format("terrain mesh: squares [{}, {}) x [{}, {}) of {} x {} with {} subdivisions",
+                    first.i, end.i, first.j, end.j, mx, mz, subdivisions));
   }
   for (int j = first.j; j < end.j; ++j) {
     for (int i = first.i; i < end.i; ++i) {

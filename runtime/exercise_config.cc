@@ -42,7 +42,13 @@ VehicleConfig ReadVehicle(const TomlReader& r) {
   return v;
 }
 
-VehicleGroupConfig ReadGroup(const TomlReader& r, double terrain_size_m) {
+// "320 m" for a square terrain, "320 x 160 m" for another.
+std::string TerrainSizeText(double size_x_m, double size_z_m) {
+  return size_x_m == size_z_m ? fmt::format("{} m", size_x_m)
+                              : fmt::format("{} x {} m", size_x_m, size_z_m);
+}
+
+VehicleGroupConfig ReadGroup(const TomlReader& r, double size_x_m, double size_z_m) {
   VehicleGroupConfig g;
   g.type = r.String("type", "truck");
   if (!BuiltInVehicleType(g.type)) r.Fail("type", "unknown vehicle type (tank, truck, jeep)");
@@ -52,12 +58,12 @@ VehicleGroupConfig ReadGroup(const TomlReader& r, double terrain_size_m) {
   const std::optional<VehicleModel> m = ParseVehicleModel(model);
   if (!m) r.Fail("model", "expected \"physical\" or \"light\"");
   g.model = *m;
-  g.area = {0.0, terrain_size_m, 0.0, terrain_size_m};
+  g.area = {0.0, size_x_m, 0.0, size_z_m};
   if (auto a = r.OptionalTable("area", kAreaKeys)) {
-    g.area.x_min_m = a->Double("x_min_m", 0.0, 0.0, terrain_size_m);
-    g.area.x_max_m = a->Double("x_max_m", terrain_size_m, 0.0, terrain_size_m);
-    g.area.z_min_m = a->Double("z_min_m", 0.0, 0.0, terrain_size_m);
-    g.area.z_max_m = a->Double("z_max_m", terrain_size_m, 0.0, terrain_size_m);
+    g.area.x_min_m = a->Double("x_min_m", 0.0, 0.0, size_x_m);
+    g.area.x_max_m = a->Double("x_max_m", size_x_m, 0.0, size_x_m);
+    g.area.z_min_m = a->Double("z_min_m", 0.0, 0.0, size_z_m);
+    g.area.z_max_m = a->Double("z_max_m", size_z_m, 0.0, size_z_m);
     const double length_m = BuiltInVehicleType(g.type).value().length_m;
     if (g.area.x_max_m - g.area.x_min_m < 2 * length_m) {
       a->Fail("x_max_m", fmt::format("the area must be at least {} m wide (x_min_m = {})",
@@ -74,7 +80,7 @@ VehicleGroupConfig ReadGroup(const TomlReader& r, double terrain_size_m) {
 }
 
 ProcessConfig ReadProcess(const TomlReader& r, const std::filesystem::path& base_dir, bool is_node,
-                          double terrain_size_m) {
+                          double size_x_m, double size_z_m) {
   ProcessConfig p;
   p.name = r.String("name");
   if (p.name.empty() || p.name.find_first_of("/ \t") != std::string::npos) {
@@ -88,14 +94,15 @@ ProcessConfig ReadProcess(const TomlReader& r, const std::filesystem::path& base
     for (const TomlReader& v :
          r.TableArray("vehicle", {"type", "x_m", "z_m", "heading_deg", "model"})) {
       VehicleConfig vc = ReadVehicle(v);
-      if (vc.x_m > terrain_size_m || vc.z_m > terrain_size_m) {
-        v.Fail("x_m", fmt::format("vehicle at ({}, {}) is off the {} m terrain", vc.x_m, vc.z_m,
-                                  terrain_size_m));
+      if (vc.x_m > size_x_m || vc.z_m > size_z_m) {
+        v.Fail(vc.x_m > size_x_m ? "x_m" : "z_m",
+               fmt::format("vehicle at ({}, {}) is off the {} terrain", vc.x_m, vc.z_m,
+                           TerrainSizeText(size_x_m, size_z_m)));
       }
       p.vehicles.push_back(vc);
     }
     for (const TomlReader& g : r.TableArray("group", kGroupKeys)) {
-      p.groups.push_back(ReadGroup(g, terrain_size_m));
+      p.groups.push_back(ReadGroup(g, size_x_m, size_z_m));
     }
     if (p.start_vehicle_count() > kMaxNodeVehicles) {
       r.FailTable(fmt::format("[[node.vehicle]] and [[node.group]] hold {} vehicles, more than {}",
@@ -164,7 +171,7 @@ DisConfig ReadDis(const TomlReader& r, const std::filesystem::path& base) {
   d.longitude_deg = r.Double("longitude_deg", 0.0, -180.0, 180.0);
   d.height_m = r.Double("height_m", 0.0, -12000.0, 100000.0);
   d.feature_period_ms = static_cast<int>(r.Int("feature_period_ms", 5000, 100, 3600000));
-  d.process = ReadProcess(r, base, false, 0.0);
+  d.process = ReadProcess(r, base, false, 0.0, 0.0);
   return d;
 }
 
@@ -237,8 +244,27 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   const std::string friction_file = ex.String("friction_file", "");
   ex.Finish();
 
-  const TomlReader t = top.Table("terrain", {"posts_per_side", "spacing_m", "relief_m", "seed"});
-  c.terrain.posts_per_side = static_cast<int>(t.Int("posts_per_side", 129, 2, kMaxPostsPerSide));
+  const TomlReader t = top.Table(
+      "terrain", {"posts_per_side", "posts_x", "posts_z", "spacing_m", "relief_m", "seed"});
+  // A square (posts_per_side, the default) or a rectangle (posts_x and posts_z, both given).
+  const bool rectangle = t.Has("posts_x") || t.Has("posts_z");
+  if (rectangle) {
+    if (t.Has("posts_per_side")) {
+      t.Fail("posts_per_side",
+             "give either posts_per_side (a square grid) or posts_x and posts_z, not both");
+    }
+    for (const auto& [key, other] :
+         {std::pair{"posts_x", "posts_z"}, std::pair{"posts_z", "posts_x"}}) {
+      if (!t.Has(other)) {
+        t.Fail(key, fmt::format("{} needs {} too: a rectangular grid gives both", key, other));
+      }
+    }
+    c.terrain.posts_x = static_cast<int>(t.Int("posts_x", 2, kMaxPostsPerSide));
+    c.terrain.posts_z = static_cast<int>(t.Int("posts_z", 2, kMaxPostsPerSide));
+  } else {
+    c.terrain.posts_x = c.terrain.posts_z =
+        static_cast<int>(t.Int("posts_per_side", 129, 2, kMaxPostsPerSide));
+  }
   c.terrain.spacing_m = t.Double("spacing_m", 10.0, 0.01, 10000.0);
   c.terrain.relief_m = t.Double("relief_m", 50.0, 0.0, 10000.0);
   c.terrain.seed = static_cast<uint64_t>(t.Int("seed", 1, 0, INT64_MAX));
@@ -318,9 +344,10 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
                "missing: an exercise needs a [server], or [protocol] "
                "require_server = false for one without");
     }
-    c.server = ReadProcess(top.Table("server", kServerKeys), base, false, c.terrain_size_m());
+    c.server = ReadProcess(top.Table("server", kServerKeys), base, false, c.terrain_size_x_m(),
+                           c.terrain_size_z_m());
     if (auto s = top.OptionalTable("standby", kServerKeys)) {
-      c.standby = ReadProcess(*s, base, false, 0.0);
+      c.standby = ReadProcess(*s, base, false, 0.0, 0.0);
     }
   } else {
     for (const char* table : {"server", "standby"}) {
@@ -334,14 +361,14 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     }
   }
   for (const TomlReader& n : top.TableArray("node", kNodeKeys)) {
-    c.nodes.push_back(ReadProcess(n, base, true, c.terrain_size_m()));
+    c.nodes.push_back(ReadProcess(n, base, true, c.terrain_size_x_m(), c.terrain_size_z_m()));
   }
   if (c.nodes.empty()) top.Fail("node", "an exercise needs at least one [[node]]");
   if (auto v = top.OptionalTable("view", {"name", "site", "host", "http_address", "http_port"})) {
     ViewConfig view;
     view.http_address = v->String("http_address", "127.0.0.1");
     view.http_port = static_cast<int>(v->Int("http_port", 8480, 1, 65535));
-    view.process = ReadProcess(*v, base, false, 0.0);
+    view.process = ReadProcess(*v, base, false, 0.0, 0.0);
     c.view = std::move(view);
   }
   if (auto d = top.OptionalTable(

@@ -109,6 +109,7 @@ struct ExerciseConfig {
   // configs/friction.toml when the file names none (friction_file then empty). Never null.
   std::filesystem::path friction_file;
   std::shared_ptr<const FrictionTable> friction;
+  // [terrain]: posts_per_side (a square) or posts_x and posts_z, spacing, relief, seed.
   RandomTerrainParams terrain;
   ProtocolTiming protocol;
   AuthSettings auth;
@@ -124,7 +125,9 @@ struct ExerciseConfig {
   std::optional<ViewConfig> view;  // [view]: the live view, started by the launcher last
   std::optional<DisConfig> dis;    // [dis]: the DIS gateway, started with the view
 
-  double terrain_size_m() const { return (terrain.posts_per_side - 1) * terrain.spacing_m; }
+  // The terrain covers [0, terrain_size_x_m()] x [0, terrain_size_z_m()].
+  double terrain_size_x_m() const { return (terrain.posts_x - 1) * terrain.spacing_m; }
+  double terrain_size_z_m() const { return (terrain.posts_z - 1) * terrain.spacing_m; }
   // ReplicaConfig::require_server: nodes wait for a server's answer to sign on.
   bool require_server() const { return server.has_value(); }
   // The server and the standby (each if any), then every node, in that order.

@@ -49,8 +49,10 @@ ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise,
   PduBusConfig bus;
   bus.exercise_id = exercise.exercise_id;
   bus.local = process.address;
-  bus.terrain_size_m = exercise.terrain_size_m();
-  bus.terrain_posts_per_side = exercise.terrain.posts_per_side;
+  bus.terrain_size_x_m = exercise.terrain_size_x_m();
+  bus.terrain_size_z_m = exercise.terrain_size_z_m();
+  bus.terrain_posts_x = exercise.terrain.posts_x;
+  bus.terrain_posts_z = exercise.terrain.posts_z;
   bus.auth.key = exercise.auth.key;
   bus.auth.clock_tolerance = std::chrono::milliseconds(exercise.auth.clock_tolerance_ms);
   ProcessTransport t = StackTransport(MakeTransport(exercise.transport_url, exercise.exercise_id),
@@ -204,12 +206,12 @@ Status RenderMapPng(const Terrain& terrain, const std::vector<VehicleSprite>& sp
                     const std::string& path) {
   try {
     static Renderer* renderer = new Renderer();  // one OSMesa context for the process's life
-    const double size_m = terrain.ground().size_m();
-    const Camera camera = Camera::MapOf(Rect{0.0, 0.0, size_m, size_m}, kMapRenderPx);
+    const Camera camera = Camera::MapFitting(
+        Rect{0.0, 0.0, terrain.ground().size_x_m(), terrain.ground().size_z_m()}, kMapRenderPx);
     // A vehicle narrower than a pixel can cover no pixel centre and vanish from the map (a
     // 2.4 m truck on a 1280 m terrain's 2.5 m pixels): each is drawn at least two pixels long
     // and wide, so every vehicle shows.
-    const double min_side_m = 2.0 * size_m / kMapRenderPx;
+    const double min_side_m = 2.0 * camera.metres_per_pixel();
     std::vector<VehicleSprite> shown = sprites;
     for (VehicleSprite& v : shown) {
       v.length_m = std::max(v.length_m, min_side_m);

@@ -77,11 +77,12 @@ std::optional<ControlReply> AnswerCommonCommand(const ControlCommand& command,
                                                 const Replica& replica, ProcessTransport& transport,
                                                 const std::vector<SimulatedVehicle>& vehicles);
 
-// The side of a process's map render (`render`), pixels.
+// The longer side of a process's map render (`render`), pixels.
 inline constexpr int kMapRenderPx = 512;
 
-// Renders the terrain and vehicles as a kMapRenderPx map PNG, every vehicle at least two pixels
-// long and wide. Error if the file cannot be written or no renderer can be made.
+// Renders the whole terrain and the vehicles as a map PNG whose longer side is kMapRenderPx (the
+// other follows the terrain's aspect), every vehicle at least two pixels long and wide. Error if
+// the file cannot be written or no renderer can be made.
 Status RenderMapPng(const Terrain& terrain, const std::vector<SimulatedVehicle>& vehicles,
                     const std::string& path);
 // The same with the sprites given (a node's own and remote vehicles in their owners' colours).

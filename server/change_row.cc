@@ -35,8 +35,9 @@ constexpr std::array<ColumnRange, kRowIntegerColumns> kRanges = {{
 
 // Fills the header and sender as PduBus::Publish does, so only the change's own fields decide.
 template <typename Pdu>
-std::optional<Rejection> ValidateAsPdu(Pdu pdu, const Change& c, double terrain_size_m) {
-  const ValidationContext ctx{0, terrain_size_m};
+std::optional<Rejection> ValidateAsPdu(Pdu pdu, const Change& c, double terrain_size_x_m,
+                                       double terrain_size_z_m) {
+  const ValidationContext ctx{0, terrain_size_x_m, terrain_size_z_m};
   pdu.header.protocol_version = kProtocolVersion;
   pdu.header.exercise_id = ctx.exercise_id;
   pdu.header.pdu_type = static_cast<uint8_t>(PduTraits<Pdu>::kType);
@@ -85,7 +86,7 @@ std::string RowName(const ChangeRow& row) {
                      row.at(RowColumn::kAuthorHost), row.at(RowColumn::kSeq));
 }
 
-Result<Change> FromRow(const ChangeRow& row, double terrain_size_m) {
+Result<Change> FromRow(const ChangeRow& row, double terrain_size_x_m, double terrain_size_z_m) {
   for (size_t i = 0; i < kRowIntegerColumns; ++i) {
     if (row.ints[i] < kRanges[i].min || row.ints[i] > kRanges[i].max) {
       return Error{fmt::format("{} {} is outside [{}, {}]", kRowColumnNames[i], row.ints[i],
@@ -124,19 +125,20 @@ Result<Change> FromRow(const ChangeRow& row, double terrain_size_m) {
   switch (c.kind) {
     case ChangeKind::kConstruct:
       if (c.params.type == FeatureType::kEarthMove) {
-        refused = ValidateAsPdu(ToEarthMove(ToFeaturePdu(c)), c, terrain_size_m);
+        refused =
+            ValidateAsPdu(ToEarthMove(ToFeaturePdu(c)), c, terrain_size_x_m, terrain_size_z_m);
         as = "EarthMove";
         break;
       }
-      refused = ValidateAsPdu(ToConstruct(ToFeaturePdu(c)), c, terrain_size_m);
+      refused = ValidateAsPdu(ToConstruct(ToFeaturePdu(c)), c, terrain_size_x_m, terrain_size_z_m);
       as = "Construct";
       break;
     case ChangeKind::kUpdate:
-      refused = ValidateAsPdu(ToUpdate(ToFeaturePdu(c)), c, terrain_size_m);
+      refused = ValidateAsPdu(ToUpdate(ToFeaturePdu(c)), c, terrain_size_x_m, terrain_size_z_m);
       as = "Update";
       break;
     case ChangeKind::kDestruct:
-      refused = ValidateAsPdu(ToDestruct(ToDestructPdu(c)), c, terrain_size_m);
+      refused = ValidateAsPdu(ToDestruct(ToDestructPdu(c)), c, terrain_size_x_m, terrain_size_z_m);
       as = "Destruct";
       break;
   }

@@ -45,10 +45,10 @@ uint64_t RowChecksum(const ChangeRow& row);
 std::string RowName(const ChangeRow& row);
 
 // Rebuilds the change and checks it as a received PDU would be checked (pdu/validation.h, against
-// a terrain of terrain_size_m): columns within their types' ranges, parameters that decode and
-// validate with nothing left over and agree with feature_type, and every PDU rule: a Construct by
-// its feature's origin, positions on the terrain, change_seq, lamport and number >= 1. The error
-// says what is wrong, without the row's name (the caller adds it).
-Result<Change> FromRow(const ChangeRow& row, double terrain_size_m);
+// a terrain of terrain_size_x_m x terrain_size_z_m): columns within their types' ranges, parameters
+// that decode and validate with nothing left over and agree with feature_type, and every PDU rule:
+// a Construct by its feature's origin, positions on the terrain, change_seq, lamport and number
+// >= 1. The error says what is wrong, without the row's name (the caller adds it).
+Result<Change> FromRow(const ChangeRow& row, double terrain_size_x_m, double terrain_size_z_m);
 
 }  // namespace dt

@@ -15,7 +15,7 @@ Result<std::unique_ptr<ServerReplica>> ServerReplica::Open(ReplicaConfig config,
     throw std::invalid_argument(
         fmt::format("server {}: role must be server or standby", config.address.ToString()));
   }
-  auto store = SqliteChangeStore::Open(database, ground.size_m());
+  auto store = SqliteChangeStore::Open(database, ground.size_x_m(), ground.size_z_m());
   if (!store) return store.error();
   std::unique_ptr<ServerReplica> server(new ServerReplica());
   server->store_ = std::move(store).value();

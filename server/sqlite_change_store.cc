@@ -209,7 +209,8 @@ Result<ChangeRow> ReadRow(sqlite3_stmt* q, std::string& where, const fs::path& p
 }  // namespace
 
 Result<std::unique_ptr<SqliteChangeStore>> SqliteChangeStore::Open(const fs::path& path,
-                                                                   double terrain_size_m) {
+                                                                   double terrain_size_x_m,
+                                                                   double terrain_size_z_m) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
     if (errno != ENOENT) {
@@ -264,7 +265,7 @@ Result<std::unique_ptr<SqliteChangeStore>> SqliteChangeStore::Open(const fs::pat
                              path.string())};
   }
   std::unique_ptr<SqliteChangeStore> store(
-      new SqliteChangeStore(path, c.release(), terrain_size_m));
+      new SqliteChangeStore(path, c.release(), terrain_size_x_m, terrain_size_z_m));
   for (const char* sql : {"PRAGMA journal_mode=WAL;", "PRAGMA synchronous=FULL;"}) {
     if (auto s = store->Exec(sql); !s) return s.error();
   }
@@ -275,8 +276,12 @@ Result<std::unique_ptr<SqliteChangeStore>> SqliteChangeStore::Open(const fs::pat
   return store;
 }
 
-SqliteChangeStore::SqliteChangeStore(fs::path path, sqlite3* db, double terrain_size_m)
-    : path_(std::move(path)), db_(db), terrain_size_m_(terrain_size_m) {}
+SqliteChangeStore::SqliteChangeStore(fs::path path, sqlite3* db, double terrain_size_x_m,
+                                     double terrain_size_z_m)
+    : path_(std::move(path)),
+      db_(db),
+      terrain_size_x_m_(terrain_size_x_m),
+      terrain_size_z_m_(terrain_size_z_m) {}
 
 SqliteChangeStore::~SqliteChangeStore() {
   sqlite3_finalize(insert_);
@@ -337,7 +342,7 @@ Status SqliteChangeStore::MigrateFromVersion1() {
     std::string where;
     auto row = ReadRow(q, where, path_);
     if (!row) return finish(row.error());
-    if (auto c = FromRow(row.value(), terrain_size_m_); !c) {
+    if (auto c = FromRow(row.value(), terrain_size_x_m_, terrain_size_z_m_); !c) {
       return finish(Error{fmt::format("{}: {}", where, c.error().message)});
     }
     sqlite3_reset(set);
@@ -436,7 +441,7 @@ Result<std::vector<Change>> SqliteChangeStore::LoadAll() {
                       "was changed outside dynterrain, or the file is damaged)",
                       where, stored, computed));
     }
-    auto c = FromRow(row.value(), terrain_size_m_);
+    auto c = FromRow(row.value(), terrain_size_x_m_, terrain_size_z_m_);
     if (!c) return fail(fmt::format("{}: {}", where, c.error().message));
     out.push_back(std::move(c).value());
   }

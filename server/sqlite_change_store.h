@@ -31,9 +31,10 @@ class SqliteChangeStore final : public ChangeStore {
   // regular file, is empty, is not SQLite, is another application's SQLite database (its
   // application_id), has another schema version, or is read-only. A version 1 database is
   // migrated in place, in one transaction, after every row passed FromRow's checks.
-  // terrain_size_m is the exercise's terrain, which stored positions must lie on.
+  // The exercise's terrain is terrain_size_x_m x terrain_size_z_m: stored positions must lie on it.
   static Result<std::unique_ptr<SqliteChangeStore>> Open(const std::filesystem::path& path,
-                                                         double terrain_size_m);
+                                                         double terrain_size_x_m,
+                                                         double terrain_size_z_m);
   ~SqliteChangeStore() override;
   SqliteChangeStore(const SqliteChangeStore&) = delete;
   SqliteChangeStore& operator=(const SqliteChangeStore&) = delete;
@@ -51,7 +52,8 @@ class SqliteChangeStore final : public ChangeStore {
   const std::filesystem::path& path() const { return path_; }
 
  private:
-  SqliteChangeStore(std::filesystem::path path, sqlite3* db, double terrain_size_m);
+  SqliteChangeStore(std::filesystem::path path, sqlite3* db, double terrain_size_x_m,
+                    double terrain_size_z_m);
   Status Exec(const char* sql);
   Status Prepare();
   Status MigrateFromVersion1();
@@ -60,7 +62,8 @@ class SqliteChangeStore final : public ChangeStore {
 
   std::filesystem::path path_;
   sqlite3* db_ = nullptr;
-  double terrain_size_m_;
+  double terrain_size_x_m_;
+  double terrain_size_z_m_;
   sqlite3_stmt* insert_ = nullptr;
   sqlite3_stmt* replace_ = nullptr;
 };

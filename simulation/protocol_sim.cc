@@ -19,7 +19,7 @@ Status SimRun::StartServer(NodeAddress address, NodeRole role) {
     // Reopened on every restart, as a restarted process would.
     stores_.erase(address);
     auto s = SqliteChangeStore::Open(dir_ / fmt::format("server-{}.db", address.host),
-                                     SimGround().size_m());
+                                     SimGround().size_x_m(), SimGround().size_z_m());
     if (!s) return s.error();
     stores_[address] = std::move(s).value();
     store = stores_[address].get();
@@ -132,8 +132,8 @@ Status SimRun::BladeOp(Replica& r) {
   // A blade's work in miniature: soil cut from one post and piled on a neighbour, slumped to the
   // angle of repose on this replica's terrain, sent as earth moves.
   const HeightGrid& g = r.terrain().ground();
-  const int i = 1 + static_cast<int>(Next(static_cast<uint64_t>(g.posts_per_side() - 2)));
-  const int j = 1 + static_cast<int>(Next(static_cast<uint64_t>(g.posts_per_side() - 2)));
+  const int i = 1 + static_cast<int>(Next(static_cast<uint64_t>(g.posts_x() - 2)));
+  const int j = 1 + static_cast<int>(Next(static_cast<uint64_t>(g.posts_z() - 2)));
   PostWindow w(r.terrain(), i - 4, j - 4, 9, 9);
   const auto cut = static_cast<int64_t>(Uniform(100, 3000));
   w.height_mm(i, j) -= cut;
@@ -404,7 +404,8 @@ void SimRun::GhostSendsOneChange() {
   PduBusConfig bc;
   bc.exercise_id = 1;
   bc.local = kGhost;
-  bc.terrain_size_m = SimGround().size_m();
+  bc.terrain_size_x_m = SimGround().size_x_m();
+  bc.terrain_size_z_m = SimGround().size_z_m();
   bc.clock = [] { return 0u; };
   ghost_bus_ = std::make_unique<PduBus>(*ghost_transport_, bc);
   FeaturePdu f;

@@ -18,8 +18,10 @@ Replica& SimCluster::Start(NodeAddress address, NodeRole role, ChangeStore* stor
   PduBusConfig bc;
   bc.exercise_id = 1;
   bc.local = address;
-  bc.terrain_size_m = ground_.size_m();
-  bc.terrain_posts_per_side = ground_.posts_per_side();
+  bc.terrain_size_x_m = ground_.size_x_m();
+  bc.terrain_size_z_m = ground_.size_z_m();
+  bc.terrain_posts_x = ground_.posts_x();
+  bc.terrain_posts_z = ground_.posts_z();
   bc.clock = [] { return 0u; };  // relative time 0: deterministic
   m->bus = std::make_unique<PduBus>(*m->transport, bc);
   ReplicaConfig rc = defaults_;

@@ -195,8 +195,8 @@ Result<std::unique_ptr<Feature>> MakeBridge(FeatureId id, const FeatureParams& p
   if (!ground.Contains(b.min_x, b.min_z) || !ground.Contains(b.max_x, b.max_z)) {
     return Error{fmt::format(
         "bridge {}: deck and hot spots cover x [{}, {}] z [{}, {}] m, which leaves the terrain "
-        "[0, {}]^2",
-        id.ToString(), b.min_x, b.max_x, b.min_z, b.max_z, ground.size_m())};
+        "[0, {}] x [0, {}] m",
+        id.ToString(), b.min_x, b.max_x, b.min_z, b.max_z, ground.size_x_m(), ground.size_z_m())};
   }
   bridge->OnGroundChanged(ground);
   return std::unique_ptr<Feature>(std::move(bridge));

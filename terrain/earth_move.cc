@@ -11,15 +11,15 @@ Result<std::unique_ptr<Feature>> MakeEarthMove(FeatureId id, const FeatureParams
   if (auto m = CheckPlacementBasics(id, params, FeatureType::kEarthMove, ground); !m) {
     return m.error();
   }
-  const int n = ground.posts_per_side();
-  int min_i = n, min_j = n, max_i = 0, max_j = 0;
+  const int nx = ground.posts_x(), nz = ground.posts_z();
+  int min_i = nx, min_j = nz, max_i = 0, max_j = 0;
   for (size_t k = 0; k < params.post_deltas.size(); ++k) {
     const PostDelta& d = params.post_deltas[k];
-    if (d.i >= n || d.j >= n) {
+    if (d.i >= nx || d.j >= nz) {
       return Error{
           fmt::format("earth_move {}: post_deltas[{}] post ({}, {}) is outside the {} x {} "
                       "grid",
-                      id.ToString(), k, d.i, d.j, n, n)};
+                      id.ToString(), k, d.i, d.j, nx, nz)};
     }
     min_i = std::min<int>(min_i, d.i);
     min_j = std::min<int>(min_j, d.j);

@@ -22,8 +22,9 @@ Result<std::unique_ptr<Feature>> MakeFeature(FeatureId id, const FeatureParams& 
   }
   if (!ground.Contains(params.x_m, params.z_m)) {
     return Error{
-        fmt::format("feature {}: placement point (x {}, z {}) m is off the terrain [0, {}]^2",
-                    id.ToString(), params.x_m, params.z_m, ground.size_m())};
+        fmt::format("feature {}: placement point (x {}, z {}) m is off the terrain [0, {}] x [0, "
+                    "{}] m",
+                    id.ToString(), params.x_m, params.z_m, ground.size_x_m(), ground.size_z_m())};
   }
   switch (params.type) {
     case FeatureType::kCrater:
@@ -54,9 +55,10 @@ Result<Material> CheckPlacementBasics(FeatureId id, const FeatureParams& params,
         fmt::format("{} {}: {}", FeatureTypeName(expected), id.ToString(), s.error().message)};
   }
   if (!ground.Contains(params.x_m, params.z_m)) {
-    return Error{fmt::format("{} {}: placement point (x {}, z {}) m is off the terrain [0, {}]^2",
-                             FeatureTypeName(expected), id.ToString(), params.x_m, params.z_m,
-                             ground.size_m())};
+    return Error{
+        fmt::format("{} {}: placement point (x {}, z {}) m is off the terrain [0, {}] x [0, {}] m",
+                    FeatureTypeName(expected), id.ToString(), params.x_m, params.z_m,
+                    ground.size_x_m(), ground.size_z_m())};
   }
   if (params.material != Material::kFromGround) return params.material;
   return ground.soil(ground.SquareAt(params.x_m, params.z_m),

@@ -11,52 +11,70 @@ namespace {
 
 // Checks the shape and returns the number of posts, so a constructor can check before it
 // allocates.
-size_t CheckShape(int posts_per_side, double spacing_m) {
-  if (posts_per_side < 2 || posts_per_side > kMaxPostsPerSide) {
-    throw std::invalid_argument(
-        fmt::format("posts_per_side = {} must be in [2, {}]", posts_per_side, kMaxPostsPerSide));
+size_t CheckShape(int posts_x, int posts_z, double spacing_m) {
+  for (const auto& [name, n] : {std::pair{"posts_x", posts_x}, std::pair{"posts_z", posts_z}}) {
+    if (n < 2 || n > kMaxPostsPerSide) {
+      throw std::invalid_argument(
+          fmt::format("{} = {} must be in [2, {}]", name, n, kMaxPostsPerSide));
+    }
   }
   if (!std::isfinite(spacing_m) || spacing_m <= 0.0) {
     throw std::invalid_argument(fmt::format("spacing_m = {} must be finite and > 0", spacing_m));
   }
-  return static_cast<size_t>(posts_per_side) * static_cast<size_t>(posts_per_side);
+  return static_cast<size_t>(posts_x) * static_cast<size_t>(posts_z);
 }
 
 }  // namespace
 
+int HeightGrid::CheckPostsPerSide(int posts_per_side) {
+  if (posts_per_side < 2 || posts_per_side > kMaxPostsPerSide) {
+    throw std::invalid_argument(
+        fmt::format("posts_per_side = {} must be in [2, {}]", posts_per_side, kMaxPostsPerSide));
+  }
+  return posts_per_side;
+}
+
 HeightGrid::HeightGrid(int posts_per_side, double spacing_m, float elevation_m, Material soil)
-    : HeightGrid(posts_per_side, spacing_m,
-                 std::vector<float>(CheckShape(posts_per_side, spacing_m), elevation_m), soil) {}
+    : HeightGrid(CheckPostsPerSide(posts_per_side), posts_per_side, spacing_m, elevation_m, soil) {}
 
 HeightGrid::HeightGrid(int posts_per_side, double spacing_m, std::vector<float> posts_m,
                        Material soil)
-    : n_(posts_per_side), spacing_m_(spacing_m), posts_(std::move(posts_m)) {
-  const size_t expected = CheckShape(posts_per_side, spacing_m);
+    : HeightGrid(CheckPostsPerSide(posts_per_side), posts_per_side, spacing_m, std::move(posts_m),
+                 soil) {}
+
+HeightGrid::HeightGrid(int posts_x, int posts_z, double spacing_m, float elevation_m, Material soil)
+    : HeightGrid(posts_x, posts_z, spacing_m,
+                 std::vector<float>(CheckShape(posts_x, posts_z, spacing_m), elevation_m), soil) {}
+
+HeightGrid::HeightGrid(int posts_x, int posts_z, double spacing_m, std::vector<float> posts_m,
+                       Material soil)
+    : nx_(posts_x), nz_(posts_z), spacing_m_(spacing_m), posts_(std::move(posts_m)) {
+  const size_t expected = CheckShape(posts_x, posts_z, spacing_m);
   if (posts_.size() != expected) {
     throw std::invalid_argument(fmt::format("{} posts given for a {} x {} grid (expected {})",
-                                            posts_.size(), n_, n_, expected));
+                                            posts_.size(), nx_, nz_, expected));
   }
   for (size_t k = 0; k < posts_.size(); ++k) {
     if (!std::isfinite(posts_[k])) {
       throw std::invalid_argument(
-          fmt::format("post ({}, {}) is not finite ({})", k % n_, k / n_, posts_[k]));
+          fmt::format("post ({}, {}) is not finite ({})", k % nx_, k / nx_, posts_[k]));
     }
   }
   if (!IsValidMaterial(static_cast<uint16_t>(soil)) || soil == Material::kFromGround) {
     throw std::invalid_argument(fmt::format("{} is not a soil", static_cast<uint16_t>(soil)));
   }
-  soil_.assign(static_cast<size_t>(n_ - 1) * static_cast<size_t>(n_ - 1) * 2, soil);
+  soil_.assign(static_cast<size_t>(nx_ - 1) * static_cast<size_t>(nz_ - 1) * 2, soil);
 }
 
 bool HeightGrid::Contains(double x_m, double z_m) const {
-  const double size = size_m();
   // Written so that NaN fails every comparison.
-  return x_m >= 0.0 && x_m <= size && z_m >= 0.0 && z_m <= size;
+  return x_m >= 0.0 && x_m <= size_x_m() && z_m >= 0.0 && z_m <= size_z_m();
 }
 
 void HeightGrid::set_post(int i, int j, float elevation_m) {
-  if (i < 0 || j < 0 || i >= n_ || j >= n_) {
-    throw std::out_of_range(fmt::format("post ({}, {}) is outside the {} x {} grid", i, j, n_, n_));
+  if (i < 0 || j < 0 || i >= nx_ || j >= nz_) {
+    throw std::out_of_range(
+        fmt::format("post ({}, {}) is outside the {} x {} grid", i, j, nx_, nz_));
   }
   if (!std::isfinite(elevation_m)) {
     throw std::invalid_argument(
@@ -67,14 +85,15 @@ void HeightGrid::set_post(int i, int j, float elevation_m) {
 
 HeightGrid::Location HeightGrid::Locate(double x_m, double z_m) const {
   if (!Contains(x_m, z_m)) {
-    throw std::out_of_range(fmt::format("position (x {}, z {}) m is outside the terrain [0, {}]^2",
-                                        x_m, z_m, size_m()));
+    throw std::out_of_range(
+        fmt::format("position (x {}, z {}) m is outside the terrain [0, {}] x [0, {}] m", x_m, z_m,
+                    size_x_m(), size_z_m()));
   }
   const double gx = x_m / spacing_m_;
   const double gz = z_m / spacing_m_;
   Location at;
-  at.square.i = std::min(static_cast<int>(gx), n_ - 2);
-  at.square.j = std::min(static_cast<int>(gz), n_ - 2);
+  at.square.i = std::min(static_cast<int>(gx), nx_ - 2);
+  at.square.j = std::min(static_cast<int>(gz), nz_ - 2);
   at.u = gx - at.square.i;
   at.v = gz - at.square.j;
   return at;
@@ -123,9 +142,9 @@ Eigen::Vector3d HeightGrid::NormalAt(double x_m, double z_m) const {
 }
 
 void HeightGrid::set_soil(SquareIndex square, TriangleHalf half, Material soil) {
-  if (square.i < 0 || square.j < 0 || square.i >= n_ - 1 || square.j >= n_ - 1) {
+  if (square.i < 0 || square.j < 0 || square.i >= nx_ - 1 || square.j >= nz_ - 1) {
     throw std::out_of_range(fmt::format("square ({}, {}) is outside the {} x {} squares", square.i,
-                                        square.j, n_ - 1, n_ - 1));
+                                        square.j, nx_ - 1, nz_ - 1));
   }
   if (!IsValidMaterial(static_cast<uint16_t>(soil)) || soil == Material::kFromGround) {
     throw std::invalid_argument(fmt::format("{} is not a soil", static_cast<uint16_t>(soil)));

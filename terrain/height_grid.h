@@ -1,4 +1,4 @@
-// HeightGrid: the bare ground, n x n elevation posts with a soil type per triangle.
+// HeightGrid: the bare ground, nx x nz elevation posts with a soil type per triangle.
 #pragma once
 
 #include <cstdint>
@@ -21,31 +21,42 @@ struct SquareIndex {
   bool operator==(const SquareIndex&) const = default;
 };
 
-// The most posts per side a grid may have (docs/terrain.md "Grid size"): 4097 x 4097 posts,
-// 40 km a side at 10 m spacing. A Terrain over it holds about 34 bytes per square (elevation,
-// two soils, the square's feature list and bits), some 570 MB; the next power-of-two size, 8193,
-// would need 2.3 GB per process.
+// The most posts a grid may have along either side (docs/terrain.md "Grid size"): at most 4097 x
+// 4097 posts, 40 km a side at 10 m spacing. A Terrain over it holds about 34 bytes per square
+// (elevation, two soils, the square's feature list and bits), some 570 MB; the next power-of-two
+// size, 8193, would need 2.3 GB per process. A rectangular grid within the bound takes less.
 inline constexpr int kMaxPostsPerSide = 4097;
 
-// Post (i, j) stands at x = i * spacing_m, z = j * spacing_m; the grid covers
-// [0, size_m()] x [0, size_m()]. Elevations are y, up (docs/conventions.md).
+// posts_x posts along x (east) by posts_z along z (north). Post (i, j) stands at
+// x = i * spacing_m, z = j * spacing_m; the grid covers [0, size_x_m()] x [0, size_z_m()].
+// Elevations are y, up (docs/conventions.md).
 class HeightGrid {
  public:
-  // Flat ground. Throws std::invalid_argument, before allocating anything, unless
-  // posts_per_side is in [2, kMaxPostsPerSide] and spacing_m is finite and > 0.
+  // Flat ground. Throws std::invalid_argument, before allocating anything, unless posts_x and
+  // posts_z are each in [2, kMaxPostsPerSide] and spacing_m is finite and > 0.
+  HeightGrid(int posts_x, int posts_z, double spacing_m, float elevation_m = 0.0f,
+             Material soil = Material::kGrass);
+  // Posts given row by row along x: index = j * posts_x + i. Throws as above, on a size mismatch
+  // or on a non-finite elevation.
+  HeightGrid(int posts_x, int posts_z, double spacing_m, std::vector<float> posts_m,
+             Material soil = Material::kGrass);
+  // Square conveniences: posts_per_side posts along both x and z. A bad posts_per_side is named
+  // so in the message.
   HeightGrid(int posts_per_side, double spacing_m, float elevation_m = 0.0f,
              Material soil = Material::kGrass);
-  // Posts given row by row along x: index = j * posts_per_side + i. Throws as above, on a size
-  // mismatch or on a non-finite elevation.
   HeightGrid(int posts_per_side, double spacing_m, std::vector<float> posts_m,
              Material soil = Material::kGrass);
 
-  int posts_per_side() const { return n_; }
-  int squares_per_side() const { return n_ - 1; }
+  int posts_x() const { return nx_; }
+  int posts_z() const { return nz_; }
+  int squares_x() const { return nx_ - 1; }
+  int squares_z() const { return nz_ - 1; }
   double spacing_m() const { return spacing_m_; }
-  double size_m() const { return spacing_m_ * (n_ - 1); }
+  double size_x_m() const { return spacing_m_ * (nx_ - 1); }
+  double size_z_m() const { return spacing_m_ * (nz_ - 1); }
+  bool is_square() const { return nx_ == nz_; }
 
-  // True if (x, z) is finite and inside [0, size_m()]^2.
+  // True if (x, z) is finite and inside [0, size_x_m()] x [0, size_z_m()].
   bool Contains(double x_m, double z_m) const;
 
   float post(int i, int j) const { return posts_[Index(i, j)]; }
@@ -82,12 +93,16 @@ class HeightGrid {
   const std::vector<Material>& soils() const { return soil_; }
 
  private:
-  size_t Index(int i, int j) const { return static_cast<size_t>(j) * n_ + i; }
+  // Returns posts_per_side; throws std::invalid_argument naming it unless it is in
+  // [2, kMaxPostsPerSide].
+  static int CheckPostsPerSide(int posts_per_side);
+  size_t Index(int i, int j) const { return static_cast<size_t>(j) * nx_ + i; }
   size_t SoilIndex(SquareIndex s, TriangleHalf h) const {
-    return (static_cast<size_t>(s.j) * (n_ - 1) + s.i) * 2 + static_cast<size_t>(h);
+    return (static_cast<size_t>(s.j) * (nx_ - 1) + s.i) * 2 + static_cast<size_t>(h);
   }
 
-  int n_;
+  int nx_;
+  int nz_;
   double spacing_m_;
   std::vector<float> posts_;
   std::vector<Material> soil_;  // two per square: lower, upper

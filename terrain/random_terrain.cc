@@ -41,12 +41,17 @@ HeightGrid MakeRandomTerrain(const RandomTerrainParams& params) {
     throw std::invalid_argument(
         fmt::format("relief_m = {} must be finite and >= 0", params.relief_m));
   }
-  const int n = params.posts_per_side;
-  if (n < 2 || n > kMaxPostsPerSide) {
-    throw std::invalid_argument(
-        fmt::format("posts_per_side = {} must be in [2, {}]", n, kMaxPostsPerSide));
+  const int nx = params.posts_x, nz = params.posts_z;
+  for (const auto& [name, v] : {std::pair{"posts_x", nx}, std::pair{"posts_z", nz}}) {
+    if (v < 2 || v > kMaxPostsPerSide) {
+      throw std::invalid_argument(
+          fmt::format("{} = {} must be in [2, {}]", name, v, kMaxPostsPerSide));
+    }
   }
-  const size_t count = static_cast<size_t>(n) * static_cast<size_t>(n);
+  // The noise is defined on an n x n square (its cells are fractions of n); a rectangle takes
+  // the square's south-west corner.
+  const int n = std::max(nx, nz);
+  const size_t count = static_cast<size_t>(nx) * static_cast<size_t>(nz);
   // Octave o adds value noise with cells of cell[o] posts and weight 2^(K-1-o): the first octave
   // spans half the grid, each next one halves the cell and the amplitude.
   int64_t cell[kRandomTerrainOctaves];
@@ -74,8 +79,8 @@ HeightGrid MakeRandomTerrain(const RandomTerrainParams& params) {
   const double denominator = static_cast<double>(kWeightSum * (int64_t{1} << 46));
   const double half_relief_m = 0.5 * params.relief_m;
   std::vector<float> posts(count);
-  std::vector<int64_t> total(static_cast<size_t>(n));  // one row at a time
-  for (int64_t j = 0; j < n; ++j) {
+  std::vector<int64_t> total(static_cast<size_t>(nx));  // one row at a time
+  for (int64_t j = 0; j < nz; ++j) {
     std::fill(total.begin(), total.end(), 0);
     for (int o = 0; o < kRandomTerrainOctaves; ++o) {
       const int64_t c = cell[o];
@@ -84,7 +89,7 @@ HeightGrid MakeRandomTerrain(const RandomTerrainParams& params) {
       const int64_t* south_row = &lattice[o][static_cast<size_t>((j / c) * side)];
       const int64_t* north_row = south_row + side;
       const int64_t wz = SmoothWeight(j % c, c);
-      for (int64_t i = 0; i < n; ++i) {
+      for (int64_t i = 0; i < nx; ++i) {
         const int64_t a = i / c;
         const int64_t wx = SmoothWeight(i % c, c);
         // |L| <= 2^20 and the weights of each pair sum to 2^16, so |v| <= 2^52.
@@ -94,12 +99,12 @@ HeightGrid MakeRandomTerrain(const RandomTerrainParams& params) {
         total[static_cast<size_t>(i)] += v * octave_weight;
       }
     }
-    for (int64_t i = 0; i < n; ++i) {
+    for (int64_t i = 0; i < nx; ++i) {
       const double unit = static_cast<double>(total[static_cast<size_t>(i)] >> 6) / denominator;
-      posts[static_cast<size_t>(j * n + i)] = static_cast<float>((unit + 1.0) * half_relief_m);
+      posts[static_cast<size_t>(j * nx + i)] = static_cast<float>((unit + 1.0) * half_relief_m);
     }
   }
-  return HeightGrid(n, params.spacing_m, std::move(posts), params.soil);
+  return HeightGrid(nx, nz, params.spacing_m, std::move(posts), params.soil);
 }
 
 }  // namespace dt

@@ -8,7 +8,8 @@
 namespace dt {
 
 struct RandomTerrainParams {
-  int posts_per_side = 257;
+  int posts_x = 257;  // posts along x (east)
+  int posts_z = 257;  // posts along z (north)
   double spacing_m = 10.0;
   double relief_m = 100.0;  // elevations lie in [0, relief_m]
   uint64_t seed = 1;
@@ -20,7 +21,10 @@ inline constexpr int kRandomTerrainOctaves = 6;
 
 // Value noise summed over kRandomTerrainOctaves octaves (docs/terrain.md, "Files and digest").
 // Lattice values come from splitmix64 and everything up to the final scaling is integer
-// arithmetic, so the posts are equal bit for bit on every machine for one seed.
+// arithmetic, so the posts are equal bit for bit on every machine for one seed. The noise is
+// defined on a square of n = max(posts_x, posts_z) posts a side; a rectangular grid is that
+// square's south-west posts_x x posts_z corner, so it is the same ground as the square one would
+// be where they overlap.
 // Throws std::invalid_argument for a bad shape (as HeightGrid) or a relief_m that is not finite
 // or is negative.
 HeightGrid MakeRandomTerrain(const RandomTerrainParams& params);

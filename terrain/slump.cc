@@ -9,10 +9,10 @@ namespace dt {
 
 PostWindow::PostWindow(const Terrain& terrain, int i0, int j0, int columns, int rows) {
   const HeightGrid& g = terrain.ground();
-  const int n = g.posts_per_side();
-  const int i1 = std::min(n, i0 + columns), j1 = std::min(n, j0 + rows);
-  i0_ = std::clamp(i0, 0, n);
-  j0_ = std::clamp(j0, 0, n);
+  const int nx = g.posts_x(), nz = g.posts_z();
+  const int i1 = std::min(nx, i0 + columns), j1 = std::min(nz, j0 + rows);
+  i0_ = std::clamp(i0, 0, nx);
+  j0_ = std::clamp(j0, 0, nz);
   columns_ = std::max(0, i1 - i0_);
   rows_ = std::max(0, j1 - j0_);
   spacing_m_ = g.spacing_m();
@@ -20,8 +20,8 @@ PostWindow::PostWindow(const Terrain& terrain, int i0, int j0, int columns, int 
   soil_.resize(h_mm_.size());
   for (int j = j0_; j < j0_ + rows_; ++j) {
     for (int i = i0_; i < i0_ + columns_; ++i) {
-      const double x = std::min(i * spacing_m_, g.size_m());
-      const double z = std::min(j * spacing_m_, g.size_m());
+      const double x = std::min(i * spacing_m_, g.size_x_m());
+      const double z = std::min(j * spacing_m_, g.size_z_m());
       h_mm_[Slot(i, j)] = std::llround(terrain.ElevationAt(x, z) / kPostDeltaUnitM);
       soil_[Slot(i, j)] = terrain.SoilAt(x, z);
     }

@@ -20,8 +20,8 @@ std::atomic<uint64_t> next_stamp{1};
 }  // namespace
 
 Terrain::Terrain(HeightGrid ground) : ground_(std::move(ground)) {
-  const size_t squares = static_cast<size_t>(ground_.squares_per_side()) *
-                         static_cast<size_t>(ground_.squares_per_side());
+  const size_t squares =
+      static_cast<size_t>(ground_.squares_x()) * static_cast<size_t>(ground_.squares_z());
   squares_.resize(squares);
   bits_.assign(squares, 0);
   Changed();
@@ -53,24 +53,25 @@ uint64_t Terrain::AreaStamp(const Rect& area) const {
 
 void Terrain::SquareRange(const Rect& rect, SquareIndex& lo, SquareIndex& hi) const {
   const double s = ground_.spacing_m();
-  const int last = ground_.squares_per_side() - 1;
-  auto clamp_index = [&](double v) {
+  auto clamp_index = [&](double v, int last) {
     const double g = std::floor(v / s);
     if (!(g >= 0.0)) return 0;  // also catches NaN
     if (g > last) return last;
     return static_cast<int>(g);
   };
-  lo = {clamp_index(rect.min_x), clamp_index(rect.min_z)};
-  hi = {clamp_index(rect.max_x), clamp_index(rect.max_z)};
+  const int last_i = ground_.squares_x() - 1, last_j = ground_.squares_z() - 1;
+  lo = {clamp_index(rect.min_x, last_i), clamp_index(rect.min_z, last_j)};
+  hi = {clamp_index(rect.max_x, last_i), clamp_index(rect.max_z, last_j)};
 }
 
 Status Terrain::CheckPlacement(const Feature& candidate, const Feature* replacing) const {
   const Rect b = candidate.Bounds();
   if (!ground_.Contains(b.min_x, b.min_z) || !ground_.Contains(b.max_x, b.max_z)) {
     return Error{
-        fmt::format("{} {} covers x [{}, {}] z [{}, {}] m, which leaves the terrain [0, {}]^2",
+        fmt::format("{} {} covers x [{}, {}] z [{}, {}] m, which leaves the terrain [0, {}] x "
+                    "[0, {}] m",
                     FeatureTypeName(candidate.type()), candidate.id().ToString(), b.min_x, b.max_x,
-                    b.min_z, b.max_z, ground_.size_m())};
+                    b.min_z, b.max_z, ground_.size_x_m(), ground_.size_z_m())};
   }
   if (!candidate.CanConflict()) return Status::Ok();
   SquareIndex lo, hi;
@@ -178,11 +179,11 @@ float ComposedPost(float bare_m, int64_t sum_mm) {
 }  // namespace
 
 void Terrain::ApplyEarthMove(const std::vector<PostDelta>& deltas, int sign) {
-  const int n = ground_.posts_per_side();
+  const int nx = ground_.posts_x();
   std::vector<std::pair<int, int>> posts;
   posts.reserve(deltas.size());
   for (const PostDelta& d : deltas) {
-    const uint32_t index = static_cast<uint32_t>(d.j) * static_cast<uint32_t>(n) + d.i;
+    const uint32_t index = static_cast<uint32_t>(d.j) * static_cast<uint32_t>(nx) + d.i;
     auto [it, inserted] = blade_.try_emplace(index);
     if (inserted) it->second.bare_m = ground_.post(d.i, d.j);
     it->second.sum_mm += sign * static_cast<int64_t>(d.delta_mm);
@@ -197,9 +198,9 @@ void Terrain::ApplyEarthMove(const std::vector<PostDelta>& deltas, int sign) {
 }
 
 int64_t Terrain::BladeDeltaMm(int i, int j) const {
-  const int n = ground_.posts_per_side();
-  if (i < 0 || j < 0 || i >= n || j >= n) return 0;
-  const auto it = blade_.find(static_cast<uint32_t>(j) * static_cast<uint32_t>(n) + i);
+  const int nx = ground_.posts_x();
+  if (i < 0 || j < 0 || i >= nx || j >= ground_.posts_z()) return 0;
+  const auto it = blade_.find(static_cast<uint32_t>(j) * static_cast<uint32_t>(nx) + i);
   return it == blade_.end() ? 0 : it->second.sum_mm;
 }
 
@@ -210,14 +211,14 @@ std::vector<float> Terrain::BarePosts() const {
 }
 
 void Terrain::GroundChangedAround(const std::vector<std::pair<int, int>>& posts) {
-  const int n = ground_.posts_per_side();
+  const int mx = ground_.squares_x(), mz = ground_.squares_z();
   // A post is a corner of up to four squares; every feature touching them recomputes once.
   std::vector<Feature*> touched;
   for (auto [i, j] : posts) {
     for (int dj = -1; dj <= 0; ++dj) {
       for (int di = -1; di <= 0; ++di) {
         const int si = i + di, sj = j + dj;
-        if (si < 0 || sj < 0 || si >= n - 1 || sj >= n - 1) continue;
+        if (si < 0 || sj < 0 || si >= mx || sj >= mz) continue;
         MarkChanged(SquareIndex{si, sj});
         for (const Feature* f : squares_[SquareSlot({si, sj})]) {
           touched.push_back(const_cast<Feature*>(f));
@@ -285,9 +286,9 @@ std::vector<FeatureId> Terrain::RemoveAt(double x_m, double z_m) {
 
 void Terrain::RemoveAll() {
   features_.Clear();
+  const uint32_t nx = static_cast<uint32_t>(ground_.posts_x());
   for (const auto& [index, post] : blade_) {
-    const int n = ground_.posts_per_side();
-    ground_.set_post(static_cast<int>(index % n), static_cast<int>(index / n), post.bare_m);
+    ground_.set_post(static_cast<int>(index % nx), static_cast<int>(index / nx), post.bare_m);
   }
   blade_.clear();
   for (auto& list : squares_) std::vector<const Feature*>().swap(list);
@@ -297,15 +298,15 @@ void Terrain::RemoveAll() {
 }
 
 Status Terrain::SetPostElevation(int i, int j, float elevation_m) {
-  const int n = ground_.posts_per_side();
-  if (i < 0 || j < 0 || i >= n || j >= n) {
-    return Error{fmt::format("post ({}, {}) is outside the {} x {} grid", i, j, n, n)};
+  const int nx = ground_.posts_x(), nz = ground_.posts_z();
+  if (i < 0 || j < 0 || i >= nx || j >= nz) {
+    return Error{fmt::format("post ({}, {}) is outside the {} x {} grid", i, j, nx, nz)};
   }
   if (!std::isfinite(elevation_m)) {
     return Error{fmt::format("post ({}, {}) elevation {} is not finite", i, j, elevation_m)};
   }
   float post = elevation_m;
-  if (auto it = blade_.find(static_cast<uint32_t>(j) * static_cast<uint32_t>(n) + i);
+  if (auto it = blade_.find(static_cast<uint32_t>(j) * static_cast<uint32_t>(nx) + i);
       it != blade_.end()) {
     it->second.bare_m = elevation_m;
     if (it->second.sum_mm != 0) post = ComposedPost(elevation_m, it->second.sum_mm);
@@ -321,10 +322,10 @@ Status Terrain::SetPostElevation(int i, int j, float elevation_m) {
 }
 
 Status Terrain::SetSoil(SquareIndex square, TriangleHalf half, Material soil) {
-  const int m = ground_.squares_per_side();
-  if (square.i < 0 || square.j < 0 || square.i >= m || square.j >= m) {
+  const int mx = ground_.squares_x(), mz = ground_.squares_z();
+  if (square.i < 0 || square.j < 0 || square.i >= mx || square.j >= mz) {
     return Error{
-        fmt::format("square ({}, {}) is outside the {} x {} squares", square.i, square.j, m, m)};
+        fmt::format("square ({}, {}) is outside the {} x {} squares", square.i, square.j, mx, mz)};
   }
   if (!IsValidMaterial(static_cast<uint16_t>(soil)) || soil == Material::kFromGround) {
     return Error{fmt::format("{} is not a soil", static_cast<uint16_t>(soil))};

@@ -100,7 +100,7 @@ class Terrain {
 
  private:
   size_t SquareSlot(SquareIndex s) const {
-    return static_cast<size_t>(s.j) * ground_.squares_per_side() + s.i;
+    return static_cast<size_t>(s.j) * ground_.squares_x() + s.i;
   }
   // The squares a rectangle touches, clipped to the grid.
   void SquareRange(const Rect& rect, SquareIndex& lo, SquareIndex& hi) const;
@@ -126,10 +126,10 @@ class Terrain {
   std::vector<uint16_t> bits_;                        // 4 x 4 presence bits per square
   uint64_t stamp_ = 0;
   std::vector<uint64_t> square_stamps_;  // per square: the stamp of its last change (AreaStamp)
-  // Blade work, per post an earth move touched (index j * n + i): the post as set without blade
-  // work and the sum of the earth moves' millimetres. The ground post is always
-  // float(bare_m + sum_mm * kPostDeltaUnitM), a function of the sum alone, so the ground is the
-  // same in every order the earth moves arrived in.
+  // Blade work, per post an earth move touched (index j * posts_x + i): the post as set without
+  // blade work and the sum of the earth moves' millimetres. The ground post is always float(bare_m
+  // + sum_mm * kPostDeltaUnitM), a function of the sum alone, so the ground is the same in every
+  // order the earth moves arrived in.
   struct BladePost {
     float bare_m = 0.0f;
     int64_t sum_mm = 0;

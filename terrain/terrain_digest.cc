@@ -47,7 +47,16 @@ class DigestStream {
 
 void EncodeGround(const HeightGrid& ground, DigestStream& stream) {
   for (char c : kDigestTag) stream.out().U8(static_cast<uint8_t>(c));
-  stream.out().U32(static_cast<uint32_t>(ground.posts_per_side()));
+  // A square grid hashes its side as it always has, so the digests of square terrains stay what
+  // they were; any other grid writes 0 (no grid has 0 posts a side) then both counts, so no two
+  // shapes share an encoding.
+  if (ground.is_square()) {
+    stream.out().U32(static_cast<uint32_t>(ground.posts_x()));
+  } else {
+    stream.out().U32(0);
+    stream.out().U32(static_cast<uint32_t>(ground.posts_x()));
+    stream.out().U32(static_cast<uint32_t>(ground.posts_z()));
+  }
   stream.out().F64(ground.spacing_m());
   // Bit patterns, so the digest never depends on how a machine compares floats.
   for (float y : ground.posts()) stream.out().U32(std::bit_cast<uint32_t>(y));

@@ -12,7 +12,7 @@
 namespace dt {
 
 // XXH3-128 of the canonical state encoding (docs/terrain.md, "Files and digest"): the ground
-// (post count, spacing, every post's bit pattern, every triangle's soil) and every feature sorted
+// (post counts, spacing, every post's bit pattern, every triangle's soil) and every feature sorted
 // by ID with its canonical parameter encoding. Two terrains holding the same state have equal
 // digests whatever order their features were added in.
 struct TerrainDigest {

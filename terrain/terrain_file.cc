@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <xxhash.h>
@@ -31,16 +32,23 @@ constexpr size_t kGroundLengthOffset = 12;
 constexpr size_t kFeatureLengthOffset = 20;
 constexpr int kMaxPosts = kMaxPostsPerSide;  // HeightGrid's limit
 
-// Bytes of a ground section for an n x n grid: n, spacing, posts, two soils per square.
-uint64_t GroundSectionBytes(uint64_t n) { return 4 + 8 + 4 * n * n + 2 * 2 * (n - 1) * (n - 1); }
+// Bytes of a ground section: the post counts (one for a square grid up to version 3, two from
+// version 4), spacing, posts, two soils per square.
+uint64_t GroundSectionBytes(uint32_t version, uint64_t nx, uint64_t nz) {
+  const uint64_t counts = version >= 4 ? 8 : 4;
+  return counts + 8 + 4 * nx * nz + 2 * 2 * (nx - 1) * (nz - 1);
+}
 
 }  // namespace
 
 std::vector<uint8_t> EncodeTerrainFile(const Terrain& terrain) {
   const HeightGrid& g = terrain.ground();
+  const uint32_t version = g.is_square() ? kSquareTerrainFileVersion : kTerrainFileVersion;
+  const auto nx = static_cast<uint32_t>(g.posts_x()), nz = static_cast<uint32_t>(g.posts_z());
   ByteWriter ground;
-  ground.bytes().reserve(GroundSectionBytes(static_cast<uint64_t>(g.posts_per_side())));
-  ground.U32(static_cast<uint32_t>(g.posts_per_side()));
+  ground.bytes().reserve(GroundSectionBytes(version, nx, nz));
+  ground.U32(nx);
+  if (version >= 4) ground.U32(nz);
   ground.F64(g.spacing_m());
   // The posts without blade work: the earth moves among the features add it back on loading.
   for (float y : terrain.BarePosts()) ground.F32(y);
@@ -63,7 +71,7 @@ std::vector<uint8_t> EncodeTerrainFile(const Terrain& terrain) {
   file.bytes().reserve(kTerrainFileHeaderBytes + ground.bytes().size() + features.bytes().size() +
                        kTerrainFileChecksumBytes);
   file.Bytes(kMagic);
-  file.U32(kTerrainFileVersion);
+  file.U32(version);
   file.U64(ground.bytes().size());
   file.U64(features.bytes().size());
   file.Bytes(ground.bytes());
@@ -119,44 +127,55 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
   // Ground section. Offsets in messages are from the start of the file.
   const size_t ground_at = kTerrainFileHeaderBytes;
   ByteReader ground(bytes.subspan(ground_at, ground_bytes));
-  const auto posts_per_side = ground.U32();
-  if (!posts_per_side) {
+  // Up to version 3 the grid is square: one count. From version 4, posts along x then along z.
+  const bool two_counts = version >= 4;
+  const auto first_count = ground.U32();
+  const auto second_count = two_counts ? ground.U32() : first_count;
+  if (!first_count || !second_count) {
     return fail(kGroundLengthOffset,
                 fmt::format("ground section is {} bytes, too short to hold a grid", ground_bytes));
   }
-  const uint32_t n = *posts_per_side;
-  if (n < 2 || n > kMaxPosts) {
-    return fail(ground_at, fmt::format("posts_per_side {} is outside [2, {}]", n, kMaxPosts));
+  const uint32_t nx = *first_count, nz = *second_count;
+  if (!two_counts && (nx < 2 || nx > kMaxPosts)) {
+    return fail(ground_at, fmt::format("posts_per_side {} is outside [2, {}]", nx, kMaxPosts));
   }
-  if (ground_bytes != GroundSectionBytes(n)) {
+  for (const auto& [name, n, at] :
+       {std::tuple{"posts_x", nx, ground_at}, std::tuple{"posts_z", nz, ground_at + 4}}) {
+    if (n < 2 || n > kMaxPosts) {
+      return fail(at, fmt::format("{} {} is outside [2, {}]", name, n, kMaxPosts));
+    }
+  }
+  const uint64_t needed = GroundSectionBytes(version, nx, nz);
+  if (ground_bytes != needed) {
     return fail(kGroundLengthOffset,
                 fmt::format("ground section is {} bytes but a {} x {} grid needs {}", ground_bytes,
-                            n, n, GroundSectionBytes(n)));
+                            nx, nz, needed));
   }
+  const size_t spacing_at = ground_at + ground.offset();
   const double spacing_m = *ground.F64();
   if (!std::isfinite(spacing_m) || spacing_m <= 0.0) {
-    return fail(ground_at + 4, fmt::format("spacing_m {} must be finite and > 0", spacing_m));
+    return fail(spacing_at, fmt::format("spacing_m {} must be finite and > 0", spacing_m));
   }
-  std::vector<float> posts(static_cast<size_t>(n) * n);
+  std::vector<float> posts(static_cast<size_t>(nx) * nz);
   for (size_t k = 0; k < posts.size(); ++k) {
     const size_t at = ground_at + ground.offset();
     posts[k] = *ground.F32();
     if (!std::isfinite(posts[k])) {
-      return fail(at, fmt::format("post ({}, {}) is not finite ({})", k % n, k / n, posts[k]));
+      return fail(at, fmt::format("post ({}, {}) is not finite ({})", k % nx, k / nx, posts[k]));
     }
   }
-  HeightGrid grid(static_cast<int>(n), spacing_m, std::move(posts));
-  const size_t squares_per_side = n - 1;
-  const size_t soil_count = 2 * squares_per_side * squares_per_side;
+  HeightGrid grid(static_cast<int>(nx), static_cast<int>(nz), spacing_m, std::move(posts));
+  const size_t squares_x = nx - 1;
+  const size_t soil_count = 2 * squares_x * (nz - 1);
   for (size_t k = 0; k < soil_count; ++k) {
     const size_t at = ground_at + ground.offset();
     const uint16_t raw = *ground.U16();
+    const SquareIndex square{static_cast<int>((k / 2) % squares_x),
+                             static_cast<int>((k / 2) / squares_x)};
     if (!IsValidMaterial(raw) || static_cast<Material>(raw) == Material::kFromGround) {
-      return fail(at, fmt::format("soil {} of square ({}, {}) is not a soil", raw,
-                                  (k / 2) % squares_per_side, (k / 2) / squares_per_side));
+      return fail(at,
+                  fmt::format("soil {} of square ({}, {}) is not a soil", raw, square.i, square.j));
     }
-    const SquareIndex square{static_cast<int>((k / 2) % squares_per_side),
-                             static_cast<int>((k / 2) / squares_per_side)};
     grid.set_soil(square, static_cast<TriangleHalf>(k % 2), static_cast<Material>(raw));
   }
 

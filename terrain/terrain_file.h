@@ -13,8 +13,12 @@
 
 namespace dt {
 
-// docs/terrain-file-format.md describes every byte.
-inline constexpr uint32_t kTerrainFileVersion = 3;
+// docs/terrain-file-format.md describes every byte. The newest version, read and written.
+inline constexpr uint32_t kTerrainFileVersion = 4;
+// SaveTerrain writes a square grid as version 3, byte for byte what earlier builds wrote (old
+// readers still read it, saved files and their checksums do not change); only a grid that is not
+// square needs version 4, whose ground section counts posts along x and z apart.
+inline constexpr uint32_t kSquareTerrainFileVersion = 3;
 // The oldest version LoadTerrain still reads (docs/terrain-file-format.md "Versions").
 inline constexpr uint32_t kOldestTerrainFileVersion = 1;
 inline constexpr size_t kTerrainFileHeaderBytes = 28;
@@ -24,6 +28,7 @@ inline constexpr size_t kTerrainFileChecksumBytes = 8;
 inline constexpr uint64_t kMaxTerrainFileBytes = uint64_t{1} << 30;
 
 // The file's bytes: header, ground section, feature section (sorted by ID), XXH3-64 checksum.
+// Version kSquareTerrainFileVersion for a square grid, kTerrainFileVersion otherwise.
 std::vector<uint8_t> EncodeTerrainFile(const Terrain& terrain);
 
 // Checks the magic, version, section sizes and checksum, then rebuilds the ground and adds every

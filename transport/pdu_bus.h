@@ -21,9 +21,13 @@ namespace dt {
 
 struct PduBusConfig {
   uint8_t exercise_id = 0;
-  NodeAddress local;               // this node: stamped as every PDU's sender
-  double terrain_size_m = 0.0;     // > 0; positions outside [0, size] are dropped
-  int terrain_posts_per_side = 0;  // EarthMove posts beyond it are dropped (0: not checked)
+  NodeAddress local;  // this node: stamped as every PDU's sender
+  // > 0; positions outside [0, terrain_size_x_m] x [0, terrain_size_z_m] are dropped.
+  double terrain_size_x_m = 0.0;
+  double terrain_size_z_m = 0.0;
+  // EarthMove posts beyond the grid's posts along x or z are dropped (0: not checked).
+  int terrain_posts_x = 0;
+  int terrain_posts_z = 0;
   // Transports echo a node's own PDUs back to it; by default the bus drops them (by the sender
   // field, first, before authentication and decoding).
   bool deliver_own = false;
@@ -42,8 +46,8 @@ struct PduBusConfig {
 // Same threading as Transport.
 class PduBus {
  public:
-  // Throws std::invalid_argument if terrain_size_m is not a positive finite number, or for a bad
-  // authentication config (PduAuthenticator).
+  // Throws std::invalid_argument if terrain_size_x_m or terrain_size_z_m is not a positive finite
+  // number, or for a bad authentication config (PduAuthenticator).
   PduBus(Transport& transport, PduBusConfig config);
 
   // Sets header (protocol version, exercise, type, time stamp), sender = local and the next
@@ -68,7 +72,8 @@ class PduBus {
   // The authenticator; null when the bus runs without a key.
   const PduAuthenticator* authenticator() const { return auth_ ? &*auth_ : nullptr; }
   ValidationContext validation_context() const {
-    return {config_.exercise_id, config_.terrain_size_m, config_.terrain_posts_per_side};
+    return {config_.exercise_id, config_.terrain_size_x_m, config_.terrain_size_z_m,
+            config_.terrain_posts_x, config_.terrain_posts_z};
   }
 
  private:

@@ -109,8 +109,8 @@ std::vector<PostDelta> Blade::Step(const Terrain& terrain, const FrictionTable& 
 
   if (down_) {
     if (!edge_mm_) {
-      const double ex = std::clamp(edge_x, 0.0, g.size_m()),
-                   ez = std::clamp(edge_z, 0.0, g.size_m());
+      const double ex = std::clamp(edge_x, 0.0, g.size_x_m()),
+                   ez = std::clamp(edge_z, 0.0, g.size_z_m());
       edge_mm_ = std::llround((terrain.ElevationAt(ex, ez) - depth_m_) / kPostDeltaUnitM);
     }
     const int64_t edge_mm = *edge_mm_;

@@ -19,8 +19,8 @@ std::vector<Solid> BridgeSolids(const Bridge& b, const HeightGrid& ground) {
     // Right of direction d is (sin d, -cos d) = (uz, -ux).
     const double x = p.x_m + along_m * base.ux + right_m * base.uz;
     const double z = p.z_m + along_m * base.uz - right_m * base.ux;
-    return ground.ElevationAt(std::clamp(x, 0.0, ground.size_m()),
-                              std::clamp(z, 0.0, ground.size_m()));
+    return ground.ElevationAt(std::clamp(x, 0.0, ground.size_x_m()),
+                              std::clamp(z, 0.0, ground.size_z_m()));
   };
   const std::vector<DeckSection> profile = b.DeckProfile();  // 4 intact, 6 destroyed
   const double half_w = b.width_m() / 2.0;
@@ -106,11 +106,11 @@ std::vector<Solid> SolidsNear(const Terrain& terrain, const Rect& area) {
 void SolidsNear(const Terrain& terrain, const Rect& area, std::vector<Solid>& out) {
   out.clear();
   const HeightGrid& g = terrain.ground();
-  const double size = g.size_m();
+  const double sx = g.size_x_m(), sz = g.size_z_m();
   const SquareIndex lo =
-      g.SquareAt(std::clamp(area.min_x, 0.0, size), std::clamp(area.min_z, 0.0, size));
+      g.SquareAt(std::clamp(area.min_x, 0.0, sx), std::clamp(area.min_z, 0.0, sz));
   const SquareIndex hi =
-      g.SquareAt(std::clamp(area.max_x, 0.0, size), std::clamp(area.max_z, 0.0, size));
+      g.SquareAt(std::clamp(area.max_x, 0.0, sx), std::clamp(area.max_z, 0.0, sz));
   // Bridges are few: gathered in a small array, sorted by ID, duplicates (one bridge indexed in
   // several squares) dropped.
   std::array<const Bridge*, 16> bridges;

@@ -159,9 +159,8 @@ SurfaceSample Sample(const Terrain& terrain, double x_m, double z_m, GroundPlane
     }
   } else {
     // On an earthwork: forward differences (backward at the terrain's far edges) for the normal.
-    const double size = g.size_m();
-    const double dx = x_m + kNormalStepM <= size ? kNormalStepM : -kNormalStepM;
-    const double dz = z_m + kNormalStepM <= size ? kNormalStepM : -kNormalStepM;
+    const double dx = x_m + kNormalStepM <= g.size_x_m() ? kNormalStepM : -kNormalStepM;
+    const double dz = z_m + kNormalStepM <= g.size_z_m() ? kNormalStepM : -kNormalStepM;
     out.height_m = surface;
     const double sx = (surface_at(x_m + dx, z_m) - surface) / dx;
     const double sz = (surface_at(x_m, z_m + dz) - surface) / dz;
@@ -204,11 +203,11 @@ SurfaceSample SampleSurface(const Terrain& terrain, std::span<const Solid> solid
 
 bool EarthworkNear(const Terrain& terrain, const Rect& area) {
   const HeightGrid& g = terrain.ground();
-  const double size = g.size_m();
+  const double sx = g.size_x_m(), sz = g.size_z_m();
   const SquareIndex lo =
-      g.SquareAt(std::clamp(area.min_x, 0.0, size), std::clamp(area.min_z, 0.0, size));
+      g.SquareAt(std::clamp(area.min_x, 0.0, sx), std::clamp(area.min_z, 0.0, sz));
   const SquareIndex hi =
-      g.SquareAt(std::clamp(area.max_x, 0.0, size), std::clamp(area.max_z, 0.0, size));
+      g.SquareAt(std::clamp(area.max_x, 0.0, sx), std::clamp(area.max_z, 0.0, sz));
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i) {
       if (terrain.SquareBits({i, j}) == 0) continue;
@@ -223,11 +222,11 @@ bool EarthworkNear(const Terrain& terrain, const Rect& area) {
 void EarthworksNear(const Terrain& terrain, const Rect& area, std::vector<NearEarthwork>& out) {
   out.clear();
   const HeightGrid& g = terrain.ground();
-  const double size = g.size_m();
+  const double sx = g.size_x_m(), sz = g.size_z_m();
   const SquareIndex lo =
-      g.SquareAt(std::clamp(area.min_x, 0.0, size), std::clamp(area.min_z, 0.0, size));
+      g.SquareAt(std::clamp(area.min_x, 0.0, sx), std::clamp(area.min_z, 0.0, sz));
   const SquareIndex hi =
-      g.SquareAt(std::clamp(area.max_x, 0.0, size), std::clamp(area.max_z, 0.0, size));
+      g.SquareAt(std::clamp(area.max_x, 0.0, sx), std::clamp(area.max_z, 0.0, sz));
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i) {
       if (terrain.SquareBits({i, j}) == 0) continue;

@@ -6,7 +6,8 @@ namespace dt {
 
 Result<LightVehicle> LightVehicle::Make(const VehicleType& type, const Terrain& terrain, double x_m,
                                         double z_m, double heading_rad) {
-  Result<Vehicle> v = Vehicle::Make(type, x_m, z_m, heading_rad, terrain.ground().size_m());
+  Result<Vehicle> v = Vehicle::Make(type, x_m, z_m, heading_rad, terrain.ground().size_x_m(),
+                                    terrain.ground().size_z_m());
   if (!v) return v.error();
   if (Result<TraversalReport> r = SettleVehicle(terrain, v.value()); !r) return r.error();
   return LightVehicle(std::move(v).value());

@@ -160,8 +160,9 @@ Result<PhysicalVehicle> PhysicalVehicle::MakeAt(const PhysicalVehicleType& type,
   if (!v.OnTerrain(terrain)) {
     return Error{
         fmt::format("the {} at (x {}, z {}) m heading {} rad reaches off the terrain "
-                    "[0, {}]^2",
-                    type.base.name, x_m, z_m, heading_rad, terrain.ground().size_m())};
+                    "[0, {}] x [0, {}] m",
+                    type.base.name, x_m, z_m, heading_rad, terrain.ground().size_x_m(),
+                    terrain.ground().size_z_m())};
   }
   if (Status s = v.CheckClearOfSolids(terrain); !s) return s.error();
   return v;
@@ -266,9 +267,8 @@ bool PhysicalVehicle::OnTerrain(const Terrain& terrain) const {
   // footprint; the terrain is convex, so the box's eight corners decide. They all lie within
   // box_radius_m_ of the centre of mass: a centre that far inside every edge needs no corner
   // (the answer is the same; this is asked every step).
-  const double size = terrain.ground().size_m();
-  if (x_.x() - box_radius_m_ >= 0.0 && x_.x() + box_radius_m_ <= size &&
-      x_.z() - box_radius_m_ >= 0.0 && x_.z() + box_radius_m_ <= size)
+  if (x_.x() - box_radius_m_ >= 0.0 && x_.x() + box_radius_m_ <= terrain.ground().size_x_m() &&
+      x_.z() - box_radius_m_ >= 0.0 && x_.z() + box_radius_m_ <= terrain.ground().size_z_m())
     return true;
   for (const Vector3d& p : HullBoxCorners()) {
     if (!terrain.Contains(p.x(), p.z())) return false;
@@ -350,8 +350,9 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
     return Error{fmt::format("time step {} s is not a finite number in [0, 60]", dt_s)};
   }
   if (!OnTerrain(terrain)) {
-    return Error{fmt::format("the {} at (x {}, z {}) m is not on this terrain [0, {}]^2",
-                             type_.base.name, x_.x(), x_.z(), terrain.ground().size_m())};
+    return Error{fmt::format("the {} at (x {}, z {}) m is not on this terrain [0, {}] x [0, {}] m",
+                             type_.base.name, x_.x(), x_.z(), terrain.ground().size_x_m(),
+                             terrain.ground().size_z_m())};
   }
   PhysicalReport report;
   pending_ns_ += std::llround(dt_s * 1e9);

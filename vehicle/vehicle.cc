@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -16,28 +17,32 @@ double WrapAngleRad(double a) {
 }
 
 Vehicle::Vehicle(VehicleType type, double x_m, double z_m, double heading_rad,
-                 double terrain_size_m)
+                 double terrain_size_x_m, double terrain_size_z_m)
     : type_(std::move(type)),
       x_m_(x_m),
       z_m_(z_m),
       heading_rad_(WrapAngleRad(heading_rad)),
-      terrain_size_m_(terrain_size_m) {}
+      terrain_size_x_m_(terrain_size_x_m),
+      terrain_size_z_m_(terrain_size_z_m) {}
 
 Result<Vehicle> Vehicle::Make(VehicleType type, double x_m, double z_m, double heading_rad,
-                              double terrain_size_m) {
+                              double terrain_size_x_m, double terrain_size_z_m) {
   if (auto s = ValidateVehicleType(type); !s) return s.error();
-  if (!std::isfinite(terrain_size_m) || terrain_size_m <= 0.0) {
-    return Error{fmt::format("terrain size {} m must be finite and > 0", terrain_size_m)};
+  for (double size_m : {terrain_size_x_m, terrain_size_z_m}) {
+    if (!std::isfinite(size_m) || size_m <= 0.0) {
+      return Error{fmt::format("terrain size {} m must be finite and > 0", size_m)};
+    }
   }
   if (!std::isfinite(x_m) || !std::isfinite(z_m) || !std::isfinite(heading_rad)) {
     return Error{
         fmt::format("vehicle pose (x {}, z {}, heading {}) is not finite", x_m, z_m, heading_rad)};
   }
-  Vehicle v(std::move(type), x_m, z_m, heading_rad, terrain_size_m);
+  Vehicle v(std::move(type), x_m, z_m, heading_rad, terrain_size_x_m, terrain_size_z_m);
   if (!v.FootprintOnTerrain(x_m, z_m, v.heading_rad_)) {
     return Error{fmt::format(
-        "a {} ({} x {} m) at (x {}, z {}) m heading {} rad leaves the terrain [0, {}]^2",
-        v.type_.name, v.type_.length_m, v.type_.width_m, x_m, z_m, heading_rad, terrain_size_m)};
+        "a {} ({} x {} m) at (x {}, z {}) m heading {} rad leaves the terrain [0, {}] x [0, {}] m",
+        v.type_.name, v.type_.length_m, v.type_.width_m, x_m, z_m, heading_rad, terrain_size_x_m,
+        terrain_size_z_m)};
   }
   return v;
 }
@@ -59,7 +64,8 @@ bool Vehicle::FootprintOnTerrain(double x_m, double z_m, double heading_rad) con
   for (int k : kCorners) {
     const GroundPoint p =
         ToGround(x_m, z_m, heading_rad, SixPointLayout(type_.length_m, type_.width_m)[k]);
-    if (!(p.x_m >= 0.0 && p.x_m <= terrain_size_m_ && p.z_m >= 0.0 && p.z_m <= terrain_size_m_)) {
+    if (!(p.x_m >= 0.0 && p.x_m <= terrain_size_x_m_ && p.z_m >= 0.0 &&
+          p.z_m <= terrain_size_z_m_)) {
       return false;
     }
   }
@@ -99,15 +105,16 @@ Status Vehicle::Step(double dt_s) {
       stopped ? heading_rad_ : heading_rad_ + WrapAngleRad(new_heading - heading_rad_) / 2.0;
   const double dx = distance_m * std::cos(mean_heading);
   const double dz = distance_m * std::sin(mean_heading);
-  // Each corner must stay in [0, size] on both axes: the largest fraction t of the move allowed.
+  // Each corner must stay in [0, size] on its axis: the largest fraction t of the move allowed.
   // The margin keeps rounding in the recomputed corners from putting one just off the terrain.
   constexpr double kMarginM = 1e-6;
-  const double lo = kMarginM, hi = terrain_size_m_ - kMarginM;
+  const double lo = kMarginM;
   double t = 1.0;
   const auto layout = SixPointLayout(type_.length_m, type_.width_m);
   for (int k : kCorners) {
     const GroundPoint c = ToGround(x_m_, z_m_, new_heading, layout[k]);
-    for (auto [pos, delta] : {std::pair{c.x_m, dx}, std::pair{c.z_m, dz}}) {
+    for (auto [pos, delta, hi] : {std::tuple{c.x_m, dx, terrain_size_x_m_ - kMarginM},
+                                  std::tuple{c.z_m, dz, terrain_size_z_m_ - kMarginM}}) {
       if (delta > 0.0 && pos + delta > hi) t = std::min(t, std::max(0.0, (hi - pos) / delta));
       if (delta < 0.0 && pos + delta < lo) t = std::min(t, std::max(0.0, (pos - lo) / -delta));
     }

@@ -1,4 +1,4 @@
-// Vehicle: one vehicle's state and kinematic driving on a square terrain.
+// Vehicle: one vehicle's state and kinematic driving on a terrain.
 #pragma once
 
 #include <array>
@@ -16,10 +16,10 @@ namespace dt {
 class Vehicle {
  public:
   // Checks the type, that the pose is finite, and that the whole footprint lies on the terrain
-  // [0, terrain_size_m]^2. The vehicle starts at rest, alive, off any bridge, at elevation 0 until
-  // the first traversal.
+  // [0, terrain_size_x_m] x [0, terrain_size_z_m]. The vehicle starts at rest, alive, off any
+  // bridge, at elevation 0 until the first traversal.
   static Result<Vehicle> Make(VehicleType type, double x_m, double z_m, double heading_rad,
-                              double terrain_size_m);
+                              double terrain_size_x_m, double terrain_size_z_m);
 
   const VehicleType& type() const { return type_; }
   double x_m() const { return x_m_; }
@@ -29,7 +29,8 @@ class Vehicle {
   // Negative when reversing.
   double speed_mps() const { return speed_mps_; }
   double heading_rate_rad_s() const { return heading_rate_rad_s_; }
-  double terrain_size_m() const { return terrain_size_m_; }
+  double terrain_size_x_m() const { return terrain_size_x_m_; }
+  double terrain_size_z_m() const { return terrain_size_z_m_; }
 
   // Reversing means moving backwards: speed < 0. A vehicle at rest counts as forward.
   bool reversing() const { return speed_mps_ < 0.0; }
@@ -67,7 +68,8 @@ class Vehicle {
   void Kill();
 
  private:
-  Vehicle(VehicleType type, double x_m, double z_m, double heading_rad, double terrain_size_m);
+  Vehicle(VehicleType type, double x_m, double z_m, double heading_rad, double terrain_size_x_m,
+          double terrain_size_z_m);
   // True if the footprint at this pose lies on the terrain.
   bool FootprintOnTerrain(double x_m, double z_m, double heading_rad) const;
 
@@ -75,7 +77,8 @@ class Vehicle {
   double x_m_;
   double z_m_;
   double heading_rad_;
-  double terrain_size_m_;
+  double terrain_size_x_m_;
+  double terrain_size_z_m_;
   double speed_mps_ = 0.0;
   double heading_rate_rad_s_ = 0.0;
   Orientation orientation_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
@@ -43,13 +44,25 @@ std::array<double, 6> SixHeights(const Terrain& terrain, std::span<const Bridge*
   return h;
 }
 
+// "100 m" for a square terrain, "100 x 60 m" for another.
+std::string SizeText(double x_m, double z_m) {
+  return x_m == z_m ? fmt::format("{} m", x_m) : fmt::format("{} x {} m", x_m, z_m);
+}
+
+// Step keeps the footprint on a terrain of the vehicle's size: this terrain's.
+bool PlacedOn(const Vehicle& vehicle, const Terrain& terrain) {
+  return vehicle.terrain_size_x_m() == terrain.ground().size_x_m() &&
+         vehicle.terrain_size_z_m() == terrain.ground().size_z_m();
+}
+
 }  // namespace
 
 Result<TraversalReport> SettleVehicle(const Terrain& terrain, Vehicle& vehicle) {
   const VehicleType& type = vehicle.type();
-  if (vehicle.terrain_size_m() != terrain.ground().size_m()) {
-    return Error{fmt::format("the {} was placed on a terrain of {} m, not this one of {} m",
-                             type.name, vehicle.terrain_size_m(), terrain.ground().size_m())};
+  if (!PlacedOn(vehicle, terrain)) {
+    return Error{fmt::format("the {} was placed on a terrain of {}, not this one of {}", type.name,
+                             SizeText(vehicle.terrain_size_x_m(), vehicle.terrain_size_z_m()),
+                             SizeText(terrain.ground().size_x_m(), terrain.ground().size_z_m()))};
   }
   const std::array<GroundPoint, 6> six = vehicle.SixPoints();
   const auto two = TwoPointLayout(type.length_m, type.width_m);
@@ -62,9 +75,9 @@ Result<TraversalReport> SettleVehicle(const Terrain& terrain, Vehicle& vehicle) 
     if (!terrain.Contains(p.x_m, p.z_m)) {
       return Error{fmt::format(
           "the {} at (x {}, z {}) m heading {} rad reaches (x {}, z {}) m, off the terrain "
-          "[0, {}]^2",
+          "[0, {}] x [0, {}] m",
           type.name, vehicle.x_m(), vehicle.z_m(), vehicle.heading_rad(), p.x_m, p.z_m,
-          terrain.ground().size_m())};
+          terrain.ground().size_x_m(), terrain.ground().size_z_m())};
     }
   }
 
@@ -123,7 +136,7 @@ Result<TraversalReport> SettleVehicle(const Terrain& terrain, Vehicle& vehicle) 
 Result<TraversalReport> DriveVehicle(const Terrain& terrain, Vehicle& vehicle, double dt_s) {
   // Step keeps the footprint on a terrain of the vehicle's size: check it is this terrain's first,
   // so that a refused call moves nothing.
-  if (vehicle.terrain_size_m() != terrain.ground().size_m()) return SettleVehicle(terrain, vehicle);
+  if (!PlacedOn(vehicle, terrain)) return SettleVehicle(terrain, vehicle);
   if (auto s = vehicle.Step(dt_s); !s) return s.error();
   return SettleVehicle(terrain, vehicle);
 }

@@ -48,14 +48,14 @@ WanderStart DrawWanderStart(const WanderArea& clear, WanderRandom& random) {
   return s;
 }
 
-Wanderer::Wanderer(const VehicleType& type, const WanderArea& area, double terrain_size_m,
-                   uint64_t seed)
+Wanderer::Wanderer(const VehicleType& type, const WanderArea& area, double terrain_size_x_m,
+                   double terrain_size_z_m, uint64_t seed)
     : max_speed_mps_(type.max_speed_mps), max_rate_rad_s_(type.max_turn_rate_rad_s), random_(seed) {
   const double turn_radius_m = kTurnBackSpeed * max_speed_mps_ / std::max(max_rate_rad_s_, 1e-6);
   lookahead_m_ = 2 * turn_radius_m + type.length_m + kLegSpeedMax * max_speed_mps_ * kReactionS;
   edge_margin_m_ = 2 * turn_radius_m + type.length_m;
   // The area less the margin at the terrain's edge; a point at its middle if nothing is left.
-  auto clear = [&](double lo, double hi, double& out_lo, double& out_hi) {
+  auto clear = [&](double lo, double hi, double terrain_size_m, double& out_lo, double& out_hi) {
     out_lo = std::max(lo, edge_margin_m_);
     out_hi = std::min(hi, terrain_size_m - edge_margin_m_);
     if (out_lo > out_hi) {
@@ -64,8 +64,8 @@ Wanderer::Wanderer(const VehicleType& type, const WanderArea& area, double terra
       out_lo = out_hi = mid;
     }
   };
-  clear(area.x_min_m, area.x_max_m, clear_.x_min_m, clear_.x_max_m);
-  clear(area.z_min_m, area.z_max_m, clear_.z_min_m, clear_.z_max_m);
+  clear(area.x_min_m, area.x_max_m, terrain_size_x_m, clear_.x_min_m, clear_.x_max_m);
+  clear(area.z_min_m, area.z_max_m, terrain_size_z_m, clear_.z_min_m, clear_.z_max_m);
   NewLeg();
 }
 

@@ -56,8 +56,10 @@ struct WanderCommand {
 // steps give the same commands.
 class Wanderer {
  public:
-  // `area` must lie inside [0, terrain_size_m]^2 (the exercise file's validation checks it).
-  Wanderer(const VehicleType& type, const WanderArea& area, double terrain_size_m, uint64_t seed);
+  // `area` must lie inside [0, terrain_size_x_m] x [0, terrain_size_z_m] (the exercise file's
+  // validation checks it).
+  Wanderer(const VehicleType& type, const WanderArea& area, double terrain_size_x_m,
+           double terrain_size_z_m, uint64_t seed);
 
   // The command for the tick of dt_s that starts at `pose`.
   WanderCommand Next(const VehiclePose& pose, double dt_s);

@@ -57,7 +57,8 @@ ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOp
   handlers.snapshot = [this] {
     nlohmann::json s = model_->Snapshot(WallMs());
     s["exercise"] = {{"name", exercise_.name},
-                     {"size_m", exercise_.terrain_size_m()},
+                     {"size_x_m", exercise_.terrain_size_x_m()},
+                     {"size_z_m", exercise_.terrain_size_z_m()},
                      {"silence_ms", exercise_.protocol.silence_ms},
                      {"view", view_.process.name},
                      {"commands", options_.allow_commands},

@@ -54,7 +54,8 @@ PduBusConfig BusConfig() {
   PduBusConfig bc;
   bc.exercise_id = 1;
   bc.local = Settings().self;
-  bc.terrain_size_m = Settings().terrain_size_m;
+  bc.terrain_size_x_m = Settings().terrain_size_x_m;
+  bc.terrain_size_z_m = Settings().terrain_size_z_m;
   return bc;
 }
 
@@ -303,7 +304,8 @@ void BM_StateToDatagram(benchmark::State& state, bool gateway) {
   PduBusConfig nc;
   nc.exercise_id = 1;
   nc.local = kNode;
-  nc.terrain_size_m = Settings().terrain_size_m;
+  nc.terrain_size_x_m = Settings().terrain_size_x_m;
+  nc.terrain_size_z_m = Settings().terrain_size_z_m;
   PduBusConfig gc = nc;
   gc.local = Settings().self;
   PduBus node(*memq, nc);

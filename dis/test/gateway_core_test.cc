@@ -191,6 +191,39 @@ TEST(GatewayCoreTest, OutsideEntityStateIsPublishedAsVehicleState) {
   EXPECT_EQ(h.core->counters().entities_unmapped, 1u);
 }
 
+// On a rectangular terrain an outside entity is bounded by each side on its own axis.
+TEST(GatewayCoreTest, ARectangularTerrainBoundsOutsideEntitiesPerAxis) {
+  Harness h;
+  const GeodeticFrame& frame = h.core->frame();
+  const EntityStatePdu at_600_200 = Outside(600.0, frame);  // x 600 m, z 200 m
+  EXPECT_TRUE(VehicleOfEntityState(at_600_200, frame, 640.0, 250.0).ok());
+  const auto past_north = VehicleOfEntityState(at_600_200, frame, 640.0, 150.0);
+  ASSERT_FALSE(past_north.ok());
+  EXPECT_NE(past_north.error().message.find("(600.0, 200.0) m is off the 640 x 150 m terrain"),
+            std::string::npos)
+      << past_north.error().message;
+  EXPECT_FALSE(VehicleOfEntityState(at_600_200, frame, 590.0, 250.0).ok());  // past the east
+  // The axes are not swapped: a 250 m x 640 m terrain holds (200, 600), not (600, 200).
+  EXPECT_FALSE(VehicleOfEntityState(at_600_200, frame, 250.0, 640.0).ok());
+
+  GatewaySettings tall = Settings();
+  tall.terrain_size_x_m = 300.0;
+  tall.terrain_size_z_m = 1000.0;
+  std::vector<VehicleStateFields> published;
+  GatewayCore core(
+      tall, [](std::span<const uint8_t>) { return true; },
+      [&](const VehicleStateFields& s) {
+        published.push_back(s);
+        return Status();
+      },
+      FeatureAuthor{});
+  core.OnDatagram(Encode(Outside(250.0, core.frame())), 1.0);
+  EXPECT_EQ(published.size(), 1u);
+  core.OnDatagram(Encode(Outside(350.0, core.frame())), 1.1);
+  EXPECT_EQ(published.size(), 1u);
+  EXPECT_EQ(core.counters().entities_unmapped, 1u);
+}
+
 TEST(GatewayCoreTest, ListsItsVehiclesInTheNodesFormat) {
   Harness h;
   EXPECT_EQ(h.core->VehiclesText(0.0), "");

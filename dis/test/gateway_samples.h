@@ -17,7 +17,7 @@ inline GatewaySettings SampleSettings(uint8_t exercise_id, double terrain_size_m
   GatewaySettings s;
   s.origin = {36.6, -121.9, 20.0};
   s.exercise_id = exercise_id;
-  s.terrain_size_m = terrain_size_m;
+  s.terrain_size_x_m = s.terrain_size_z_m = terrain_size_m;
   s.self = kSampleGateway;
   s.members = {node, s.self};
   return s;

@@ -227,7 +227,7 @@ TEST(RulesConfigTest, AReplicaMissingFromItsOwnMemberListIsAConfigError) {
   PduBusConfig bc;
   bc.exercise_id = 1;
   bc.local = kA;
-  bc.terrain_size_m = 128.0;
+  bc.terrain_size_x_m = bc.terrain_size_z_m = 128.0;
   PduBus bus(*t, bc);
   ReplicaConfig rc = Defaults();
   rc.address = {1, 9};

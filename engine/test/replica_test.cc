@@ -117,8 +117,8 @@ TEST_F(ReplicaTest, AGapIsDetectedAndPlayedBackByTheAuthor) {
 }
 
 TEST_F(ReplicaTest, EarthMovesTravelAsChangesAndArePlayedBack) {
-  const int n = A().terrain().ground().posts_per_side();
-  ASSERT_GT(n, 12);
+  ASSERT_GT(A().terrain().ground().posts_x(), 12);
+  ASSERT_GT(A().terrain().ground().posts_z(), 12);
   cluster_.net().faults().Isolate(kB);
   std::vector<FeatureId> ids;
   for (int i = 0; i < 20; ++i) {

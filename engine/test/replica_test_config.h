@@ -55,7 +55,7 @@ class ServerAndTwoNodes {
     PduBusConfig bc;
     bc.exercise_id = 1;
     bc.local = who;
-    bc.terrain_size_m = 128.0;
+    bc.terrain_size_x_m = bc.terrain_size_z_m = 128.0;
     bc.clock = [] { return 0u; };
     buses_.push_back(std::make_unique<PduBus>(*transports_.back(), bc));
     return *buses_.back();

@@ -25,11 +25,12 @@ namespace dt::bench {
 inline constexpr uint8_t kExercise = 1;
 inline constexpr double kTickS = 1.0 / 30.0;
 
-inline PduBusConfig BusConfig(NodeAddress local, double terrain_size_m) {
+inline PduBusConfig BusConfig(NodeAddress local, const HeightGrid& ground) {
   PduBusConfig c;
   c.exercise_id = kExercise;
   c.local = local;
-  c.terrain_size_m = terrain_size_m;
+  c.terrain_size_x_m = ground.size_x_m();
+  c.terrain_size_z_m = ground.size_z_m();
   return c;
 }
 
@@ -48,17 +49,17 @@ inline double ThreadCpuS() {
 // radius 2-10 m at seeded places: what remote vehicles are settled on.
 inline std::unique_ptr<Terrain> MakeGround(int posts, double relief_m, int craters) {
   RandomTerrainParams p;
-  p.posts_per_side = posts;
+  p.posts_x = p.posts_z = posts;
   p.spacing_m = 10.0;
   p.relief_m = relief_m;
   p.seed = 11;
   auto terrain = std::make_unique<Terrain>(MakeRandomTerrain(p));
   WanderRandom r(99);
-  const double size_m = terrain->ground().size_m();
+  const double size_x_m = terrain->ground().size_x_m(), size_z_m = terrain->ground().size_z_m();
   for (int i = 0; i < craters; ++i) {
     const FeatureId id{1, 1, static_cast<uint32_t>(i + 1)};
-    (void)terrain->Add(id, FeatureParams::Crater(r.Uniform(20, size_m - 20),
-                                                 r.Uniform(20, size_m - 20), r.Uniform(2, 10)));
+    (void)terrain->Add(id, FeatureParams::Crater(r.Uniform(20, size_x_m - 20),
+                                                 r.Uniform(20, size_z_m - 20), r.Uniform(2, 10)));
   }
   return terrain;
 }
@@ -68,17 +69,17 @@ class VehicleFleet {
   VehicleFleet(NodeAddress owner, const Terrain& terrain, int count, const char* type_name,
                VehicleModel model, uint64_t seed, const DeadReckoningThresholds& thresholds)
       : transport_(MakeTransport("memq://", kExercise)),
-        bus_(std::make_unique<PduBus>(*transport_, BusConfig(owner, terrain.ground().size_m()))),
+        bus_(std::make_unique<PduBus>(*transport_, BusConfig(owner, terrain.ground()))),
         sharing_(std::make_unique<VehicleSharing>(*bus_, owner, thresholds)) {
     transport_->Subscribe(PduType::kVehicleState, [this](std::span<const uint8_t> bytes) {
       sent_.emplace_back(bytes.begin(), bytes.end());
     });
     const PhysicalVehicleType type = BuiltInPhysicalType(type_name, ShippedFrictionTable()).value();
-    const double size_m = terrain.ground().size_m();
-    const WanderArea area{0.0, size_m, 0.0, size_m};
+    const double size_x_m = terrain.ground().size_x_m(), size_z_m = terrain.ground().size_z_m();
+    const WanderArea area{0.0, size_x_m, 0.0, size_z_m};
     for (int i = 0; i < count; ++i) {
       const uint64_t s = WanderSeed(seed, static_cast<uint64_t>(i));
-      wanderers_.emplace_back(type.base, area, size_m, s);
+      wanderers_.emplace_back(type.base, area, size_x_m, size_z_m, s);
       WanderRandom place(s + 1);
       for (;;) {
         const WanderStart at = DrawWanderStart(wanderers_.back().clear_area(), place);
@@ -137,7 +138,7 @@ class FleetReceiver {
   FleetReceiver(NodeAddress local, const Terrain& terrain,
                 const DeadReckoningThresholds& thresholds)
       : transport_(MakeTransport("memq://", kExercise)),
-        bus_(std::make_unique<PduBus>(*transport_, BusConfig(local, terrain.ground().size_m()))),
+        bus_(std::make_unique<PduBus>(*transport_, BusConfig(local, terrain.ground()))),
         sharing_(std::make_unique<VehicleSharing>(*bus_, local, thresholds)) {}
 
   // Queues a PDU as the network would hand it over (not the receiver's work: outside the timing).

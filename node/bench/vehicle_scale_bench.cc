@@ -60,9 +60,10 @@ int Main(int argc, char** argv) {
   VehicleFleet node3({1, 3}, *terrain, vehicles, "tank", VehicleModel::kLight, 3, thresholds);
   FleetReceiver receiver({1, 1}, *terrain, thresholds);
   std::printf(
-      "%d vehicles per node, 3 nodes, %.0f s at 30 Hz, terrain %.0f m with %d craters "
+      "%d vehicles per node, 3 nodes, %.0f s at 30 Hz, terrain %.0f x %.0f m with %d craters "
       "(set-up %.1f s)\n",
-      vehicles, seconds, terrain->ground().size_m(), craters, SecondsSince(t_setup));
+      vehicles, seconds, terrain->ground().size_x_m(), terrain->ground().size_z_m(), craters,
+      SecondsSince(t_setup));
 
   std::vector<double> own_advance_s, own_share_s, own_s, receive_s, settle_s, node_s;
   double first_receive_s = 0, first_settle_s = 0;

@@ -17,7 +17,12 @@
 
 #include <fmt/format.h>
 
+#include "pdu/conversion.h"
+#include "pdu/pdu_traits.h"
+#include "pdu/validation.h"
+#include "render/png_io.h"
 #include "runtime/exercise_config.h"
+#include "runtime/process_runtime.h"
 #include "runtime/status_report.h"
 
 namespace dt {
@@ -297,7 +302,7 @@ TEST_F(NodeAppTest, AGroupWandersDeterministicallyIsSharedAndCountedAndADriveTak
     for (const SimulatedVehicle& v : node.vehicles()) start.push_back(v.pose());
     node.Start(0);
     for (int64_t ms = 33; ms <= 20000; ms += 33) node.Tick(ms, 0.033);
-    const double size_m = exercise.terrain_size_m();
+    const double size_x_m = exercise.terrain_size_x_m(), size_z_m = exercise.terrain_size_z_m();
     for (size_t i = 0; i < node.vehicles().size(); ++i) {
       const VehiclePose p = node.vehicles()[i].pose();
       const double moved_m = std::hypot(p.x_m - start[i].x_m, p.z_m - start[i].z_m);
@@ -305,7 +310,8 @@ TEST_F(NodeAppTest, AGroupWandersDeterministicallyIsSharedAndCountedAndADriveTak
         EXPECT_EQ(moved_m, 0.0);  // the tank is nobody's to drive
       } else {
         EXPECT_GT(moved_m, 10.0) << "truck " << i;
-        EXPECT_GT(std::min({p.x_m, p.z_m, size_m - p.x_m, size_m - p.z_m}), 5.0) << "truck " << i;
+        EXPECT_GT(std::min({p.x_m, p.z_m, size_x_m - p.x_m, size_z_m - p.z_m}), 5.0)
+            << "truck " << i;
       }
       if (run == 0) {
         first_run.push_back(p);
@@ -352,6 +358,83 @@ TEST_F(NodeAppTest, RefusesADriveThatIsNotFiniteAndClampsOneOutOfRange) {
   r = node.Handle("drive 1 1 0");
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.error.find("vehicle 1 does not exist"), std::string::npos) << r.error;
+}
+
+// A ground 320 m east by 160 m north (33 x 17 posts): a group wanders it without leaving it, a
+// crater at the far east corner is placed, one past the north edge is refused naming the bound
+// (by the replica, and by the PDU validation the exercise's bus applies), and the map has the
+// ground's aspect.
+TEST_F(NodeAppTest, ARectangularExerciseRunsOnItsWholeGroundAndNoFurther) {
+  const std::string text = fmt::format(
+      "[exercise]\nname = \"node-app\"\ntransport = \"memq://\"\nrun_dir = \"{}\"\n"
+      "[auth]\nmode = \"none\"\n"
+      "[terrain]\nposts_x = 33\nposts_z = 17\nspacing_m = 10\nrelief_m = 4\n"
+      "[protocol]\nrequire_server = false\nmax_feature_period_ms = 50\nsilence_ms = 200\n"
+      "[[node]]\nname = \"node-1\"\nsite = 1\nhost = 1\n"
+      "[[node.vehicle]]\ntype = \"tank\"\nx_m = 300\nz_m = 140\n"
+      "[[node.group]]\ntype = \"jeep\"\ncount = 6\nseed = 5\n",
+      dir_.string());
+  const ExerciseConfig exercise = ParseExerciseConfig(text, "ex.toml", dir_);
+  NodeApp node(exercise, exercise.nodes[0]);
+  const HeightGrid& ground = node.replica().terrain().ground();
+  ASSERT_EQ(ground.posts_x(), 33);
+  ASSERT_EQ(ground.posts_z(), 17);
+  ASSERT_EQ(node.vehicles().size(), 7u);
+  node.Start(0);
+  int64_t t = 0;
+  for (int k = 0; k < 30 * 20; ++k) node.Tick(t += 33, 0.033);
+  ASSERT_TRUE(node.ready());
+  double moved_m = 0.0;
+  for (size_t i = 1; i < node.vehicles().size(); ++i) {
+    const VehiclePose p = node.vehicles()[i].pose();
+    EXPECT_GT(std::min({p.x_m, p.z_m, 320.0 - p.x_m, 160.0 - p.z_m}), 0.0) << "jeep " << i;
+    moved_m = std::max(moved_m, p.x_m);
+  }
+  EXPECT_GT(moved_m, 170.0) << "no jeep went east of where a 160 m square would end";
+
+  // A crater at the far east corner, its rim reaching both far edges.
+  ControlReply r = node.Handle("crater 315 155 5");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(node.replica().live_feature_count(), 1u);
+  // Past the north edge (though well inside a 320 m square), and past the east edge.
+  r = node.Handle("crater 100 165 4");
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("off the terrain [0, 320] x [0, 160] m"), std::string::npos) << r.error;
+  r = node.Handle("crater 318 100 4");
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("leaves the terrain [0, 320] x [0, 160] m"), std::string::npos) << r.error;
+  EXPECT_EQ(node.replica().live_feature_count(), 1u);
+  // What arrives from another node is held to the same bounds by the exercise's bus.
+  const ProcessTransport bus = MakeProcessTransport(exercise, exercise.nodes[0]);
+  auto validate = [&](const FeatureParams& params) {
+    FeaturePdu f;
+    f.id = {1, 2, 1};
+    f.change = {{1, 2}, 1, 1};
+    f.params = params;
+    dtpdu::construct_t pdu = ToConstruct(f);
+    pdu.header.protocol_version = kProtocolVersion;
+    pdu.header.exercise_id = exercise.exercise_id;
+    pdu.header.pdu_type = static_cast<uint8_t>(PduTraits<dtpdu::construct_t>::kType);
+    pdu.sender.site = 1;
+    pdu.sender.host = 2;
+    pdu.sender_seq = 1;
+    return Validate(pdu, bus.bus->validation_context());
+  };
+  const std::optional<Rejection> refused = validate(FeatureParams::Crater(100, 165, 4));
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_EQ(refused->reason, RejectReason::kOffTerrain);
+  EXPECT_EQ(refused->detail, "z = 165 m is outside [0, 160] m");
+  const std::optional<Rejection> corner = validate(FeatureParams::Crater(315, 155, 4));
+  EXPECT_FALSE(corner.has_value()) << corner->detail;
+
+  // The map is as wide as the ground's longer side allows and half as high.
+  const std::string png = (dir_ / "rect.png").string();
+  r = node.Handle("render " + png);
+  ASSERT_TRUE(r.ok) << r.error;
+  const Result<Image> image = ReadPng(png);
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  EXPECT_EQ(image.value().width(), kMapRenderPx);
+  EXPECT_EQ(image.value().height(), kMapRenderPx / 2);
 }
 
 }  // namespace

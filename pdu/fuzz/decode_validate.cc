@@ -11,7 +11,7 @@
 namespace dt::fuzz {
 namespace {
 
-constexpr ValidationContext kContext{7, 1000.0};
+constexpr ValidationContext kContext{7, 1000.0, 1000.0};
 
 template <typename Pdu>
 bool One(std::span<const uint8_t> bytes) {

@@ -72,11 +72,22 @@ TEST(EarthMovePduTest, BadFieldsAreRejectedNamingThem) {
   ExpectRejected(p, RejectReason::kBadField, "change_seq = 0");
   // Posts off this exercise's grid.
   ValidationContext small = sample::Context();
-  small.terrain_posts_per_side = 52;
+  small.terrain_posts_x = small.terrain_posts_z = 52;
   ExpectRejected(sample::EarthMovePdu(), RejectReason::kOffTerrain,
                  "posts (40, 50) .. (42, 52) leave the 52 x 52 grid", small);
-  small.terrain_posts_per_side = 53;
+  small.terrain_posts_x = small.terrain_posts_z = 53;
   EXPECT_FALSE(Validate(sample::EarthMovePdu(), small).has_value());
+  // On a rectangular grid each axis has its own bound: columns 40 .. 42 need 43 posts along x,
+  // rows 50 .. 52 need 53 along z.
+  small.terrain_posts_x = 43;
+  EXPECT_FALSE(Validate(sample::EarthMovePdu(), small).has_value());
+  small.terrain_posts_x = 42;
+  ExpectRejected(sample::EarthMovePdu(), RejectReason::kOffTerrain,
+                 "posts (40, 50) .. (42, 52) leave the 42 x 53 grid", small);
+  small.terrain_posts_x = 53;
+  small.terrain_posts_z = 52;
+  ExpectRejected(sample::EarthMovePdu(), RejectReason::kOffTerrain,
+                 "posts (40, 50) .. (42, 52) leave the 53 x 52 grid", small);
   // Earth moves travel only as EarthMove PDUs.
   auto c = sample::Construct();
   c.feature_type = static_cast<int16_t>(FeatureType::kEarthMove);

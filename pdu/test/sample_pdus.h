@@ -10,7 +10,7 @@ namespace dt::sample {
 
 inline constexpr uint8_t kSampleExercise = 7;
 inline constexpr double kSampleTerrainM = 1000.0;
-inline ValidationContext Context() { return {kSampleExercise, kSampleTerrainM}; }
+inline ValidationContext Context() { return {kSampleExercise, kSampleTerrainM, kSampleTerrainM}; }
 
 template <typename Pdu>
 void StampHeader(Pdu& pdu, int64_t sender_seq = 1) {

@@ -239,6 +239,52 @@ TEST(Validation, OffTerrain) {
   EXPECT_EQ(ReasonFor(u), RejectReason::kOffTerrain);
 }
 
+// On a rectangular terrain each axis has its own bound, named in the refusal.
+TEST(Validation, ARectangularTerrainBoundsXAndZApart) {
+  ValidationContext wide = Context();
+  wide.terrain_size_x_m = 1000.0;
+  wide.terrain_size_z_m = 220.0;
+  auto detail = [&](const auto& pdu) {
+    std::remove_cvref_t<decltype(pdu)> out;
+    auto r = DecodeAndValidate(std::span<const uint8_t>(EncodePdu(pdu)), wide, out);
+    return r ? std::pair{std::optional(r->reason), r->detail}
+             : std::pair{std::optional<RejectReason>(), std::string()};
+  };
+  auto c = sample::Construct();  // a crater at (100.25, 200.5)
+  c.position_m[0] = 1000.0;      // the far x edge is on the terrain
+  EXPECT_EQ(detail(c).first, std::nullopt) << detail(c).second;
+  c.position_m[2] = 220.0;  // and so is the far z edge
+  EXPECT_EQ(detail(c).first, std::nullopt) << detail(c).second;
+  c.position_m[2] = 230.0;
+  EXPECT_EQ(detail(c).first, RejectReason::kOffTerrain);
+  EXPECT_NE(detail(c).second.find("z = 230 m is outside [0, 220] m"), std::string::npos)
+      << detail(c).second;
+  c = sample::Construct();
+  c.position_m[0] = 1000.5;
+  EXPECT_NE(detail(c).second.find("x = 1000.5 m is outside [0, 1000] m"), std::string::npos)
+      << detail(c).second;
+  // The same z would be on a square 1000 m terrain: the bounds are not swapped.
+  c = sample::Construct();
+  c.position_m[0] = 219.0;
+  c.position_m[2] = 900.0;
+  EXPECT_EQ(detail(c).first, RejectReason::kOffTerrain);
+  ValidationContext tall = wide;
+  std::swap(tall.terrain_size_x_m, tall.terrain_size_z_m);
+  EXPECT_EQ(ReasonFor(c, tall), std::nullopt);
+  auto d = sample::DitchConstruct();  // points up to z = 140
+  EXPECT_EQ(detail(d).first, std::nullopt) << detail(d).second;
+  d.points[2].z_m = 221;
+  EXPECT_NE(detail(d).second.find("points[2].z_m = 221 m is outside [0, 220] m"), std::string::npos)
+      << detail(d).second;
+  auto v = sample::VehicleState();  // at x 500.25, z 250.75
+  EXPECT_NE(detail(v).second.find("at z = 250.75 m is outside [0, 220] m"), std::string::npos)
+      << detail(v).second;
+  EXPECT_EQ(ReasonFor(v, tall), RejectReason::kOffTerrain);  // x 500.25 > 220
+  tall.terrain_size_z_m = 2000.0;
+  tall.terrain_size_x_m = 600.0;
+  EXPECT_EQ(ReasonFor(v, tall), std::nullopt);
+}
+
 TEST(Validation, PointFeaturesPassAndTheirBadPointsAreRefusedByName) {
   EXPECT_EQ(ReasonFor(sample::DitchConstruct()), std::nullopt);
   auto flood = ToConstruct(sample::Flood());

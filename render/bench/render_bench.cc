@@ -18,7 +18,7 @@ namespace {
 const Terrain& BigTerrain() {
   static const Terrain terrain = [] {
     RandomTerrainParams p;
-    p.posts_per_side = 1001;
+    p.posts_x = p.posts_z = 1001;
     p.spacing_m = 10.0;
     p.relief_m = 200.0;
     p.seed = 42;

@@ -63,6 +63,30 @@ TEST(Camera, PerspectiveStraightDownKeepsNorthUp) {
   EXPECT_GT(east->x(), 50.0);
 }
 
+// The longer side gets the pixels: a wide area as MapOf does, a tall one as high as asked.
+TEST(Camera, MapFittingGivesTheLongerSideThePixels) {
+  const Camera square = Camera::MapFitting({0.0, 0.0, 640.0, 640.0}, 512);
+  EXPECT_EQ(square.width_px(), 512);
+  EXPECT_EQ(square.height_px(), 512);
+  EXPECT_EQ(square.metres_per_pixel(),
+            Camera::MapOf({0.0, 0.0, 640.0, 640.0}, 512).metres_per_pixel());
+  const Camera wide = Camera::MapFitting({0.0, 0.0, 640.0, 160.0}, 512);
+  EXPECT_EQ(wide.width_px(), 512);
+  EXPECT_EQ(wide.height_px(), 128);
+  const Camera tall = Camera::MapFitting({0.0, 0.0, 160.0, 640.0}, 512);
+  EXPECT_EQ(tall.width_px(), 128);
+  EXPECT_EQ(tall.height_px(), 512);
+  EXPECT_DOUBLE_EQ(tall.metres_per_pixel(), 1.25);
+  const Rect area = tall.map_area();
+  EXPECT_DOUBLE_EQ(area.min_x, 0.0);
+  EXPECT_DOUBLE_EQ(area.max_x, 160.0);
+  EXPECT_DOUBLE_EQ(area.max_z, 640.0);
+  // A sliver keeps at least one pixel.
+  EXPECT_EQ(Camera::MapFitting({0.0, 0.0, 1.0, 4000.0}, 512).width_px(), 1);
+  EXPECT_THROW(Camera::MapFitting({0, 0, 0, 10}, 10), std::invalid_argument);
+  EXPECT_THROW(Camera::MapFitting({0, 0, 10, 10}, 0), std::invalid_argument);
+}
+
 TEST(Camera, RefusesBadParameters) {
   EXPECT_THROW(Camera::Map(0, 0, 0.0, 10, 10), std::invalid_argument);
   EXPECT_THROW(Camera::Map(0, 0, 1.0, 0, 10), std::invalid_argument);

@@ -30,7 +30,7 @@ class DtRenderCliTest : public ::testing::Test {
            ("dt_render_cli_test_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir_);
     RandomTerrainParams p;
-    p.posts_per_side = 33;
+    p.posts_x = p.posts_z = 33;
     p.spacing_m = 4.0;
     p.relief_m = 8.0;
     terrain_ = std::make_unique<Terrain>(MakeRandomTerrain(p));
@@ -62,6 +62,33 @@ TEST_F(DtRenderCliTest, PerspectiveWithVehiclesWrites) {
   ASSERT_TRUE(png.ok());
   EXPECT_EQ(png.value().width(), 160);
   EXPECT_EQ(png.value().height(), 120);
+}
+
+// A ground 128 m east by 32 m north: the map is four times as wide as high, and matches the
+// library's; the default perspective frames it too.
+TEST_F(DtRenderCliTest, ARectangularTerrainKeepsItsAspect) {
+  RandomTerrainParams p;
+  p.posts_x = 33;
+  p.posts_z = 9;
+  p.spacing_m = 4.0;
+  p.relief_m = 8.0;
+  Terrain rect(MakeRandomTerrain(p));
+  ASSERT_TRUE(rect.Add({1, 1, 1}, FeatureParams::Crater(120.0, 24.0, 6.0)).ok());
+  ASSERT_TRUE(SaveTerrain(rect, Path("rect.dtt")).ok());
+  ASSERT_EQ(RunCli(Path("rect.dtt") + " -o " + Path("rect.png") + " --width 128"), 0);
+  const Result<Image> png = ReadPng(Path("rect.png"));
+  ASSERT_TRUE(png.ok()) << png.error().message;
+  EXPECT_EQ(png.value().width(), 128);
+  EXPECT_EQ(png.value().height(), 32);
+  Renderer r;
+  const Image direct = r.Render(rect, {}, Camera::MapOf({0, 0, 128, 32}, 128));
+  EXPECT_EQ(DiffImages(png.value(), direct).differing_pixels, 0u);
+  // A vehicle past the north edge (inside a 128 m square) is refused.
+  EXPECT_EQ(RunCli(Path("rect.dtt") + " -o " + Path("x.png") + " --vehicle 60,60,0"), 1);
+  EXPECT_EQ(RunCli(Path("rect.dtt") + " -o " + Path("p.png") +
+                   " --camera perspective --width 160 --height 120 --vehicle 100,20,0"),
+            0);
+  EXPECT_TRUE(ReadPng(Path("p.png")).ok());
 }
 
 TEST_F(DtRenderCliTest, BadInputFailsWithoutWriting) {

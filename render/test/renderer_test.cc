@@ -22,7 +22,7 @@ constexpr double kPi = std::numbers::pi;
 // 256 m x 256 m at 4 m spacing, with relief so shading varies.
 HeightGrid Ground() {
   RandomTerrainParams p;
-  p.posts_per_side = 65;
+  p.posts_x = p.posts_z = 65;
   p.spacing_m = 4.0;
   p.relief_m = 12.0;
   p.seed = 7;
@@ -64,8 +64,7 @@ VehicleSprite SpriteAt(const Terrain& t, double x, double z, double heading) {
 }
 
 Camera MapCamera(const Terrain& t, int width_px = 256) {
-  const double s = t.ground().size_m();
-  return Camera::MapOf({0.0, 0.0, s, s}, width_px);
+  return Camera::MapOf({0.0, 0.0, t.ground().size_x_m(), t.ground().size_z_m()}, width_px);
 }
 
 Camera Oblique() {
@@ -137,7 +136,7 @@ TEST_F(RendererTest, RefinedAndPlainSquaresMeetWithoutPinholes) {
   // the terrain from low down, the lower half of the picture is all ground; a T-junction would
   // let the background through as isolated pixels.
   RandomTerrainParams p;
-  p.posts_per_side = 129;
+  p.posts_x = p.posts_z = 129;
   p.spacing_m = 4.0;
   p.relief_m = 30.0;
   p.seed = 3;

@@ -9,7 +9,7 @@ namespace dt {
 namespace {
 
 TEST(VehicleSprite, SpriteOfCopiesPoseAndSize) {
-  Result<Vehicle> made = Vehicle::Make(TankType(), 50.0, 60.0, 0.4, 200.0);
+  Result<Vehicle> made = Vehicle::Make(TankType(), 50.0, 60.0, 0.4, 200.0, 200.0);
   ASSERT_TRUE(made.ok()) << made.error().message;
   Vehicle v = std::move(made).value();
   Orientation o;

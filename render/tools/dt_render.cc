@@ -76,13 +76,16 @@ int Run(int argc, char** argv) {
       }
       sprites.push_back(s);
     }
-    const double size = terrain.ground().size_m();
-    dt::Camera cam = dt::Camera::MapOf({0.0, 0.0, size, size}, width_px);
+    const double size_x = terrain.ground().size_x_m(), size_z = terrain.ground().size_z_m();
+    const double size = std::max(size_x, size_z);
+    // The whole terrain across the given width; the height follows its aspect.
+    dt::Camera cam = dt::Camera::MapOf({0.0, 0.0, size_x, size_z}, width_px);
     if (camera == "map") {
       if (!area.empty()) cam = dt::Camera::MapOf({area[0], area[1], area[2], area[3]}, width_px);
     } else {
-      if (eye.empty()) eye = {-0.2 * size, 0.5 * size, -0.2 * size};
-      if (target.empty()) target = {0.5 * size, 0.0, 0.5 * size};
+      // From beyond the south-west corner, looking at the centre.
+      if (eye.empty()) eye = {-0.2 * size_x, 0.5 * size, -0.2 * size_z};
+      if (target.empty()) target = {0.5 * size_x, 0.0, 0.5 * size_z};
       cam = dt::Camera::Perspective({eye[0], eye[1], eye[2]}, {target[0], target[1], target[2]},
                                     fov_deg * kDegToRad, width_px, height_px, 1.0,
                                     std::max(50000.0, 4.0 * size));

@@ -31,8 +31,10 @@ TEST(ExerciseConfigTest, ReadsEveryField) {
   EXPECT_EQ(c.exercise_id, 7);
   EXPECT_EQ(c.run_dir, std::filesystem::path("/tmp/dt-run-t"));
   EXPECT_EQ(c.tick_hz, 20);
-  EXPECT_EQ(c.terrain.posts_per_side, 65);
-  EXPECT_DOUBLE_EQ(c.terrain_size_m(), 64 * 5.0);
+  EXPECT_EQ(c.terrain.posts_x, 65);
+  EXPECT_EQ(c.terrain.posts_z, 65);
+  EXPECT_DOUBLE_EQ(c.terrain_size_x_m(), 64 * 5.0);
+  EXPECT_DOUBLE_EQ(c.terrain_size_z_m(), 64 * 5.0);
   EXPECT_EQ(c.terrain.seed, 9u);
   EXPECT_EQ(c.protocol.max_feature_period_ms, 300);
   EXPECT_EQ(c.protocol.silence_ms, 1500);
@@ -274,6 +276,53 @@ TEST(ExerciseConfigTest, AGridTooLargeForMemoryIsRefusedNamingTheKey) {
   EXPECT_EQ(ErrorOf(Replace(kGood, "posts_per_side = 65",
                             fmt::format("posts_per_side = {}", kMaxPostsPerSide))),
             "");
+}
+
+// A rectangular ground: posts_x and posts_z, both or neither, never with posts_per_side.
+TEST(ExerciseConfigTest, ARectangularGroundTakesPostsXAndPostsZ) {
+  const std::string rect =
+      Replace(kGood, "posts_per_side = 65", "posts_x = 65\nposts_z = 17");  // 320 m x 80 m
+  const ExerciseConfig c = ParseExerciseConfig(rect, "ex.toml", "/base");
+  EXPECT_EQ(c.terrain.posts_x, 65);
+  EXPECT_EQ(c.terrain.posts_z, 17);
+  EXPECT_DOUBLE_EQ(c.terrain_size_x_m(), 320.0);
+  EXPECT_DOUBLE_EQ(c.terrain_size_z_m(), 80.0);
+  const HeightGrid ground = MakeRandomTerrain(c.terrain);
+  EXPECT_EQ(ground.posts_x(), 65);
+  EXPECT_EQ(ground.posts_z(), 17);
+
+  // A vehicle is bounded per axis: x 300 m is on, z 100 m is off, named by its key.
+  std::string e = ErrorOf(Replace(rect, "x_m = 10", "x_m = 300"));
+  EXPECT_EQ(e, "");
+  e = ErrorOf(Replace(rect, "z_m = 20.5", "z_m = 100"));
+  EXPECT_NE(e.find("node[0].vehicle[0].z_m: vehicle at (10, 100) is off the 320 x 80 m terrain"),
+            std::string::npos)
+      << e;
+  // A group's area is bounded per axis too, and defaults to the whole rectangle.
+  const ExerciseConfig g = ParseExerciseConfig(
+      rect + "[[node.group]]\ncount = 2\n[[node.group]]\ncount = 1\narea = { z_max_m = 80 }\n",
+      "ex.toml", "/base");
+  EXPECT_EQ(g.nodes[1].groups[0].area.x_max_m, 320.0);
+  EXPECT_EQ(g.nodes[1].groups[0].area.z_max_m, 80.0);
+  e = ErrorOf(rect + "[[node.group]]\ncount = 1\narea = { z_max_m = 81 }\n");
+  EXPECT_NE(e.find("area.z_max_m: must be in [0, 80]"), std::string::npos) << e;
+
+  e = ErrorOf(Replace(kGood, "posts_per_side = 65", "posts_x = 65"));
+  EXPECT_NE(e.find("ex.toml: terrain.posts_x: posts_x needs posts_z too"), std::string::npos) << e;
+  e = ErrorOf(Replace(kGood, "posts_per_side = 65", "posts_z = 65"));
+  EXPECT_NE(e.find("ex.toml: terrain.posts_z: posts_z needs posts_x too"), std::string::npos) << e;
+  e = ErrorOf(Replace(kGood, "posts_per_side = 65", "posts_per_side = 65\nposts_x = 9"));
+  EXPECT_NE(e.find("ex.toml: terrain.posts_per_side: give either posts_per_side (a square grid) or "
+                   "posts_x and posts_z, not both"),
+            std::string::npos)
+      << e;
+  e = ErrorOf(Replace(kGood, "posts_per_side = 65", "posts_x = 65\nposts_z = 4098"));
+  EXPECT_NE(e.find("ex.toml: terrain.posts_z: must be in [2, 4097] (value 4098)"),
+            std::string::npos)
+      << e;
+  e = ErrorOf(Replace(kGood, "posts_per_side = 65", "posts_x = 1\nposts_z = 9"));
+  EXPECT_NE(e.find("ex.toml: terrain.posts_x: must be in [2, 4097] (value 1)"), std::string::npos)
+      << e;
 }
 
 TEST(ExerciseConfigTest, NeedsServerAndANode) {

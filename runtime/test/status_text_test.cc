@@ -41,7 +41,7 @@ TEST(StatusTextTest, ShowsADivergenceFromWhenItIsFoundUntilItIsRepaired) {
   PduBusConfig bus;
   bus.exercise_id = 1;
   bus.local = {9, 9};
-  bus.terrain_size_m = 128.0;
+  bus.terrain_size_x_m = bus.terrain_size_z_m = 128.0;
   const ProcessTransport transport = StackTransport(cluster.net().Join({9, 9}, 1), {}, 1, bus);
   auto status = [&] { return StatusText("node-2", NodeRole::kNode, node, transport, {}); };
   EXPECT_NE(status().find("\ncaught_up 1\ndiverged 0\ndiverged_since_ms -1\n"), std::string::npos)

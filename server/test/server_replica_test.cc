@@ -65,7 +65,7 @@ class ServerReplicaTest : public ::testing::Test {
     PduBusConfig c;
     c.exercise_id = 1;
     c.local = a;
-    c.terrain_size_m = 128.0;
+    c.terrain_size_x_m = c.terrain_size_z_m = 128.0;
     c.clock = [] { return 0u; };
     return c;
   }

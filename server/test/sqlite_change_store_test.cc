@@ -38,7 +38,7 @@ class SqliteChangeStoreTest : public ::testing::Test {
   ~SqliteChangeStoreTest() override { fs::remove_all(dir_); }
 
   Result<std::unique_ptr<SqliteChangeStore>> Open(const fs::path& path) {
-    return SqliteChangeStore::Open(path, kTerrainSizeM);
+    return SqliteChangeStore::Open(path, kTerrainSizeM, kTerrainSizeM);
   }
   // Opens `path` and expects LoadAll to be refused with a message naming the file and `fragments`.
   void ExpectLoadRefused(const fs::path& path, const std::vector<std::string>& fragments) {

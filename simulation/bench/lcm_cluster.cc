@@ -40,7 +40,8 @@ PduBusConfig BenchBusConfig(NodeAddress address, const HeightGrid& ground) {
   PduBusConfig bc;
   bc.exercise_id = kBenchExercise;
   bc.local = address;
-  bc.terrain_size_m = ground.size_m();
+  bc.terrain_size_x_m = ground.size_x_m();
+  bc.terrain_size_z_m = ground.size_z_m();
   return bc;
 }
 

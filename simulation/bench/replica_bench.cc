@@ -70,7 +70,8 @@ void BM_ServerApply(benchmark::State& state) {
   std::filesystem::remove(path);
   std::unique_ptr<ChangeStore> store;
   if (durable) {
-    auto s = SqliteChangeStore::Open(path, HeightGrid(129, 8.0, 5.0f).size_m());
+    const HeightGrid ground(129, 8.0, 5.0f);
+    auto s = SqliteChangeStore::Open(path, ground.size_x_m(), ground.size_z_m());
     if (!s) {
       state.SkipWithError(s.error().message.c_str());
       return;

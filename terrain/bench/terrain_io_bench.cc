@@ -11,13 +11,13 @@ namespace {
 
 // A random ground of n posts (10 m apart) with up to 256 craters on a 16 x 16 pattern.
 std::unique_ptr<Terrain> BenchTerrain(int n) {
-  auto t = std::make_unique<Terrain>(
-      MakeRandomTerrain({.posts_per_side = n, .spacing_m = 10.0, .relief_m = 100.0, .seed = 1}));
-  const double size_m = t->ground().size_m();
+  auto t = std::make_unique<Terrain>(MakeRandomTerrain(
+      {.posts_x = n, .posts_z = n, .spacing_m = 10.0, .relief_m = 100.0, .seed = 1}));
+  const double size_x_m = t->ground().size_x_m(), size_z_m = t->ground().size_z_m();
   uint32_t number = 1;
   for (int a = 0; a < 16; ++a) {
     for (int b = 0; b < 16; ++b) {
-      const double x = size_m * (a + 0.5) / 16.0, z = size_m * (b + 0.5) / 16.0;
+      const double x = size_x_m * (a + 0.5) / 16.0, z = size_z_m * (b + 0.5) / 16.0;
       (void)t->Add({1, 1, number++}, FeatureParams::Crater(x, z, 5.0));
     }
   }
@@ -27,7 +27,7 @@ std::unique_ptr<Terrain> BenchTerrain(int n) {
 void BM_MakeRandomTerrain(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   for (auto _ : state) {
-    benchmark::DoNotOptimize(MakeRandomTerrain({.posts_per_side = n, .seed = 7}));
+    benchmark::DoNotOptimize(MakeRandomTerrain({.posts_x = n, .posts_z = n, .seed = 7}));
   }
   state.SetItemsProcessed(state.iterations() * n * n);
 }

@@ -24,7 +24,8 @@ namespace dt {
 namespace {
 
 HeightGrid Ground(uint64_t seed) {
-  return MakeRandomTerrain({.posts_per_side = 33, .spacing_m = 2.0, .relief_m = 6.0, .seed = seed});
+  return MakeRandomTerrain(
+      {.posts_x = 33, .posts_z = 33, .spacing_m = 2.0, .relief_m = 6.0, .seed = seed});
 }
 
 std::vector<uint32_t> PostBits(const Terrain& t) {

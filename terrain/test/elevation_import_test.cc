@@ -56,7 +56,8 @@ TEST_F(ImportFiles, AscNorthRowComesFirst) {
   const auto r = ImportAsc(Write("good.asc", kGoodAsc));
   ASSERT_TRUE(r.ok()) << r.error().message;
   const HeightGrid& g = r.value();
-  EXPECT_EQ(g.posts_per_side(), 3);
+  EXPECT_EQ(g.posts_x(), 3);
+  EXPECT_EQ(g.posts_z(), 3);
   EXPECT_EQ(g.spacing_m(), 30.0);
   // Row 1 of the file is the northernmost: j = 2.
   EXPECT_EQ(g.post(0, 2), 7.0f);

@@ -15,9 +15,10 @@ namespace dt {
 namespace {
 
 // The definition of docs/terrain.md ("Random terrain"), evaluated post by post without the
-// lattice cache or shared loops of the implementation.
+// lattice cache or shared loops of the implementation. The noise is defined on the square of the
+// longer side.
 float ReferencePost(const RandomTerrainParams& p, int i, int j) {
-  const int n = p.posts_per_side;
+  const int n = std::max(p.posts_x, p.posts_z);
   __extension__ using Wide = __int128;  // no overflow possible in the reference
   Wide total = 0;
   for (int o = 0; o < kRandomTerrainOctaves; ++o) {
@@ -62,7 +63,8 @@ TEST(SplitMix64Test, MatchesPublishedSequenceFromStateZero) {
 TEST(RandomTerrainTest, CornerPostIsTheWeightedSumOfLatticeValues) {
   // At post (0, 0) every octave's weight is 0, so the value is the octaves' lattice values at
   // (0, 0) weighted 32, 16, ..., 1 and divided by 63 * 2^20.
-  const RandomTerrainParams p{.posts_per_side = 9, .spacing_m = 5.0, .relief_m = 40.0, .seed = 7};
+  const RandomTerrainParams p{
+      .posts_x = 9, .posts_z = 9, .spacing_m = 5.0, .relief_m = 40.0, .seed = 7};
   long long sum = 0;
   for (int o = 0; o < kRandomTerrainOctaves; ++o) {
     const uint64_t h = SplitMix64(SplitMix64(SplitMix64(SplitMix64(7) + o) + 0) + 0);
@@ -78,7 +80,7 @@ TEST(RandomTerrainTest, EveryPostMatchesTheReferenceDefinition) {
   for (int n : {2, 3, 9, 17, 30}) {
     for (uint64_t seed : {0ull, 42ull, 0xFFFFFFFFFFFFFFFFull}) {
       const RandomTerrainParams p{
-          .posts_per_side = n, .spacing_m = 2.0, .relief_m = 123.5, .seed = seed};
+          .posts_x = n, .posts_z = n, .spacing_m = 2.0, .relief_m = 123.5, .seed = seed};
       const HeightGrid g = MakeRandomTerrain(p);
       for (int j = 0; j < n; ++j) {
         for (int i = 0; i < n; ++i) {
@@ -90,11 +92,35 @@ TEST(RandomTerrainTest, EveryPostMatchesTheReferenceDefinition) {
   }
 }
 
+// A rectangle is the south-west corner of the square of its longer side, post for post.
+TEST(RandomTerrainTest, ARectangleIsTheCornerOfTheSquareOfItsLongerSide) {
+  for (const auto& [nx, nz] :
+       {std::pair{7, 4}, std::pair{4, 7}, std::pair{2, 30}, std::pair{17, 9}}) {
+    const RandomTerrainParams p{
+        .posts_x = nx, .posts_z = nz, .spacing_m = 2.0, .relief_m = 50.0, .seed = 42};
+    const HeightGrid g = MakeRandomTerrain(p);
+    ASSERT_EQ(g.posts_x(), nx);
+    ASSERT_EQ(g.posts_z(), nz);
+    ASSERT_EQ(g.posts().size(), static_cast<size_t>(nx) * nz);
+    const int n = std::max(nx, nz);
+    const HeightGrid square = MakeRandomTerrain(
+        {.posts_x = n, .posts_z = n, .spacing_m = 2.0, .relief_m = 50.0, .seed = 42});
+    for (int j = 0; j < nz; ++j) {
+      for (int i = 0; i < nx; ++i) {
+        ASSERT_EQ(g.post(i, j), ReferencePost(p, i, j))
+            << nx << " x " << nz << " post " << i << ", " << j;
+        // Row-major along x: the flat index is j * posts_x + i.
+        ASSERT_EQ(g.posts()[static_cast<size_t>(j) * nx + i], square.post(i, j));
+      }
+    }
+  }
+}
+
 TEST(RandomTerrainTest, GoldenDigestForSeed42) {
   // The golden value pins the output across machines and compilers; the reference check above
   // derives the same posts independently from the definition.
   const RandomTerrainParams p{
-      .posts_per_side = 17, .spacing_m = 10.0, .relief_m = 100.0, .seed = 42};
+      .posts_x = 17, .posts_z = 17, .spacing_m = 10.0, .relief_m = 100.0, .seed = 42};
   const HeightGrid g = MakeRandomTerrain(p);
   std::vector<float> reference;
   for (int j = 0; j < 17; ++j) {
@@ -106,12 +132,14 @@ TEST(RandomTerrainTest, GoldenDigestForSeed42) {
 }
 
 TEST(RandomTerrainTest, SameSeedGivesEqualPostsAndOtherSeedsDiffer) {
-  RandomTerrainParams p{.posts_per_side = 65, .spacing_m = 10.0, .relief_m = 80.0, .seed = 1234};
+  RandomTerrainParams p{
+      .posts_x = 65, .posts_z = 65, .spacing_m = 10.0, .relief_m = 80.0, .seed = 1234};
   const HeightGrid a = MakeRandomTerrain(p);
   const HeightGrid b = MakeRandomTerrain(p);
   EXPECT_EQ(a.posts(), b.posts());
   EXPECT_EQ(a.spacing_m(), 10.0);
-  EXPECT_EQ(a.posts_per_side(), 65);
+  EXPECT_EQ(a.posts_x(), 65);
+  EXPECT_EQ(a.posts_z(), 65);
   for (uint64_t other : {1235ull, 0ull, 1234ull << 32}) {
     p.seed = other;
     const HeightGrid c = MakeRandomTerrain(p);
@@ -123,7 +151,7 @@ TEST(RandomTerrainTest, SameSeedGivesEqualPostsAndOtherSeedsDiffer) {
 
 TEST(RandomTerrainTest, ElevationsStayWithinTheReliefAndVary) {
   const RandomTerrainParams p{
-      .posts_per_side = 129, .spacing_m = 10.0, .relief_m = 250.0, .seed = 99};
+      .posts_x = 129, .posts_z = 129, .spacing_m = 10.0, .relief_m = 250.0, .seed = 99};
   const HeightGrid g = MakeRandomTerrain(p);
   const auto [lo, hi] = std::minmax_element(g.posts().begin(), g.posts().end());
   EXPECT_GE(*lo, 0.0f);
@@ -140,19 +168,31 @@ TEST(RandomTerrainTest, ElevationsStayWithinTheReliefAndVary) {
 }
 
 TEST(RandomTerrainTest, ZeroReliefIsFlatAndSoilIsApplied) {
-  const HeightGrid g = MakeRandomTerrain(
-      {.posts_per_side = 5, .spacing_m = 1.0, .relief_m = 0.0, .seed = 3, .soil = Material::kSand});
+  const HeightGrid g = MakeRandomTerrain({.posts_x = 5,
+                                          .posts_z = 5,
+                                          .spacing_m = 1.0,
+                                          .relief_m = 0.0,
+                                          .seed = 3,
+                                          .soil = Material::kSand});
   for (float y : g.posts()) EXPECT_EQ(y, 0.0f);
   EXPECT_EQ(g.soil({3, 3}, TriangleHalf::kUpper), Material::kSand);
 }
 
 TEST(RandomTerrainTest, BadParametersThrow) {
-  EXPECT_THROW(MakeRandomTerrain({.posts_per_side = 1}), std::invalid_argument);
-  EXPECT_THROW(MakeRandomTerrain({.posts_per_side = 65537}), std::invalid_argument);
-  EXPECT_THROW(MakeRandomTerrain({.posts_per_side = kMaxPostsPerSide + 1}), std::invalid_argument);
-  EXPECT_THROW(MakeRandomTerrain({.posts_per_side = 9, .spacing_m = 0.0}), std::invalid_argument);
-  EXPECT_THROW(MakeRandomTerrain({.posts_per_side = 9, .relief_m = -1.0}), std::invalid_argument);
-  EXPECT_THROW(MakeRandomTerrain({.posts_per_side = 9, .relief_m = std::nan("")}),
+  EXPECT_THROW(MakeRandomTerrain({.posts_x = 1, .posts_z = 1}), std::invalid_argument);
+  EXPECT_THROW(MakeRandomTerrain({.posts_x = 65537, .posts_z = 65537}), std::invalid_argument);
+  EXPECT_THROW(MakeRandomTerrain({.posts_x = 9, .posts_z = 1}), std::invalid_argument);
+  EXPECT_THROW(MakeRandomTerrain({.posts_x = 1, .posts_z = 9}), std::invalid_argument);
+  EXPECT_THROW(MakeRandomTerrain({.posts_x = 9, .posts_z = kMaxPostsPerSide + 1}),
+               std::invalid_argument);
+  EXPECT_THROW(
+      MakeRandomTerrain({.posts_x = kMaxPostsPerSide + 1, .posts_z = kMaxPostsPerSide + 1}),
+      std::invalid_argument);
+  EXPECT_THROW(MakeRandomTerrain({.posts_x = 9, .posts_z = 9, .spacing_m = 0.0}),
+               std::invalid_argument);
+  EXPECT_THROW(MakeRandomTerrain({.posts_x = 9, .posts_z = 9, .relief_m = -1.0}),
+               std::invalid_argument);
+  EXPECT_THROW(MakeRandomTerrain({.posts_x = 9, .posts_z = 9, .relief_m = std::nan("")}),
                std::invalid_argument);
 }
 

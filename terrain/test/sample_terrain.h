@@ -16,7 +16,8 @@ using Placement = std::pair<FeatureId, FeatureParams>;
 
 // 9 x 9 posts, 10 m apart: an 80 m square with a few metres of relief.
 inline HeightGrid SampleGround() {
-  return MakeRandomTerrain({.posts_per_side = 9, .spacing_m = 10.0, .relief_m = 12.0, .seed = 5});
+  return MakeRandomTerrain(
+      {.posts_x = 9, .posts_z = 9, .spacing_m = 10.0, .relief_m = 12.0, .seed = 5});
 }
 
 // Three craters (one with edited vertices), a berm and a bridge, from three nodes.

@@ -133,6 +133,42 @@ TEST(TerrainDigestTest, MatchesTheDocumentedEncoding) {
   EXPECT_EQ(ComputeDigest(t), (TerrainDigest{h.high64, h.low64}));
 }
 
+TEST(TerrainDigestTest, TheShapeOfTheGridIsPartOfTheDigest) {
+  // 36 equal posts each; the soils of 4 x 9 and 9 x 4 are equal in number too.
+  const TerrainDigest a = ComputeDigest(HeightGrid(4, 9, 10.0, 2.0f));
+  const TerrainDigest b = ComputeDigest(HeightGrid(9, 4, 10.0, 2.0f));
+  const TerrainDigest c = ComputeDigest(HeightGrid(6, 6, 10.0, 2.0f));
+  EXPECT_NE(a, b);
+  EXPECT_NE(a, c);
+  EXPECT_NE(b, c);
+  // The square constructor and a rectangle with equal sides are the same ground.
+  EXPECT_EQ(ComputeDigest(HeightGrid(6, 10.0, 2.0f)), c);
+}
+
+TEST(TerrainDigestTest, ARectangularGroundMatchesTheDocumentedEncoding) {
+  // docs/terrain.md "State digest": a grid that is not square writes 0, posts_x, posts_z where a
+  // square one writes its side. A 3 x 2 ground with one crater.
+  Terrain t(HeightGrid(3, 2, 4.0, {0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.5f}));
+  ASSERT_TRUE(t.SetSoil({1, 0}, TriangleHalf::kUpper, Material::kRock).ok());
+  ASSERT_TRUE(t.Add({7, 8, 9}, FeatureParams::Crater(4.0, 2.0, 1.0, Material::kDirt)).ok());
+  ByteWriter w;
+  for (char c : std::string("dynterrain state v1")) w.U8(static_cast<uint8_t>(c));
+  w.U32(0);
+  w.U32(3);
+  w.U32(2);
+  w.F64(4.0);
+  for (float y : {0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.5f}) w.F32(y);
+  // Squares (0,0), (1,0); lower then upper; grass is 1, rock is 4.
+  for (int soil : {1, 1, 1, 4}) w.U16(static_cast<uint16_t>(soil));
+  w.U32(1);
+  w.U16(7);
+  w.U16(8);
+  w.U32(9);
+  EncodeFeatureParams(t.Find({7, 8, 9})->params(), w);
+  const XXH128_hash_t h = XXH3_128bits(w.bytes().data(), w.bytes().size());
+  EXPECT_EQ(ComputeDigest(t), (TerrainDigest{h.high64, h.low64}));
+}
+
 TEST(TerrainDigestTest, HexFormRoundTrips) {
   const TerrainDigest d = ComputeDigest(*BuildSample(SampleFeatures()));
   const std::string hex = d.ToHex();

@@ -209,11 +209,11 @@ TEST(TerrainFileTest, HeaderErrorsNameWhatFailed) {
   magic[1] = 'X';
   ExpectRefused(magic, "byte 0: not a dynterrain terrain file");
   auto version = bytes;
-  PutU32(version, 8, 4);
+  PutU32(version, 8, 5);
   Reseal(version);
   ExpectRefused(version,
-                "byte 8: format version 4 is not supported (this build reads versions 1 "
-                "to 3)");
+                "byte 8: format version 5 is not supported (this build reads versions 1 "
+                "to 4)");
   PutU32(version, 8, 0);
   Reseal(version);
   ExpectRefused(version, "byte 8: format version 0 is not supported");
@@ -426,6 +426,161 @@ TEST(TerrainFileTest, ConflictingFeaturesInAResealedFileAreRefused) {
   Reseal(b);
   ExpectRefused(b, fmt::format("byte {}: feature 1:1:10 was refused: bridge 1:1:10 overlaps",
                                record_at + record_bytes));
+}
+
+// ---- Rectangular grounds: version 4 ----
+
+// A 9 x 4 ground (80 m x 30 m) with distinct posts and soils, a crater at the far x and z edges, a
+// ditch along the far z edge and an earth move at the far corner post.
+std::unique_ptr<Terrain> Rectangle(int nx = 9, int nz = 4) {
+  std::vector<float> posts;
+  for (int j = 0; j < nz; ++j) {
+    for (int i = 0; i < nx; ++i)
+      posts.push_back(static_cast<float>(i) + 0.01f * static_cast<float>(j));
+  }
+  auto t = std::make_unique<Terrain>(HeightGrid(nx, nz, 10.0, std::move(posts)));
+  const double sx = t->ground().size_x_m(), sz = t->ground().size_z_m();
+  EXPECT_TRUE(t->SetSoil({nx - 2, nz - 2}, TriangleHalf::kUpper, Material::kRock).ok());
+  EXPECT_TRUE(t->SetSoil({nx - 2, 0}, TriangleHalf::kLower, Material::kSand).ok());
+  EXPECT_TRUE(t->SetSoil({0, nz - 2}, TriangleHalf::kLower, Material::kMud).ok());
+  EXPECT_TRUE(t->Add({1, 1, 1}, FeatureParams::Crater(sx - 4, sz - 4, 4)).ok());
+  EXPECT_TRUE(
+      t->Add({1, 1, 2}, FeatureParams::Ditch({{5, sz - 3, 1, 4}, {sx / 2, sz - 3, 1, 4}}, 1.0))
+          .ok());
+  EXPECT_TRUE(t->Add({1, 1, 3}, FeatureParams::EarthMove({{static_cast<uint16_t>(nx - 1),
+                                                           static_cast<uint16_t>(nz - 1), 250}}))
+                  .ok());
+  return t;
+}
+
+TEST(TerrainFileTest, ARectangularTerrainIsVersionFourAndRoundTrips) {
+  for (const auto& [nx, nz] : {std::pair{9, 4}, std::pair{4, 9}}) {
+    SCOPED_TRACE(fmt::format("{} x {}", nx, nz));
+    const auto original = Rectangle(nx, nz);
+    const auto bytes = EncodeTerrainFile(*original);
+    ByteReader header(std::span<const uint8_t>(bytes).subspan(8, 20));
+    EXPECT_EQ(*header.U32(), 4u);
+    // Ground section: posts_x, posts_z, spacing, posts, soils.
+    const uint64_t ground_bytes = *header.U64();
+    EXPECT_EQ(ground_bytes, 4u + 4 + 8 + 4u * nx * nz + 4u * (nx - 1) * (nz - 1));
+    ByteReader ground(std::span<const uint8_t>(bytes).subspan(kGroundAt, ground_bytes));
+    EXPECT_EQ(*ground.U32(), static_cast<uint32_t>(nx));
+    EXPECT_EQ(*ground.U32(), static_cast<uint32_t>(nz));
+    EXPECT_EQ(*ground.F64(), 10.0);
+    // Posts row by row along x, without the blade work: post (nx - 1, 0) comes at index nx - 1.
+    for (int k = 0; k < nx + 1; ++k) {
+      EXPECT_EQ(*ground.F32(), k < nx ? static_cast<float>(k) : 0.01f) << k;
+    }
+    auto loaded = DecodeTerrainFile(bytes, "rect.dtt");
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    const Terrain& t = *loaded.value();
+    EXPECT_EQ(t.ground().posts_x(), nx);
+    EXPECT_EQ(t.ground().posts_z(), nz);
+    EXPECT_EQ(t.ground().posts(), original->ground().posts());
+    EXPECT_EQ(t.ground().soils(), original->ground().soils());
+    EXPECT_EQ(t.ground().soil({nx - 2, nz - 2}, TriangleHalf::kUpper), Material::kRock);
+    EXPECT_EQ(t.ground().soil({0, nz - 2}, TriangleHalf::kLower), Material::kMud);
+    EXPECT_EQ(t.BladeDeltaMm(nx - 1, nz - 1), 250);
+    EXPECT_EQ(t.feature_count(), 3u);
+    EXPECT_EQ(ComputeDigest(t), ComputeDigest(*original));
+    EXPECT_EQ(EncodeTerrainFile(t), bytes);
+  }
+}
+
+TEST_F(TerrainFiles, ARectangularTerrainSavesAndLoads) {
+  const auto original = Rectangle();
+  ASSERT_TRUE(SaveTerrain(*original, dir_ / "rect.dtt").ok());
+  auto loaded = LoadTerrain(dir_ / "rect.dtt");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(ComputeDigest(*loaded.value()), ComputeDigest(*original));
+  EXPECT_DOUBLE_EQ(loaded.value()->ground().size_x_m(), 80.0);
+  EXPECT_DOUBLE_EQ(loaded.value()->ground().size_z_m(), 30.0);
+}
+
+TEST(TerrainFileTest, ASquareTerrainIsStillVersionThreeAndVersionFourOfItLoads) {
+  const auto square = EncodeTerrainFile(*Sample());
+  EXPECT_EQ(square[8], 3);
+  // The version 3 ground section: one count, then spacing, posts and soils.
+  ByteReader header(std::span<const uint8_t>(square).subspan(8, 20));
+  (void)header.U32();
+  const uint64_t ground_bytes = *header.U64();
+  EXPECT_EQ(ground_bytes, 4u + 8 + 4 * 81 + 4 * 64);
+  EXPECT_EQ(square[kGroundAt], 9);
+  // The same ground written as version 4 (two counts) holds the same state.
+  const uint64_t feature_bytes = *header.U64();
+  ByteWriter v4;
+  for (size_t k = 0; k < 8; ++k) v4.U8(square[k]);
+  v4.U32(4);
+  v4.U64(ground_bytes + 4);
+  v4.U64(feature_bytes);
+  v4.U32(9);
+  v4.U32(9);
+  v4.Bytes(
+      std::span<const uint8_t>(square).subspan(kGroundAt + 4, ground_bytes - 4 + feature_bytes));
+  v4.U64(XXH3_64bits(v4.bytes().data(), v4.bytes().size()));
+  auto loaded = DecodeTerrainFile(v4.bytes(), "v4.dtt");
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_EQ(ComputeDigest(*loaded.value()), ComputeDigest(*Sample()));
+  // Saved again, it is the version 3 file.
+  EXPECT_EQ(EncodeTerrainFile(*loaded.value()), square);
+}
+
+TEST(TerrainFileTest, VersionFourGroundErrorsNameTheSide) {
+  const auto bytes = EncodeTerrainFile(*Rectangle());  // 9 x 4
+  {
+    auto b = bytes;
+    PutU32(b, kGroundAt + 4, 1);
+    Reseal(b);
+    ExpectRefused(b, "byte 32: posts_z 1 is outside [2, 4097]");
+  }
+  {
+    auto b = bytes;
+    PutU32(b, kGroundAt, 4098);
+    Reseal(b);
+    ExpectRefused(b, "byte 28: posts_x 4098 is outside [2, 4097]");
+  }
+  {
+    // 4 x 9 posts do not fit the section of 9 x 4: the same post count, other soils.
+    auto b = bytes;
+    PutU32(b, kGroundAt, 4);
+    PutU32(b, kGroundAt + 4, 9);
+    Reseal(b);
+    auto r = DecodeTerrainFile(b, "t.dtt");
+    // Same section length (36 posts, 24 squares): it decodes as another ground, whose features
+    // no longer fit (the crater at x 76 m is off a 30 m wide terrain).
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("was refused"), std::string::npos) << r.error().message;
+  }
+  {
+    auto b = bytes;
+    PutU32(b, kGroundAt + 4, 5);
+    Reseal(b);
+    ExpectRefused(b, "byte 12: ground section is 256 bytes but a 9 x 5 grid needs 324");
+  }
+  {
+    auto b = bytes;
+    const uint64_t bits = std::bit_cast<uint64_t>(0.0);
+    for (size_t k = 0; k < 8; ++k) b[kGroundAt + 8 + k] = static_cast<uint8_t>(bits >> (8 * k));
+    Reseal(b);
+    ExpectRefused(b, "byte 36: spacing_m 0 must be finite and > 0");
+  }
+  {
+    // Post (8, 1), the last of the second row: index 1 * 9 + 8.
+    auto b = bytes;
+    PutU32(b, kGroundAt + 16 + 4 * 17,
+           std::bit_cast<uint32_t>(std::numeric_limits<float>::infinity()));
+    Reseal(b);
+    ExpectRefused(b, "post (8, 1) is not finite");
+  }
+  {
+    // The soil of square (7, 2), the far corner square, upper half: (2 * 8 + 7) * 2 + 1.
+    auto b = bytes;
+    const size_t at = kGroundAt + 16 + 4 * 36 + 2 * ((2 * 8 + 7) * 2 + 1);
+    b[at] = 0;
+    b[at + 1] = 0;
+    Reseal(b);
+    ExpectRefused(b, fmt::format("byte {}: soil 0 of square (7, 2) is not a soil", at));
+  }
 }
 
 }  // namespace

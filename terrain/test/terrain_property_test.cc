@@ -19,13 +19,30 @@ namespace dt {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr uint64_t kSeeds[] = {1, 2, 3, 20260101, 987654321};
+// Seeds of square grounds, and of rectangular ones: wider along x than along z, or the other way.
+constexpr uint64_t kSquareSeeds[] = {1, 2, 3, 20260101, 987654321};
+constexpr uint64_t kWideSeeds[] = {11, 12};
+constexpr uint64_t kTallSeeds[] = {13, 14};
+const std::vector<uint64_t> kSeeds = [] {
+  std::vector<uint64_t> all(std::begin(kSquareSeeds), std::end(kSquareSeeds));
+  all.insert(all.end(), std::begin(kWideSeeds), std::end(kWideSeeds));
+  all.insert(all.end(), std::begin(kTallSeeds), std::end(kTallSeeds));
+  return all;
+}();
 
-// Rolling hills (three random sine waves) plus post noise and a cliff, with random soils.
-HeightGrid RandomGround(std::mt19937_64& rng) {
+// Rolling hills (three random sine waves) plus post noise and a cliff, with random soils. A square
+// ground for the square seeds, else one whose sides differ by at least 7 posts.
+HeightGrid RandomGround(std::mt19937_64& rng, uint64_t seed) {
   std::uniform_int_distribution<int> posts(17, 65);
   std::uniform_real_distribution<double> spacing(1.0, 5.0), unit(0.0, 1.0);
-  const int n = posts(rng);
+  int nx = posts(rng), nz = nx;
+  const bool wide = std::ranges::count(kWideSeeds, seed) > 0;
+  if (wide || std::ranges::count(kTallSeeds, seed) > 0) {
+    const int other = posts(rng);
+    const int longer = std::max({nx, other, 24}), shorter = std::min({nx, other, longer - 7});
+    nx = wide ? longer : shorter;
+    nz = wide ? shorter : longer;
+  }
   const double s = spacing(rng);
   double amp[3], kx[3], kz[3], phase[3];
   for (int w = 0; w < 3; ++w) {
@@ -34,18 +51,18 @@ HeightGrid RandomGround(std::mt19937_64& rng) {
     kz[w] = 0.2 * unit(rng);
     phase[w] = 2 * kPi * unit(rng);
   }
-  const int cliff_i = n / 2;
-  std::vector<float> heights(static_cast<size_t>(n) * n);
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
+  const int cliff_i = nx / 2;
+  std::vector<float> heights(static_cast<size_t>(nx) * nz);
+  for (int j = 0; j < nz; ++j) {
+    for (int i = 0; i < nx; ++i) {
       double h = 4 * (unit(rng) - 0.5) + (i > cliff_i ? 15.0 : 0.0);
       for (int w = 0; w < 3; ++w) h += amp[w] * std::sin(kx[w] * i + kz[w] * j + phase[w]);
-      heights[static_cast<size_t>(j) * n + i] = static_cast<float>(h);
+      heights[static_cast<size_t>(j) * nx + i] = static_cast<float>(h);
     }
   }
-  HeightGrid ground(n, s, std::move(heights));
-  for (int j = 0; j < n - 1; ++j) {
-    for (int i = 0; i < n - 1; ++i) {
+  HeightGrid ground(nx, nz, s, std::move(heights));
+  for (int j = 0; j < nz - 1; ++j) {
+    for (int i = 0; i < nx - 1; ++i) {
       for (auto half : {TriangleHalf::kLower, TriangleHalf::kUpper}) {
         ground.set_soil({i, j}, half, static_cast<Material>(1 + rng() % (kMaterialCount - 1)));
       }
@@ -79,12 +96,13 @@ std::vector<FeaturePoint> RandomPolyline(std::mt19937_64& rng, double x, double 
 // (a spoil berm only on straight ones: at the inside of a joint the spoil is not continuous,
 // docs/terrain.md), berm lines and areas (water, mud, oil, burnt). Some leave the terrain and
 // will be refused.
-std::vector<FeatureParams> RandomFeatures(std::mt19937_64& rng, double size_m) {
+std::vector<FeatureParams> RandomFeatures(std::mt19937_64& rng, double size_x_m, double size_z_m) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<FeatureParams> out;
+  const double size_m = std::min(size_x_m, size_z_m);  // sizes fit the shorter side
   const int count = 20 + static_cast<int>(rng() % 40);
   for (int k = 0; k < count; ++k) {
-    const double x = size_m * unit(rng), z = size_m * unit(rng);
+    const double x = size_x_m * unit(rng), z = size_z_m * unit(rng);
     const uint64_t kind = rng() % 10;
     if (kind < 4) {
       const double r = 0.5 + unit(rng) * std::min(30.0, size_m / 4);
@@ -143,8 +161,9 @@ struct World {
 
 World Build(uint64_t seed) {
   std::mt19937_64 rng(seed);
-  World w{Terrain(RandomGround(rng)), {}};
-  const auto features = RandomFeatures(rng, w.terrain.ground().size_m());
+  World w{Terrain(RandomGround(rng, seed)), {}};
+  const auto features =
+      RandomFeatures(rng, w.terrain.ground().size_x_m(), w.terrain.ground().size_z_m());
   for (size_t k = 0; k < features.size(); ++k) {
     const FeatureId id{3, 4, static_cast<uint32_t>(k + 1)};
     const size_t before = w.terrain.feature_count();
@@ -157,15 +176,21 @@ World Build(uint64_t seed) {
   return w;
 }
 
-// Random points in bounds, plus the corners and points on the far edges.
-std::vector<std::pair<double, double>> SamplePoints(uint64_t seed, double size_m, int count) {
+// Random points in bounds, plus the corners and points on the edges.
+std::vector<std::pair<double, double>> SamplePoints(uint64_t seed, const HeightGrid& ground,
+                                                    int count) {
+  const double sx = ground.size_x_m(), sz = ground.size_z_m();
   std::mt19937_64 rng(seed * 7919 + 1);
-  std::uniform_real_distribution<double> pos(0.0, size_m);
-  std::vector<std::pair<double, double>> out = {{0, 0}, {size_m, 0}, {0, size_m}, {size_m, size_m}};
+  std::uniform_real_distribution<double> pos_x(0.0, sx), pos_z(0.0, sz);
+  std::vector<std::pair<double, double>> out = {{0, 0}, {sx, 0}, {0, sz}, {sx, sz}};
   for (int k = 0; k < count; ++k) {
-    out.emplace_back(pos(rng), pos(rng));
-    out.emplace_back(size_m, pos(rng));
-    out.emplace_back(pos(rng), 0.0);
+    out.emplace_back(pos_x(rng), pos_z(rng));
+    out.emplace_back(sx, pos_z(rng));
+    out.emplace_back(pos_x(rng), 0.0);
+  }
+  for (int k = 0; k < count / 4; ++k) {
+    out.emplace_back(pos_x(rng), sz);
+    out.emplace_back(0.0, pos_z(rng));
   }
   return out;
 }
@@ -181,7 +206,7 @@ TEST(TerrainProperty, SomeFeaturesAreAcceptedAndTheRestRefusedCleanly) {
 TEST(TerrainProperty, ElevationIsFiniteEverywhereInBounds) {
   for (uint64_t seed : kSeeds) {
     const World w = Build(seed);
-    for (auto [x, z] : SamplePoints(seed, w.terrain.ground().size_m(), 20000)) {
+    for (auto [x, z] : SamplePoints(seed, w.terrain.ground(), 20000)) {
       ASSERT_TRUE(std::isfinite(w.terrain.ElevationAt(x, z))) << seed << ": " << x << "," << z;
     }
   }
@@ -204,7 +229,7 @@ TEST(TerrainProperty, ElevationIsGroundPlusHighestRaisePlusDeepestCut) {
   for (uint64_t seed : kSeeds) {
     const World w = Build(seed);
     int raised = 0, lowered = 0;
-    for (auto [x, z] : SamplePoints(seed, w.terrain.ground().size_m(), 20000)) {
+    for (auto [x, z] : SamplePoints(seed, w.terrain.ground(), 20000)) {
       const double ground = w.terrain.GroundElevationAt(x, z);
       const double e = w.terrain.ElevationAt(x, z);
       raised += e > ground;
@@ -233,22 +258,27 @@ TEST(TerrainProperty, ElevationIsGroundPlusHighestRaisePlusDeepestCut) {
 // and b 2e-7 m apart. Slopes here stay below ~100 m/m, so a continuous surface moves < 2e-5 m.
 void ExpectContinuousAcrossSquareEdges(const Terrain& t, uint64_t seed, const char* what) {
   const double s = t.ground().spacing_m();
-  const int m = t.ground().squares_per_side();
+  const int mx = t.ground().squares_x(), mz = t.ground().squares_z();
   std::mt19937_64 rng(seed + 17);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double eps = 1e-7, tolerance = 1e-4;
   for (int k = 0; k < 4000; ++k) {
-    const int i = 1 + static_cast<int>(rng() % (m - 1));
-    const int j = static_cast<int>(rng() % m);
-    const double along = (j + unit(rng)) * s;
-    // Vertical edge x = i * s, horizontal edge z = i * s.
+    const int i = 1 + static_cast<int>(rng() % (mx - 1));
+    const int j = static_cast<int>(rng() % mz);
+    const double u = unit(rng);
+    const double along = (j + u) * s;
+    // Vertical edge x = i * s.
     EXPECT_NEAR(t.ElevationAt(i * s - eps, along), t.ElevationAt(i * s + eps, along), tolerance)
         << what << " seed " << seed << " x edge " << i;
-    EXPECT_NEAR(t.ElevationAt(along, i * s - eps), t.ElevationAt(along, i * s + eps), tolerance)
-        << what << " seed " << seed << " z edge " << i;
+    // Horizontal edge z = iz * s (on a square grid iz = i and jx = j).
+    const int iz = 1 + (i - 1) % (mz - 1), jx = j % mx;
+    const double along_x = (jx + u) * s;
+    EXPECT_NEAR(t.ElevationAt(along_x, iz * s - eps), t.ElevationAt(along_x, iz * s + eps),
+                tolerance)
+        << what << " seed " << seed << " z edge " << iz;
     // The diagonal of square (i - 1, j): from (x0, z1) to (x1, z0).
-    const double u = 0.01 + 0.98 * unit(rng);
-    const double x = (i - 1 + u) * s, z = (j + 1 - u) * s;
+    const double d = 0.01 + 0.98 * unit(rng);
+    const double x = (i - 1 + d) * s, z = (j + 1 - d) * s;
     EXPECT_NEAR(t.ElevationAt(x - eps, z - eps), t.ElevationAt(x + eps, z + eps), tolerance)
         << what << " seed " << seed << " diagonal " << i - 1 << "," << j;
   }
@@ -257,7 +287,7 @@ void ExpectContinuousAcrossSquareEdges(const Terrain& t, uint64_t seed, const ch
 TEST(TerrainProperty, ElevationIsContinuousAcrossSquareEdges) {
   for (uint64_t seed : kSeeds) {
     std::mt19937_64 rng(seed);
-    const Terrain bare(RandomGround(rng));
+    const Terrain bare(RandomGround(rng, seed));
     ExpectContinuousAcrossSquareEdges(bare, seed, "bare ground");
     const World w = Build(seed);
     ExpectContinuousAcrossSquareEdges(w.terrain, seed, "with features");
@@ -271,9 +301,9 @@ TEST(TerrainProperty, InsertionOrderDoesNotMatter) {
     auto shuffled = w.accepted;
     std::shuffle(shuffled.begin(), shuffled.end(), rng);
     std::mt19937_64 ground_rng(seed);
-    Terrain other(RandomGround(ground_rng));
+    Terrain other(RandomGround(ground_rng, seed));
     for (const auto& [id, p] : shuffled) ASSERT_TRUE(other.Add(id, p).ok());
-    for (auto [x, z] : SamplePoints(seed, w.terrain.ground().size_m(), 10000)) {
+    for (auto [x, z] : SamplePoints(seed, w.terrain.ground(), 10000)) {
       ASSERT_EQ(w.terrain.ElevationAt(x, z), other.ElevationAt(x, z))
           << seed << ": " << x << "," << z;
       ASSERT_EQ(w.terrain.SoilAt(x, z), other.SoilAt(x, z)) << seed << ": " << x << "," << z;
@@ -301,11 +331,11 @@ TEST(TerrainProperty, ArrivalOrderOfAddsAndUpdatesDoesNotMatter) {
       finals.emplace_back(id, q);
     }
     std::vector<double> reference;
-    const auto points = SamplePoints(seed, w.terrain.ground().size_m(), 3000);
+    const auto points = SamplePoints(seed, w.terrain.ground(), 3000);
     std::optional<TerrainDigest> reference_digest;
     for (int order = 0; order < 4; ++order) {
       std::mt19937_64 ground_rng(seed);
-      Terrain t(RandomGround(ground_rng));
+      Terrain t(RandomGround(ground_rng, seed));
       std::vector<size_t> idx(w.accepted.size());
       std::iota(idx.begin(), idx.end(), size_t{0});
       std::shuffle(idx.begin(), idx.end(), rng);
@@ -331,7 +361,7 @@ TEST(TerrainProperty, ArrivalOrderOfAddsAndUpdatesDoesNotMatter) {
 TEST(TerrainProperty, UpdatingToTheSameParamsAndRemovingAllRestoreTheSurface) {
   for (uint64_t seed : kSeeds) {
     World w = Build(seed);
-    const auto points = SamplePoints(seed, w.terrain.ground().size_m(), 3000);
+    const auto points = SamplePoints(seed, w.terrain.ground(), 3000);
     std::vector<double> before;
     for (auto [x, z] : points) before.push_back(w.terrain.ElevationAt(x, z));
     for (const auto& [id, p] : w.accepted) {

@@ -8,6 +8,7 @@
 #include <random>
 #include <set>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "terrain/berm.h"
@@ -293,10 +294,10 @@ TEST(TerrainFeatures, FeatureCrossingSquaresIsListedInEachAndSetsBitsOnlyWhereIt
   const double cx = 51.3, cz = 47.9, r = 5.2;
   ExpectAdded(t, Id(1), FeatureParams::Crater(cx, cz, r));
   const Feature* f = t.Find(Id(1));
-  const int m = t.ground().squares_per_side();
+  const int mx = t.ground().squares_x(), mz = t.ground().squares_z();
   int listed = 0, bits_set = 0;
-  for (int j = 0; j < m; ++j) {
-    for (int i = 0; i < m; ++i) {
+  for (int j = 0; j < mz; ++j) {
+    for (int i = 0; i < mx; ++i) {
       const auto list = t.FeaturesInSquare({i, j});
       const double x0 = i * 2.0, z0 = j * 2.0;
       const bool touches_box = x0 <= cx + r && x0 + 2 >= cx - r && z0 <= cz + r && z0 + 2 >= cz - r;
@@ -398,10 +399,10 @@ TEST(TerrainFeatures, BitsAfterAddsAndRemovesEqualBitsOfAFreshTerrain) {
   }
   Terrain fresh(SlopedGround());
   for (const Feature* f : t.FeaturesById()) ExpectAdded(fresh, f->id(), f->params());
-  const int m = t.ground().squares_per_side();
+  const int mx = t.ground().squares_x(), mz = t.ground().squares_z();
   int differing = 0, nonzero = 0;
-  for (int j = 0; j < m; ++j) {
-    for (int i = 0; i < m; ++i) {
+  for (int j = 0; j < mz; ++j) {
+    for (int i = 0; i < mx; ++i) {
       differing += t.SquareBits({i, j}) != fresh.SquareBits({i, j});
       nonzero += t.SquareBits({i, j}) != 0;
     }
@@ -544,4 +545,116 @@ TEST(TerrainAreaStamp, MovesOnlyWhereAChangeCanAlterAnAnswer) {
   EXPECT_TRUE(moved(here));
 }
 
+namespace {
+
+// ---- Rectangular terrains: features at the far x and far z edges ----
+
+namespace rect {
+
+// nx x nz posts 2 m apart, rising 0.5 m per post along x and 0.2 along z.
+HeightGrid Sloped(int nx, int nz) {
+  std::vector<float> posts;
+  for (int j = 0; j < nz; ++j) {
+    for (int i = 0; i < nx; ++i) posts.push_back(static_cast<float>(0.5 * i + 0.2 * j));
+  }
+  return HeightGrid(nx, nz, 2.0, std::move(posts));
+}
+
+// The squares whose closed rectangle touches `b`.
+bool Touches(SquareIndex s, const Rect& b) {
+  const double x0 = s.i * 2.0, z0 = s.j * 2.0;
+  return x0 <= b.max_x && x0 + 2 >= b.min_x && z0 <= b.max_z && z0 + 2 >= b.min_z;
+}
+
+}  // namespace rect
+
+TEST(TerrainRectangle, FeaturesNearTheFarCornerAreIndexedInTheRightSquares) {
+  // 80 m x 30 m and 30 m x 80 m.
+  for (const bool wide : {true, false}) {
+    SCOPED_TRACE(wide ? "wide" : "tall");
+    Terrain t(wide ? rect::Sloped(41, 16) : rect::Sloped(16, 41));
+    const double sx = t.ground().size_x_m(), sz = t.ground().size_z_m();
+    // A crater 2 m deep whose rim touches the far x and far z edges exactly.
+    const double cx = sx - 5.5, cz = sz - 5.5;
+    ExpectAdded(t, Id(1), FeatureParams::DeepCrater(cx, cz, 5.5, 2.0));
+    const Rect b = t.Find(Id(1))->Bounds();
+    EXPECT_DOUBLE_EQ(b.max_x, sx);
+    EXPECT_DOUBLE_EQ(b.max_z, sz);
+    int listed = 0;
+    for (int j = 0; j < t.ground().squares_z(); ++j) {
+      for (int i = 0; i < t.ground().squares_x(); ++i) {
+        const bool touches = rect::Touches({i, j}, b);
+        ASSERT_EQ(t.FeaturesInSquare({i, j}).size(), touches ? 1u : 0u) << i << "," << j;
+        if (!touches) {
+          ASSERT_EQ(t.SquareBits({i, j}), 0) << i << "," << j;
+        }
+        listed += touches;
+      }
+    }
+    EXPECT_EQ(listed, 6 * 6);  // 11 m from the far edges: 6 squares of 2 m
+    // The surface at the far corner is the crater's rim's foot: the ground.
+    EXPECT_NEAR(t.ElevationAt(sx, sz), t.GroundElevationAt(sx, sz), 1e-9);
+    EXPECT_LT(t.ElevationAt(cx, cz), t.GroundElevationAt(cx, cz));  // the bowl
+    EXPECT_TRUE(t.FeatureBitAt(cx, cz));
+    EXPECT_FALSE(t.FeatureBitAt(1, 1));
+    EXPECT_EQ(t.FeaturesNear(sx, sz).size(), 1u);
+    // Past the far z edge (but inside a square of the longer side) is off the terrain.
+    auto s = t.Add(Id(2), FeatureParams::Crater(cx, sz - 5, 5.5));
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().message.find("leaves the terrain"), std::string::npos) << s.error().message;
+    EXPECT_NE(s.error().message.find(fmt::format("[0, {}] x [0, {}] m", sx, sz)), std::string::npos)
+        << s.error().message;
+    s = t.Add(Id(2), FeatureParams::Crater(sx - 5, cz, 5.5));  // past the far x edge
+    ASSERT_FALSE(s.ok());
+    s = t.Add(Id(2), FeatureParams::Crater(sz + 1, sx + 1, 1));  // the axes swapped
+    ASSERT_FALSE(s.ok());
+    EXPECT_EQ(t.feature_count(), 1u);
+    // A berm along the far z edge, a ditch along the far x edge.
+    ExpectAdded(t, Id(3), FeatureParams::Berm(4, sz - 4, 0, sx - 8, 6, 2));
+    EXPECT_GT(Above(t, sx / 2, sz - 4), 1.9);
+    ExpectAdded(t, Id(4), FeatureParams::Ditch({{sx - 4, 4, 1, 6}, {sx - 4, sz - 16, 1, 6}}, 1.0));
+    EXPECT_LT(Above(t, sx - 4, 8), -0.9);
+    ASSERT_TRUE(t.Remove(Id(1)).ok());
+    for (const Feature* f : t.FeaturesNear(sx, sz)) EXPECT_NE(f->id(), Id(1));
+    EXPECT_EQ(t.ElevationAt(sx, sz), t.GroundElevationAt(sx, sz));
+  }
+}
+
+TEST(TerrainRectangle, PostsSoilsAndBladeWorkAreBoundedPerAxis) {
+  Terrain t(rect::Sloped(7, 4));  // 12 m x 6 m
+  EXPECT_TRUE(t.SetPostElevation(6, 3, 9.0f).ok());
+  EXPECT_DOUBLE_EQ(t.ElevationAt(12, 6), 9.0);
+  EXPECT_EQ(t.ground().posts().back(), 9.0f);
+  auto s = t.SetPostElevation(7, 0, 1.0f);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("outside the 7 x 4 grid"), std::string::npos)
+      << s.error().message;
+  EXPECT_FALSE(t.SetPostElevation(0, 4, 1.0f).ok());
+  EXPECT_FALSE(t.SetPostElevation(4, 6, 1.0f).ok());  // fits a 7 x 7 grid, not this one
+  EXPECT_TRUE(t.SetSoil({5, 2}, TriangleHalf::kUpper, Material::kRock).ok());
+  EXPECT_EQ(t.SoilAt(11.9, 5.9), Material::kRock);
+  s = t.SetSoil({2, 5}, TriangleHalf::kUpper, Material::kRock);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("outside the 6 x 3 squares"), std::string::npos)
+      << s.error().message;
+  // Blade work at the far corner post, keyed j * posts_x + i.
+  ExpectAdded(t, Id(1), FeatureParams::EarthMove({{6, 3, 500}, {0, 3, -250}, {6, 0, 100}}));
+  EXPECT_EQ(t.BladeDeltaMm(6, 3), 500);
+  EXPECT_EQ(t.BladeDeltaMm(0, 3), -250);
+  EXPECT_EQ(t.BladeDeltaMm(6, 0), 100);
+  EXPECT_EQ(t.BladeDeltaMm(3, 6), 0);  // off the grid
+  EXPECT_FLOAT_EQ(t.ground().post(6, 3), 9.5f);
+  const std::vector<float> bare = t.BarePosts();
+  EXPECT_EQ(bare[3 * 7 + 6], 9.0f);
+  EXPECT_FLOAT_EQ(bare[3 * 7 + 0], t.ground().post(0, 3) + 0.25f);
+  auto off = t.Add(Id(2), FeatureParams::EarthMove({{2, 4, 10}}));
+  ASSERT_FALSE(off.ok());
+  EXPECT_NE(off.error().message.find("post (2, 4) is outside the 7 x 4 grid"), std::string::npos)
+      << off.error().message;
+  t.RemoveAll();
+  EXPECT_EQ(t.ground().post(6, 3), 9.0f);
+  EXPECT_EQ(t.BladeDeltaMm(6, 3), 0);
+}
+
+}  // namespace
 }  // namespace dt

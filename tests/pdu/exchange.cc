@@ -29,7 +29,7 @@ Result Run(Transport& transport, NodeAddress local, int64_t count,
   PduBusConfig config;
   config.exercise_id = kExercise;
   config.local = local;
-  config.terrain_size_m = kTerrainM;
+  config.terrain_size_x_m = config.terrain_size_z_m = kTerrainM;
   PduBus bus(transport, config);
 
   Result result;

@@ -136,7 +136,7 @@ void BM_PduBusThroughput(benchmark::State& state, std::string url, bool authenti
   PduBusConfig tc;
   tc.exercise_id = sample::kSampleExercise;
   tc.local = {1, 1};
-  tc.terrain_size_m = sample::kSampleTerrainM;
+  tc.terrain_size_x_m = tc.terrain_size_z_m = sample::kSampleTerrainM;
   PduBusConfig rc = tc;
   rc.local = {2, 2};
   rc.deliver_own = true;

@@ -27,7 +27,7 @@ PduBusConfig Config(NodeAddress local, std::shared_ptr<const ExerciseKey> key) {
   PduBusConfig c;
   c.exercise_id = sample::kSampleExercise;
   c.local = local;
-  c.terrain_size_m = sample::kSampleTerrainM;
+  c.terrain_size_x_m = c.terrain_size_z_m = sample::kSampleTerrainM;
   c.auth.key = std::move(key);
   return c;
 }

@@ -32,7 +32,7 @@ PduBusConfig Config(NodeAddress local, uint8_t exercise = sample::kSampleExercis
   PduBusConfig c;
   c.exercise_id = exercise;
   c.local = local;
-  c.terrain_size_m = sample::kSampleTerrainM;
+  c.terrain_size_x_m = c.terrain_size_z_m = sample::kSampleTerrainM;
   c.deliver_own = true;  // memq has a single endpoint
   return c;
 }

@@ -36,7 +36,7 @@ PduBusConfig Config(NodeAddress local, PduAuthConfig auth) {
   PduBusConfig c;
   c.exercise_id = sample::kSampleExercise;
   c.local = local;
-  c.terrain_size_m = sample::kSampleTerrainM;
+  c.terrain_size_x_m = c.terrain_size_z_m = sample::kSampleTerrainM;
   c.auth = std::move(auth);
   return c;
 }

@@ -14,7 +14,7 @@ PduBusConfig Config(NodeAddress local, bool deliver_own = true) {
   PduBusConfig c;
   c.exercise_id = sample::kSampleExercise;
   c.local = local;
-  c.terrain_size_m = sample::kSampleTerrainM;
+  c.terrain_size_x_m = c.terrain_size_z_m = sample::kSampleTerrainM;
   c.deliver_own = deliver_own;
   c.clock = [] { return 0xABCDEF01u; };
   return c;
@@ -98,9 +98,14 @@ TEST(PduBus, HandlersNeverSeeRejectedPdus) {
 TEST(PduBus, RefusesABadConfiguration) {
   LcmTransport t("memq://", 1);
   PduBusConfig c = Config({1, 1});
-  c.terrain_size_m = 0;
+  c.terrain_size_x_m = c.terrain_size_z_m = 0;
   EXPECT_THROW(PduBus(t, c), std::invalid_argument);
-  c.terrain_size_m = std::numeric_limits<double>::infinity();
+  c.terrain_size_x_m = c.terrain_size_z_m = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(PduBus(t, c), std::invalid_argument);
+  c.terrain_size_x_m = 100;  // each side is checked
+  EXPECT_THROW(PduBus(t, c), std::invalid_argument);
+  c.terrain_size_x_m = std::numeric_limits<double>::quiet_NaN();
+  c.terrain_size_z_m = 100;
   EXPECT_THROW(PduBus(t, c), std::invalid_argument);
 }
 

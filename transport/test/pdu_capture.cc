@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   PduBusConfig config;
   config.exercise_id = sample::kSampleExercise;
   config.local = {1, 2};
-  config.terrain_size_m = sample::kSampleTerrainM;
+  config.terrain_size_x_m = config.terrain_size_z_m = sample::kSampleTerrainM;
   config.clock = [] { return 0x80000001u; };
   if (argc == 3) {
     try {

@@ -11,7 +11,7 @@ inline PduBusConfig TestBusConfig(NodeAddress local, uint8_t exercise_id, double
   PduBusConfig c;
   c.exercise_id = exercise_id;
   c.local = local;
-  c.terrain_size_m = terrain_size_m;
+  c.terrain_size_x_m = c.terrain_size_z_m = terrain_size_m;
   return c;
 }
 

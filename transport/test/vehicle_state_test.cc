@@ -137,7 +137,7 @@ TEST(VehicleState, TravelsOverTheBusAndBadOnesAreCountedNeverDelivered) {
     PduBusConfig c;
     c.exercise_id = sample::kSampleExercise;
     c.local = local;
-    c.terrain_size_m = sample::kSampleTerrainM;
+    c.terrain_size_x_m = c.terrain_size_z_m = sample::kSampleTerrainM;
     return c;
   };
   PduBus a(*transport, config({1, 2}));

@@ -34,7 +34,7 @@ constexpr double kSeconds = 60.0;
 HeightGrid Ground(double spacing_m) {
   RandomTerrainParams p;
   p.spacing_m = spacing_m;
-  p.posts_per_side = static_cast<int>(std::lround(200.0 / spacing_m)) + 1;
+  p.posts_x = p.posts_z = static_cast<int>(std::lround(200.0 / spacing_m)) + 1;
   p.relief_m = 3.0;
   p.seed = 11;
   return MakeRandomTerrain(p);

@@ -30,7 +30,7 @@ const Terrain& Ground(bool rolling) {
   static const Terrain* terrains[2] = {nullptr, nullptr};
   if (terrains[rolling] == nullptr) {
     RandomTerrainParams p;
-    p.posts_per_side = 201;
+    p.posts_x = p.posts_z = 201;
     p.spacing_m = 10.0;
     p.relief_m = rolling ? 20.0 : 0.0;
     p.seed = 5;

@@ -39,7 +39,7 @@ const Field& TheField(int64_t count) {
   const double area_km2 = static_cast<double>(count) / kCratersPerKm2;
   const int squares = static_cast<int>(std::ceil(std::sqrt(area_km2) * 1000.0 / kSpacingM));
   f.terrain = std::make_unique<Terrain>(HeightGrid(squares + 1, kSpacingM, 50.0f));
-  f.size_m = f.terrain->ground().size_m();
+  f.size_m = f.terrain->ground().size_x_m();  // the field is square
   std::mt19937_64 rng(42);
   std::uniform_real_distribution<double> pos(20.0, f.size_m - 20.0), radius(2.0, 10.0);
   for (int64_t k = 0; k < count; ++k) {

@@ -29,7 +29,8 @@ const Terrain& BenchTerrain() {
 }
 
 Vehicle Tank(double x, double z) {
-  auto v = Vehicle::Make(TankType(), x, z, 0.0, BenchTerrain().ground().size_m());
+  auto v = Vehicle::Make(TankType(), x, z, 0.0, BenchTerrain().ground().size_x_m(),
+                         BenchTerrain().ground().size_z_m());
   if (!v) std::abort();
   return std::move(v).value();
 }

@@ -69,7 +69,7 @@ void DriveAndPrint(const Terrain& terrain, Vehicle& vehicle, std::string_view na
 int Run(const DemoOptions& options) {
   // 64 x 64 squares of 10 m: a 640 m square of gently rolling ground.
   Terrain terrain(MakeRandomTerrain(
-      {.posts_per_side = 65, .spacing_m = 10.0, .relief_m = 6.0, .seed = options.seed}));
+      {.posts_x = 65, .posts_z = 65, .spacing_m = 10.0, .relief_m = 6.0, .seed = options.seed}));
   const NodeAddress self{1, 1};
   auto id = [&](uint32_t n) { return FeatureId{self.site, self.host, n}; };
 
@@ -80,28 +80,31 @@ int Run(const DemoOptions& options) {
   Require(terrain.Add(id(3),
                       FeatureParams::Bridge(300.0, 400.0, 0.0, 10.0, 40.0, 60.0, 40.0, 8.0, 8.0)),
           "bridge");
-  fmt::print("terrain: {:.0f} m x {:.0f} m, {} features, digest {}\n", terrain.ground().size_m(),
-             terrain.ground().size_m(), terrain.feature_count(), ComputeDigest(terrain).ToHex());
+  fmt::print("terrain: {:.0f} m x {:.0f} m, {} features, digest {}\n", terrain.ground().size_x_m(),
+             terrain.ground().size_z_m(), terrain.feature_count(), ComputeDigest(terrain).ToHex());
 
   // A tank crossing the crater on its left track: roll held until the rear passes the rim.
-  auto tank =
-      Require(Vehicle::Make(TankType(), 170.0, 97.0, 0.0, terrain.ground().size_m()), "tank");
+  auto tank = Require(Vehicle::Make(TankType(), 170.0, 97.0, 0.0, terrain.ground().size_x_m(),
+                                    terrain.ground().size_z_m()),
+                      "tank");
   DriveAndPrint(terrain, tank, "tank over the crater's edge", 5.0, 12.0, options);
 
   // A truck crossing the berm square on.
-  auto truck =
-      Require(Vehicle::Make(TruckType(), 240.0, 200.0, 0.0, terrain.ground().size_m()), "truck");
+  auto truck = Require(Vehicle::Make(TruckType(), 240.0, 200.0, 0.0, terrain.ground().size_x_m(),
+                                     terrain.ground().size_z_m()),
+                       "truck");
   DriveAndPrint(terrain, truck, "truck over the berm", 4.0, 10.0, options);
 
   // A jeep driving up ramp 1, over the span and down ramp 2.
-  auto jeep =
-      Require(Vehicle::Make(JeepType(), 235.0, 400.0, 0.0, terrain.ground().size_m()), "jeep");
+  auto jeep = Require(Vehicle::Make(JeepType(), 235.0, 400.0, 0.0, terrain.ground().size_x_m(),
+                                    terrain.ground().size_z_m()),
+                      "jeep");
   DriveAndPrint(terrain, jeep, "jeep over the bridge", 8.0, 22.0, options);
 
   // A second jeep driving under the span across the bridge's line: stays on the ground.
-  auto under = Require(
-      Vehicle::Make(JeepType(), 330.0, 360.0, std::numbers::pi / 2, terrain.ground().size_m()),
-      "jeep under");
+  auto under = Require(Vehicle::Make(JeepType(), 330.0, 360.0, std::numbers::pi / 2,
+                                     terrain.ground().size_x_m(), terrain.ground().size_z_m()),
+                       "jeep under");
   DriveAndPrint(terrain, under, "jeep under the span", 8.0, 10.0, options);
   return 0;
 }

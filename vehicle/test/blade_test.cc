@@ -33,9 +33,8 @@ int64_t Drive(Terrain& t, Blade& blade, double& x, double z, double speed_mps, i
 
 int64_t TotalMm(const Terrain& t) {
   int64_t sum = 0;
-  const int n = t.ground().posts_per_side();
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) sum += t.BladeDeltaMm(i, j);
+  for (int j = 0; j < t.ground().posts_z(); ++j) {
+    for (int i = 0; i < t.ground().posts_x(); ++i) sum += t.BladeDeltaMm(i, j);
   }
   return sum;
 }

@@ -26,7 +26,7 @@ bool InFeatureCell(const Terrain& t, double x_m, double z_m) {
 TEST(ContactSurface, KeptGroundPlaneAnswersAsAFreshSample) {
   for (uint64_t seed = 1; seed <= 4; ++seed) {
     RandomTerrainParams p;
-    p.posts_per_side = 33;
+    p.posts_x = p.posts_z = 33;
     p.spacing_m = 32.0;
     p.relief_m = 40.0;
     p.seed = seed;

@@ -418,7 +418,8 @@ TEST(ThesisScenario, LightModelReportsAFallOnce) {
   // A tank in ramp 1's hot spot with its right side off the deck, creeping along the bridge: the
   // kinematic rules tag it and drop it again every tick.
   auto t = BridgeTerrain();
-  Vehicle raw = Vehicle::Make(TankType(), 75, 196, 0, t->ground().size_m()).value();
+  Vehicle raw =
+      Vehicle::Make(TankType(), 75, 196, 0, t->ground().size_x_m(), t->ground().size_z_m()).value();
   ASSERT_TRUE(raw.Command(0.2, 0).ok());
   int raw_falls = 0;
   for (int i = 0; i < 20; ++i)

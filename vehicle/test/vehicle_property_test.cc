@@ -35,7 +35,7 @@ struct World {
 // intact or destroyed bridge, all at random.
 World RandomWorld(uint64_t seed) {
   RandomTerrainParams p;
-  p.posts_per_side = 101;
+  p.posts_x = p.posts_z = 101;
   p.spacing_m = 2.0;
   p.relief_m = 8.0;
   p.seed = seed;

@@ -16,7 +16,7 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 Vehicle MakeOrDie(VehicleType type, double x, double z, double heading, double size = 100.0) {
-  auto v = Vehicle::Make(std::move(type), x, z, heading, size);
+  auto v = Vehicle::Make(std::move(type), x, z, heading, size, size);
   if (!v) {
     ADD_FAILURE() << v.error().message;
     std::abort();
@@ -65,26 +65,55 @@ TEST(VehicleType, BadValuesAreRefusedByName) {
   // Built from values: a custom type is accepted.
   VehicleType custom{"apc", 6.0, 3.0, 20.0, 5.0, 0.5, 0.6, 0.5};
   EXPECT_TRUE(ValidateVehicleType(custom).ok());
-  EXPECT_TRUE(Vehicle::Make(custom, 50, 50, 0, 100).ok());
+  EXPECT_TRUE(Vehicle::Make(custom, 50, 50, 0, 100, 100).ok());
 }
 
 TEST(Vehicle, MakeRefusesNanOffTerrainAndBadTypes) {
-  auto nan = Vehicle::Make(TankType(), kNan, 50, 0, 100);
+  auto nan = Vehicle::Make(TankType(), kNan, 50, 0, 100, 100);
   ASSERT_FALSE(nan.ok());
   EXPECT_NE(nan.error().message.find("not finite"), std::string::npos);
   EXPECT_FALSE(
-      Vehicle::Make(TankType(), 50, 50, std::numeric_limits<double>::infinity(), 100).ok());
+      Vehicle::Make(TankType(), 50, 50, std::numeric_limits<double>::infinity(), 100, 100).ok());
   // Centre on the terrain but the front 3.95 m ahead is not.
-  auto off = Vehicle::Make(TankType(), 98, 50, 0, 100);
+  auto off = Vehicle::Make(TankType(), 98, 50, 0, 100, 100);
   ASSERT_FALSE(off.ok());
   EXPECT_NE(off.error().message.find("leaves the terrain"), std::string::npos)
       << off.error().message;
-  EXPECT_TRUE(Vehicle::Make(TankType(), 96, 50, 0, 100).ok());
-  EXPECT_FALSE(Vehicle::Make(TankType(), 50, 98, kPi / 2, 100).ok());
+  EXPECT_TRUE(Vehicle::Make(TankType(), 96, 50, 0, 100, 100).ok());
+  EXPECT_FALSE(Vehicle::Make(TankType(), 50, 98, kPi / 2, 100, 100).ok());
   VehicleType bad = TankType();
   bad.length_m = -1;
-  EXPECT_FALSE(Vehicle::Make(bad, 50, 50, 0, 100).ok());
-  EXPECT_FALSE(Vehicle::Make(TankType(), 50, 50, 0, kNan).ok());
+  EXPECT_FALSE(Vehicle::Make(bad, 50, 50, 0, 100, 100).ok());
+  EXPECT_FALSE(Vehicle::Make(TankType(), 50, 50, 0, kNan, kNan).ok());
+}
+
+// On a 100 m x 40 m terrain each axis stops the vehicle at its own edge.
+TEST(Vehicle, ARectangularTerrainBoundsEachAxisOnItsOwn) {
+  auto made = Vehicle::Make(TankType(), 90, 30, kPi / 2, 100, 40);
+  ASSERT_TRUE(made.ok()) << made.error().message;
+  EXPECT_EQ(made.value().terrain_size_x_m(), 100.0);
+  EXPECT_EQ(made.value().terrain_size_z_m(), 40.0);
+  // (50, 38) facing north reaches past z = 40, though it would fit a 100 m square.
+  auto off = Vehicle::Make(TankType(), 50, 38, kPi / 2, 100, 40);
+  ASSERT_FALSE(off.ok());
+  EXPECT_NE(off.error().message.find("leaves the terrain [0, 100] x [0, 40] m"), std::string::npos)
+      << off.error().message;
+  EXPECT_FALSE(Vehicle::Make(TankType(), 50, 50, 0, 100, 40).ok());
+  EXPECT_TRUE(Vehicle::Make(TankType(), 20, 50, kPi / 2, 40, 100).ok());  // 40 m x 100 m
+  EXPECT_FALSE(Vehicle::Make(TankType(), 20, 20, 0, 100, kNan).ok());
+  // Driving north stops at the north edge, at 40 m, not 100 m.
+  Vehicle v = std::move(made).value();
+  ASSERT_TRUE(v.Command(5, 0).ok());
+  for (int i = 0; i < 40; ++i) ASSERT_TRUE(v.Step(0.5).ok());
+  EXPECT_EQ(v.speed_mps(), 0.0);
+  EXPECT_NEAR(v.z_m(), 40 - TankType().length_m / 2, 1e-5);
+  EXPECT_DOUBLE_EQ(v.x_m(), 90);
+  // Turned east, it stops at the east edge.
+  Vehicle e = Vehicle::Make(TankType(), 50, 20, 0, 100, 40).value();
+  ASSERT_TRUE(e.Command(10, 0).ok());
+  for (int i = 0; i < 20; ++i) ASSERT_TRUE(e.Step(0.5).ok());
+  EXPECT_NEAR(e.x_m(), 100 - TankType().length_m / 2, 1e-5);
+  EXPECT_DOUBLE_EQ(e.z_m(), 20);
 }
 
 TEST(Vehicle, CommandIsClampedToTheTypeLimits) {

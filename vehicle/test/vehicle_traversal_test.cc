@@ -36,7 +36,8 @@ double ExpectedDeck(double x, double h1 = 6, double h2 = 8) {
 }
 
 Vehicle Place(const Terrain& t, VehicleType type, double x, double z, double heading) {
-  auto v = Vehicle::Make(std::move(type), x, z, heading, t.ground().size_m());
+  auto v =
+      Vehicle::Make(std::move(type), x, z, heading, t.ground().size_x_m(), t.ground().size_z_m());
   if (!v) {
     ADD_FAILURE() << v.error().message;
     std::abort();
@@ -518,7 +519,7 @@ TEST(Traversal, BridgeDestroyedOrRemovedUnderAVehicleDropsIt) {
 
 TEST(Traversal, BadInputIsRefusedWithoutChanges) {
   Terrain t = FlatTerrain();
-  auto other_size = Vehicle::Make(TankType(), 50, 50, 0, 100);
+  auto other_size = Vehicle::Make(TankType(), 50, 50, 0, 100, 100);
   ASSERT_TRUE(other_size.ok());
   Vehicle v = std::move(other_size).value();
   auto r = SettleVehicle(t, v);
@@ -541,7 +542,8 @@ TEST(Vehicles, ALightTankDrivesDownADitchAndOutOfIt) {
   Terrain t(HeightGrid(201, 1.0, kDitchGroundM, Material::kGrass));
   ASSERT_TRUE(
       t.Add(kDitchId, FeatureParams::Ditch({{40, 100, 2.5, 12}, {160, 100, 2.5, 12}}, 3.0)).ok());
-  auto made = Vehicle::Make(TankType(), 100, 100, 0.0, t.ground().size_m());
+  auto made =
+      Vehicle::Make(TankType(), 100, 100, 0.0, t.ground().size_x_m(), t.ground().size_z_m());
   ASSERT_TRUE(made.ok());
   Vehicle tank = made.value();
   auto settled = SettleVehicle(t, tank);
@@ -549,7 +551,8 @@ TEST(Vehicles, ALightTankDrivesDownADitchAndOutOfIt) {
   EXPECT_EQ(settled.value().method, OrientationMethod::kSixPoint);
   EXPECT_NEAR(tank.elevation_m(), kDitchGroundM - 2.5, 1e-9);  // on the 6 m floor
   // Turned across the ditch, the tank's ends reach up its sides: it sits higher than the floor.
-  made = Vehicle::Make(TankType(), 100, 100, std::numbers::pi / 2, t.ground().size_m());
+  made = Vehicle::Make(TankType(), 100, 100, std::numbers::pi / 2, t.ground().size_x_m(),
+                       t.ground().size_z_m());
   ASSERT_TRUE(made.ok());
   Vehicle across = made.value();
   ASSERT_TRUE(SettleVehicle(t, across).ok());

@@ -28,7 +28,7 @@ int SeedCount() {
 const Terrain& Rolling() {
   static const Terrain terrain = [] {
     RandomTerrainParams p;
-    p.posts_per_side = 61;  // 600 m
+    p.posts_x = p.posts_z = 61;  // 600 m
     p.spacing_m = 10.0;
     p.relief_m = 15.0;
     p.seed = 7;
@@ -48,12 +48,13 @@ struct WanderRun {
 WanderRun Wander(const char* type_name, VehicleModel model, const WanderArea& area, uint64_t seed,
                  int count, double seconds) {
   const Terrain& terrain = Rolling();
-  const double size_m = terrain.ground().size_m();
+  const double size_x_m = terrain.ground().size_x_m(), size_z_m = terrain.ground().size_z_m();
   const PhysicalVehicleType type = PhysType(type_name);
   std::vector<SimulatedVehicle> vehicles;
   std::vector<Wanderer> wanderers;
   for (int i = 0; i < count; ++i) {
-    wanderers.emplace_back(type.base, area, size_m, WanderSeed(seed, static_cast<uint64_t>(i)));
+    wanderers.emplace_back(type.base, area, size_x_m, size_z_m,
+                           WanderSeed(seed, static_cast<uint64_t>(i)));
     WanderRandom place(WanderSeed(seed, static_cast<uint64_t>(i)) + 1);
     const WanderStart s = DrawWanderStart(wanderers.back().clear_area(), place);
     vehicles.push_back(
@@ -80,7 +81,8 @@ WanderRun Wander(const char* type_name, VehicleModel model, const WanderArea& ar
         for (double l : {-0.5, 0.5}) {
           const double x = p.x_m + ax * f * type.base.length_m - az * l * type.base.width_m;
           const double z = p.z_m + az * f * type.base.length_m + ax * l * type.base.width_m;
-          run.closest_to_edge_m = std::min({run.closest_to_edge_m, x, z, size_m - x, size_m - z});
+          run.closest_to_edge_m =
+              std::min({run.closest_to_edge_m, x, z, size_x_m - x, size_z_m - z});
         }
       }
       const double out = std::max({area.x_min_m - p.x_m, p.x_m - area.x_max_m, area.z_min_m - p.z_m,
@@ -146,7 +148,7 @@ TEST(Wanderer, NeverReachesTheTerrainsEdgeOverSeededRuns) {
     // It keeps moving: at least half the slowest leg speed on average (turning back is 30 %).
     EXPECT_GT(run.distance_m, 3 * 60.0 * 0.125 * PhysType(type).base.max_speed_mps);
     // It stays near its area: at most a look-ahead and a turning circle out of it.
-    Wanderer probe(PhysType(type).base, area, 600.0, 1);
+    Wanderer probe(PhysType(type).base, area, 600.0, 600.0, 1);
     EXPECT_LT(run.farthest_outside_area_m, 2 * probe.lookahead_m());
     std::printf("seed %d %s %s: closest to the edge %.1f m, farthest outside the area %.1f m\n",
                 seed, type, std::string(VehicleModelName(model)).c_str(), run.closest_to_edge_m,

@@ -2,7 +2,7 @@
 "use strict";
 const SVG = "http://www.w3.org/2000/svg";
 const state = {
-  size: 1000, exercise: null, seq: 0, features: new Map(), processes: [], vehicles: new Map(),
+  size_x: 1000, size_z: 1000, exercise: null, seq: 0, features: new Map(), processes: [], vehicles: new Map(),
   selected: null, view: null, ws: null, req: 0,
 };
 // For tests and for the curious: when each feature was first drawn (Date.now()), and the
@@ -18,7 +18,7 @@ function hue(text) {
 const ownerColour = (name) => `hsl(${hue(name)}, 80%, 60%)`;
 const digestColour = (d) => (d ? `hsl(${hue(d)}, 70%, 55%)` : "#555");
 // SVG y grows down; the terrain's z grows north.
-const Y = (z) => state.size - z;
+const Y = (z) => state.size_z - z;
 
 function el(tag, attrs, parent) {
   const e = document.createElementNS(SVG, tag);
@@ -203,16 +203,17 @@ function setRelief(version) {
   if (version < 0) return;
   const img = $("relief");
   img.setAttribute("href", `/relief.png?v=${version}`);
-  for (const [k, v] of [["x", 0], ["y", 0], ["width", state.size], ["height", state.size]]) {
+  for (const [k, v] of [["x", 0], ["y", 0], ["width", state.size_x], ["height", state.size_z]]) {
     img.setAttribute(k, v);
   }
 }
 
 function onSnapshot(s) {
   state.exercise = s.exercise;
-  state.size = s.exercise.size_m;
+  state.size_x = s.exercise.size_x_m;
+  state.size_z = s.exercise.size_z_m;
   $("exercise").textContent = `${s.exercise.name} (${s.exercise.view})`;
-  if (!state.view) state.view = { x: 0, y: 0, w: state.size, h: state.size };
+  if (!state.view) state.view = { x: 0, y: 0, w: state.size_x, h: state.size_z };
   applyView();
   $("features").replaceChildren();
   state.features.clear();
@@ -312,7 +313,7 @@ $("map").addEventListener("click", (ev) => {
   if (drag && drag.moved) return;
   const tool = $("op-tool").value;
   if (!tool || !state.exercise || !state.exercise.commands) { select(null); return; }
-  const [x, y] = toMap(ev), z = state.size - y;
+  const [x, y] = toMap(ev), z = state.size_z - y;
   const size = +$("op-size").value, dir = +$("op-dir").value, node = $("op-node").value;
   if (tool === "crater") send({ op: "crater", node, x, z, radius: size });
   if (tool === "berm") send({ op: "berm", node, x, z, dir_deg: dir, length: size, width: 4, height: 2 });

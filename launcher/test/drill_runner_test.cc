@@ -22,6 +22,7 @@
 #include "launcher/drill_config.h"
 #include "runtime/control_server.h"
 #include "runtime/exercise_config.h"
+#include "runtime/status_report.h"
 
 namespace dt {
 namespace {
@@ -97,18 +98,21 @@ class ScriptedControl {
     return ControlReply::Fail(fmt::format("the scripted {} does not answer {}", p.name, verb));
   }
 
-  // Every fixed line of a real status reply (runtime/process_runtime.h StatusText); none of the
-  // per-reason, per-origin or per-vehicle lines.
+  // A status reply as the real processes write it (runtime/status_report.h), so it keeps every
+  // key the reader requires: this process's identity and counts, caught up, one digest for all.
   static std::string StatusText(const Process& p, int64_t acked) {
-    return fmt::format(
-        "name {}\naddress {}\nrole {}\nrequire_server 1\nsigned_on 1\ncaught_up 1\n"
-        "diverged 0\ndiverged_since_ms -1\nfeatures 0\ndigest 5eed5eed5eed5eed\n"
-        "own_feature_number {}\nown_change_seq {}\nacknowledged_change_seq {}\n"
-        "sent 0\nreceived 0\nrejected 0\nplayed_back 0\napplied 0\nignored_stale 0\n"
-        "fault_dropped 0\ndrop_probability 0\nwrite_queued 0\nwrite_retried 0\n"
-        "write_failed 0\nwrite_given_up 0\nvoided 0\ngave_up 0\nrefused_stranger 0\n"
-        "refused_role 0\nrefused_claim 0\nrefused_lamport 0\nauthenticated 0\nauth_senders 0",
-        p.name, p.address.ToString(), p.role, p.own_change_seq, p.own_change_seq, acked);
+    StatusReport r;
+    r.name = p.name;
+    r.address = p.address;
+    r.role = p.role == "node" ? NodeRole::kNode : NodeRole::kServer;
+    r.require_server = true;
+    r.signed_on = true;
+    r.caught_up = true;
+    r.digest = "5eed5eed5eed5eed";
+    r.own_feature_number = p.own_change_seq;
+    r.own_change_seq = p.own_change_seq;
+    r.acknowledged_change_seq = acked;
+    return r.ToText();
   }
 
   std::vector<std::unique_ptr<ControlServer>> servers_;

@@ -102,8 +102,8 @@ void ClockWatch::Stale(NodeAddress sender, int64_t offset_ms, int64_t now_ms,
       "{}: PDUs from {} are stamped {:.1f} s {} this host's clock, beyond the exercise's {:g} s "
       "tolerance: they are dropped until the clocks agree (check NTP on both hosts); {} dropped "
       "so far",
-      kClockSkewMarker, Describe(sender), Seconds(std::llabs(s.offset_ms)), Direction(s.offset_ms),
-      Seconds(tolerance_ms_), s.stale);
+      log::kClockSkewMarker, Describe(sender), Seconds(std::llabs(s.offset_ms)),
+      Direction(s.offset_ms), Seconds(tolerance_ms_), s.stale);
   s.last_logged_ms = now_ms;
   s.warned = true;
   ++lines_logged_;
@@ -120,7 +120,7 @@ void ClockWatch::LogOwn(int64_t own_offset_ms, int64_t now_ms) {
       "{}: every PDU received is stamped about {:.0f} s {} this host's clock: this host's clock "
       "is probably {:.0f} s {} the exercise (check NTP on this host); PDUs from {} are dropped "
       "until it agrees",
-      kClockSkewMarker, Seconds(std::llabs(own_offset_ms)), Direction(-own_offset_ms),
+      log::kClockSkewMarker, Seconds(std::llabs(own_offset_ms)), Direction(-own_offset_ms),
       Seconds(std::llabs(own_offset_ms)), Direction(own_offset_ms), senders);
   own_logged_ms_ = now_ms;
   own_warned_ = true;
@@ -131,7 +131,7 @@ void ClockWatch::Accepted(NodeAddress sender, int64_t now_ms) noexcept {
   if (own_warned_) {
     own_warned_ = false;
     DT_LOG_INFO("{} over: a PDU from {} is accepted, so this host's clock agrees with it again",
-                kClockSkewMarker, Describe(sender));
+                log::kClockSkewMarker, Describe(sender));
   }
   const auto it = suspects_.find(sender);
   if (it != suspects_.end() && it->second.active) {
@@ -142,7 +142,7 @@ void ClockWatch::Accepted(NodeAddress sender, int64_t now_ms) noexcept {
       DT_LOG_INFO(
           "{} over: PDUs from {} are accepted again, its clock and this host's agree within the "
           "exercise's {:g} s tolerance ({} were dropped as stale)",
-          kClockSkewMarker, Describe(sender), Seconds(tolerance_ms_), s.stale);
+          log::kClockSkewMarker, Describe(sender), Seconds(tolerance_ms_), s.stale);
     }
   }
   Sweep(now_ms);

@@ -7,16 +7,12 @@
 #include <map>
 #include <optional>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "base/feature_id.h"
 
 namespace dt {
 
-// Every log line ClockWatch writes contains this, so a supervisor can pick them out of a child's
-// output (launcher/supervisor.h) from the per-reason drop lines, which mention clocks too.
-inline constexpr std::string_view kClockSkewMarker = "clock skew";
 // A suspect sender's line, and this host's own, is repeated at most this often while it lasts.
 inline constexpr std::chrono::milliseconds kClockLogInterval{10000};
 // A sender stays suspect this long after its latest stale PDU; a sender counts as agreeing with
@@ -47,7 +43,8 @@ struct ClockReport {
 };
 
 // Fed by PduAuthenticator with each PDU dropped as stale (and, while any sender is suspect, each
-// accepted one), it keeps per sender the latest offset and logs (DT_LOG_WARN, rate-limited):
+// accepted one), it keeps per sender the latest offset and logs (DT_LOG_WARN, rate-limited; every
+// line contains log::kClockSkewMarker, the per-reason drop lines of RejectLog do not):
 //   - per suspect sender, when first seen and then at most every kClockLogInterval while it
 //     lasts: "PDUs from 1:3 (node-3) are stamped 45.2 s ahead of this host's clock, ...";
 //   - when PDUs from every other sender heard in the last kClockWatchWindow (at least

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A host whose clock is 45 s ahead is named, not silently cut off (docs/pdu.md "Clock skew").
+"""A host whose clock is 45 s ahead is named, not silently cut off (docs/pdu.md "Authentication", clock skew).
 
 Run inside tests/run_in_netns.sh (a private network namespace). dt_launch starts a server and two
 nodes of an authenticated exercise (PDUs stamped with their send time, 30 s tolerance); node-2 runs

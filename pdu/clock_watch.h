@@ -17,7 +17,8 @@ namespace dt {
 inline constexpr std::chrono::milliseconds kClockLogInterval{10000};
 // A sender stays suspect this long after its latest stale PDU; a sender counts as agreeing with
 // this host for this long after its latest accepted one. Every process sends at least every
-// max_feature_period_ms (0.5 s by default), so a live sender is never this quiet.
+// max_feature_period_ms (0.5 s by default), so a live sender is this quiet only in an exercise
+// that sets that period above the window.
 inline constexpr std::chrono::milliseconds kClockWatchWindow{10000};
 // This host's own clock is blamed only when at least this many other senders disagree with it
 // alike: with one, either clock may be the wrong one.

@@ -81,8 +81,10 @@ bool DrillRunner::ChaosStep(Chaos& c, double& next_due_s) {
             "it " + DescribeWaitStatus(sup_.last_wait_status(n)));
       stopped_.insert(n);  // reported here, not again as "ended by itself"
     } else if (waited_s > drill_.ready_timeout_s) {
+      const std::string word = sup_.last_word(n);  // as WaitReady's timeout says it
       Check("chaos: restarted " + n + " READY", false,
-            fmt::format("not READY {:.0f} s after its restart", drill_.ready_timeout_s));
+            fmt::format("not READY {:.0f} s after its restart{}", drill_.ready_timeout_s,
+                        word.empty() ? "" : fmt::format(" (its last word: \"{}\")", word)));
     } else {
       ++it;
       continue;

@@ -12,6 +12,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "log/log.h"
+
 namespace dt {
 namespace {
 
@@ -44,6 +46,17 @@ bool DrainWakeFd(int fd) {
   }
 }
 
+// A line kept for last_word is cut to this: it is quoted in one error message.
+constexpr size_t kMaxKeptLineBytes = 600;
+
+// Whether a line is a log line (log/log.h's pattern) of level warning or above.
+bool IsWarning(std::string_view line) {
+  for (std::string_view level : {" warning [", " error [", " critical ["}) {
+    if (line.find(level) != std::string_view::npos) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 void Supervisor::PrintPrefixed(const std::string& name, std::string_view line) {
@@ -71,6 +84,8 @@ void Supervisor::Start(const std::string& name, const std::vector<std::string>& 
   if (it == children_.end()) order_.push_back(name);
   e.process.reset();
   e.ready = false;
+  e.last_clock_line.clear();
+  e.last_warning_line.clear();
   try {
     e.process = std::make_unique<ChildProcess>(argv);
   } catch (const std::exception& ex) {
@@ -78,17 +93,26 @@ void Supervisor::Start(const std::string& name, const std::vector<std::string>& 
   }
 }
 
+void Supervisor::Take(const std::string& name, Entry& e, std::string_view line) {
+  if (line.find(log::kClockSkewMarker) != std::string_view::npos) {
+    e.last_clock_line = line.substr(0, kMaxKeptLineBytes);
+  } else if (IsWarning(line)) {
+    e.last_warning_line = line.substr(0, kMaxKeptLineBytes);
+  }
+  sink_(name, line);
+}
+
 void Supervisor::Drain(const std::string& name, Entry& e) {
   for (std::string& line : e.process->ReadLines()) {
     if (line == "READY " + name) e.ready = true;
-    sink_(name, line);
+    Take(name, e, line);
   }
 }
 
 bool Supervisor::ReapIfDone(const std::string& name, Entry& e) {
   if (e.process->exited()) return true;
   if (!e.process->Reap()) return false;
-  for (std::string& line : e.process->FinishOutput()) sink_(name, line);
+  for (std::string& line : e.process->FinishOutput()) Take(name, e, line);
   e.ready = false;
   e.last_wait_status = e.process->wait_status();
   return true;
@@ -142,6 +166,13 @@ Status Supervisor::WaitReady(const std::vector<std::string>& wanted, int timeout
     if (missing.empty()) return Status::Ok();
     const int left = MsLeft(deadline);
     if (left == 0) {
+      // What a child said last about why is the answer its bare name does not give (a clock 45 s
+      // off is otherwise nothing but "not ready").
+      for (std::string& n : missing) {
+        if (const std::string word = last_word(n); !word.empty()) {
+          n = fmt::format("{} (its last word: \"{}\")", n, word);
+        }
+      }
       return Error{fmt::format("not ready after {} ms: {}", timeout_ms, fmt::join(missing, ", "))};
     }
     if (Poll(left)) return Error{"interrupted while waiting for READY"};
@@ -202,6 +233,13 @@ bool Supervisor::ready(const std::string& name) const {
 int Supervisor::last_wait_status(const std::string& name) const {
   auto it = children_.find(name);
   return it == children_.end() ? -1 : it->second.last_wait_status;
+}
+
+std::string Supervisor::last_word(const std::string& name) const {
+  auto it = children_.find(name);
+  if (it == children_.end()) return {};
+  const Entry& e = it->second;
+  return e.last_clock_line.empty() ? e.last_warning_line : e.last_clock_line;
 }
 
 std::vector<std::string> Supervisor::names() const { return order_; }

@@ -15,7 +15,10 @@ namespace dt {
 
 // Runs named children (each may be restarted under the same name). Every output line is handed
 // to the sink with the child's name. A child counts as ready once it prints "READY <name>" after
-// its latest start (docs/launcher.md). Single-threaded: Poll() does the reading and reaping.
+// its latest start (docs/launcher.md). Of each start it remembers the latest line about clock
+// skew (log::kClockSkewMarker) and the latest warning or error line, so a child that never
+// becomes ready can be reported with why it said it could not. Single-threaded: Poll() does the
+// reading and reaping.
 class Supervisor {
  public:
   using LineSink = std::function<void(const std::string& name, std::string_view line)>;
@@ -38,7 +41,8 @@ class Supervisor {
   bool Poll(int timeout_ms);
 
   // Polls until every named child is ready. An Error names the child that exited first (with
-  // how), or those not ready when timeout_ms ran out, or the wake fd that interrupted.
+  // how), or those not ready when timeout_ms ran out, each with its last_word (if any), or the
+  // wake fd that interrupted.
   Status WaitReady(const std::vector<std::string>& names, int timeout_ms);
   // Polls until the child has exited; false on timeout or wake.
   bool WaitExit(const std::string& name, int timeout_ms);
@@ -53,6 +57,9 @@ class Supervisor {
   bool ready(const std::string& name) const;
   // The wait status of the child's last run (see DescribeWaitStatus); -1 if it never exited.
   int last_wait_status(const std::string& name) const;
+  // The latest line of the child's current start about clock skew, else its latest warning or
+  // error line (spdlog's " warning [", " error [", " critical ["), else empty.
+  std::string last_word(const std::string& name) const;
   std::vector<std::string> names() const;  // every child ever started, in start order
   bool any_running() const;
 
@@ -61,8 +68,12 @@ class Supervisor {
     std::unique_ptr<ChildProcess> process;
     bool ready = false;
     int last_wait_status = -1;
+    std::string last_clock_line;    // of this start
+    std::string last_warning_line;  // of this start
   };
   void Drain(const std::string& name, Entry& e);
+  // Hands a line to the sink and keeps it if it is one for last_word.
+  void Take(const std::string& name, Entry& e, std::string_view line);
   // Reaps a child that has exited, handing its last lines to the sink; true if it exited.
   bool ReapIfDone(const std::string& name, Entry& e);
 

@@ -16,6 +16,11 @@ void Init(std::string_view process_name, std::string_view level = "info");
 // The process's logger; usable before Init (then named "dynterrain").
 spdlog::logger& Logger();
 
+// A phrase in every line about clock skew between hosts (pdu/clock_watch.h), for tools that pick
+// those lines out of a process's output: dt_launch and dt_drill show a child's latest one when it
+// never becomes ready (launcher/supervisor.h).
+inline constexpr std::string_view kClockSkewMarker = "clock skew";
+
 }  // namespace dt::log
 
 // fmt-style logging: DT_LOG_INFO("applied {} PDUs", n).

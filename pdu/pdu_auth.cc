@@ -37,7 +37,9 @@ int64_t WallClockMs() {
 }
 
 PduAuthenticator::PduAuthenticator(NodeAddress local, PduAuthConfig config)
-    : local_(local), config_(std::move(config)) {
+    : local_(local),
+      config_(std::move(config)),
+      clock_watch_(config_.clock_tolerance, config_.sender_names) {
   if (!config_.key) throw std::invalid_argument("PduAuthenticator: no exercise key");
   if (config_.clock_tolerance.count() <= 0) {
     throw std::invalid_argument(fmt::format("PduAuthenticator: clock tolerance {} ms must be > 0",
@@ -105,6 +107,10 @@ std::optional<Rejection> PduAuthenticator::Verify(std::span<const uint8_t> bytes
   const int64_t tolerance_ms = config_.clock_tolerance.count();
   if (t->send_time_ms > static_cast<uint64_t>(std::numeric_limits<int64_t>::max()) ||
       std::abs(now_ms - static_cast<int64_t>(t->send_time_ms)) > tolerance_ms) {
+    if (t->send_time_ms <= static_cast<uint64_t>(std::numeric_limits<int64_t>::max())) {
+      clock_watch_.Stale(t->sender, static_cast<int64_t>(t->send_time_ms) - now_ms, now_ms,
+                         AgreeingSenders(now_ms, t->sender));
+    }
     const double age_s =
         static_cast<double>(now_ms) / 1000.0 - static_cast<double>(t->send_time_ms) / 1000.0;
     return Reject(
@@ -127,8 +133,22 @@ std::optional<Rejection> PduAuthenticator::Verify(std::span<const uint8_t> bytes
                               it->second.window.incarnation(), it->second.window.highest()));
   }
   it->second.last_accepted_ms = now_ms;
+  if (clock_watch_.watching()) clock_watch_.Accepted(t->sender, now_ms);
   pdu = lcm;
   return std::nullopt;
+}
+
+size_t PduAuthenticator::AgreeingSenders(int64_t now_ms, std::optional<NodeAddress> except) const {
+  size_t n = 0;
+  for (const auto& [sender, s] : senders_) {
+    if (sender != except && now_ms - s.last_accepted_ms <= kClockWatchWindow.count()) ++n;
+  }
+  return n;
+}
+
+ClockReport PduAuthenticator::clock_report() const {
+  const int64_t now_ms = config_.wall_clock_ms();
+  return clock_watch_.Report(now_ms, AgreeingSenders(now_ms, std::nullopt));
 }
 
 }  // namespace dt

@@ -8,9 +8,11 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "pdu/auth_trailer.h"
+#include "pdu/clock_watch.h"
 #include "pdu/exercise_key.h"
 #include "pdu/replay_window.h"
 #include "pdu/validation.h"
@@ -35,6 +37,8 @@ struct PduAuthConfig {
   // This sender's incarnation; 0: wall_clock_ms() when the authenticator is made (the process's
   // start, so a restarted process is a newer incarnation).
   uint64_t incarnation = 0;
+  // The exercise's process names by address, for the clock-skew log lines (ClockWatch).
+  std::map<NodeAddress, std::string> sender_names;
 };
 
 // Appends the trailer (auth_trailer.h) to every PDU a bus sends and checks the trailer of every
@@ -51,6 +55,10 @@ struct PduAuthConfig {
 // A sender from which nothing was accepted for more than 2 x clock_tolerance is forgotten
 // (everything it sent before then is stale now), so a process restarted after its clock went
 // back is heard again after at most that long, and the table of senders stays small.
+//
+// A PDU dropped as stale is most often a host whose clock is off, not an attack (only key holders
+// pass the MAC check before it): ClockWatch keeps each such sender's offset, logs it and tells
+// whether this host's own clock is the likely culprit (clock_report()).
 class PduAuthenticator {
  public:
   // Throws std::invalid_argument if config.key is null, the tolerance is not positive or the
@@ -68,6 +76,9 @@ class PduAuthenticator {
   uint64_t last_sequence() const { return sequence_; }
   const PduAuthConfig& config() const { return config_; }
   size_t senders_tracked() const { return senders_.size(); }
+  // The senders whose PDUs are dropped as stale now, and the verdict on this host's clock.
+  ClockReport clock_report() const;
+  const ClockWatch& clock_watch() const { return clock_watch_; }
 
  private:
   struct Sender {
@@ -75,11 +86,16 @@ class PduAuthenticator {
     int64_t last_accepted_ms = 0;  // receiver's wall clock
   };
 
+  // Senders other than `except` from which a PDU was accepted within kClockWatchWindow: they
+  // agree with this host's clock.
+  size_t AgreeingSenders(int64_t now_ms, std::optional<NodeAddress> except) const;
+
   NodeAddress local_;
   PduAuthConfig config_;
   uint64_t incarnation_;
   uint64_t sequence_ = 0;
   std::map<NodeAddress, Sender> senders_;
+  ClockWatch clock_watch_;
 };
 
 }  // namespace dt

@@ -55,6 +55,11 @@ ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise,
   bus.terrain_posts_z = exercise.terrain.posts_z;
   bus.auth.key = exercise.auth.key;
   bus.auth.clock_tolerance = std::chrono::milliseconds(exercise.auth.clock_tolerance_ms);
+  // A clock-skew warning names the host by the exercise's name for it, not only its address.
+  std::vector<const ProcessConfig*> named = exercise.Processes();
+  if (exercise.view) named.push_back(&exercise.view->process);
+  if (exercise.dis) named.push_back(&exercise.dis->process);
+  for (const ProcessConfig* p : named) bus.auth.sender_names[p->address] = p->name;
   ProcessTransport t = StackTransport(MakeTransport(exercise.transport_url, exercise.exercise_id),
                                       exercise.faults, FaultSeed(exercise, process.address), bus);
   if (const PduAuthenticator* a = t.bus->authenticator()) {
@@ -164,6 +169,16 @@ StatusReport MakeStatusReport(const std::string& name, NodeRole role, const Repl
   const PduAuthenticator* auth = transport.bus->authenticator();
   r.authenticated = auth != nullptr;
   r.auth_senders = auth != nullptr ? auth->senders_tracked() : 0;
+  if (auth != nullptr) {
+    const ClockReport clock = auth->clock_report();
+    for (const ClockSuspect& suspect : clock.suspects) {
+      r.clock_suspects.push_back({suspect.sender, suspect.offset_ms, suspect.stale});
+    }
+    r.clock_suspect_senders = clock.suspects.size();
+    r.clock_worst_offset_ms = clock.worst_offset_ms();
+    r.own_clock_suspect = clock.own_offset_ms.has_value();
+    r.own_clock_offset_ms = clock.own_offset_ms.value_or(0);
+  }
   for (const auto& [origin, max] : replica.max_feature_known()) {
     r.max_features.push_back({origin, max});
   }

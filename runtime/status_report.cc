@@ -55,10 +55,15 @@ void ForEachSingleLine(Report& r, Visit&& visit) {
   for (size_t i = 0; i < kRejectReasonCount; ++i) visit(RejectedKey(i), r.rejected_by_reason[i]);
   visit("authenticated", r.authenticated);
   visit("auth_senders", r.auth_senders);
+  visit("clock_suspect_senders", r.clock_suspect_senders);
+  visit("clock_worst_offset_ms", r.clock_worst_offset_ms);
+  visit("own_clock_suspect", r.own_clock_suspect);
+  visit("own_clock_offset_ms", r.own_clock_offset_ms);
 }
 
 // The keys of the repeated lines.
 constexpr std::string_view kMaxFeatureKey = "max_feature";
+constexpr std::string_view kClockSuspectKey = "clock_suspect";
 constexpr std::string_view kDivergenceKey = "divergence";
 constexpr std::string_view kVehicleKey = "vehicle";
 
@@ -147,6 +152,33 @@ Result<StatusReport::MaxFeature> ReadMaxFeature(std::string_view value) {
   return m;
 }
 
+std::string ClockSuspectText(const StatusReport::ClockSuspect& c) {
+  return fmt::format("{} offset_ms={} stale={}", c.sender.ToString(), c.offset_ms, c.stale);
+}
+
+// The value of a "key=value" word, or nullopt if the word is not for `key`.
+std::optional<std::string_view> KeyedValue(std::string_view word, std::string_view key) {
+  if (word.size() <= key.size() || word.substr(0, key.size()) != key || word[key.size()] != '=') {
+    return std::nullopt;
+  }
+  return word.substr(key.size() + 1);
+}
+
+Result<StatusReport::ClockSuspect> ReadClockSuspect(std::string_view value) {
+  const std::vector<std::string_view> w = Words(value);
+  StatusReport::ClockSuspect c;
+  std::optional<std::string_view> offset, stale;
+  if (w.size() == 3) {
+    offset = KeyedValue(w[1], "offset_ms");
+    stale = KeyedValue(w[2], "stale");
+  }
+  if (!offset || !stale || !ReadValue(w[0], c.sender) || !ReadNumber(*offset, c.offset_ms) ||
+      !ReadNumber(*stale, c.stale)) {
+    return BadValue(kClockSuspectKey, value, "<site:host> offset_ms=<ms> stale=<n>");
+  }
+  return c;
+}
+
 std::string DivergenceText(const StatusReport::Divergence& d) {
   return fmt::format("{} with {} changes {}..{}{} since_ms {}", d.author.ToString(),
                      d.peer.ToString(), d.first_seq, d.last_seq, d.located ? "" : " (not located)",
@@ -201,12 +233,9 @@ Result<StatusReport::Vehicle> ReadVehicle(std::string_view value) {
   if (w.size() != 2 + std::size(kKeys)) return bad();
   std::string_view values[std::size(kKeys)];
   for (size_t k = 0; k < std::size(kKeys); ++k) {
-    const std::string_view word = w[2 + k];
-    if (word.size() <= kKeys[k].size() || word.substr(0, kKeys[k].size()) != kKeys[k] ||
-        word[kKeys[k].size()] != '=') {
-      return bad();
-    }
-    values[k] = word.substr(kKeys[k].size() + 1);
+    const std::optional<std::string_view> v = KeyedValue(w[2 + k], kKeys[k]);
+    if (!v) return bad();
+    values[k] = *v;
   }
   StatusReport::Vehicle v;
   v.type = std::string(w[1]);
@@ -249,6 +278,7 @@ std::string StatusReport::ToText() const {
   };
   ForEachSingleLine(*this, [&](std::string_view key, const auto& v) { line(key, ValueText(v)); });
   for (const MaxFeature& m : max_features) line(kMaxFeatureKey, MaxFeatureText(m));
+  for (const ClockSuspect& c : clock_suspects) line(kClockSuspectKey, ClockSuspectText(c));
   for (const Divergence& d : divergences) line(kDivergenceKey, DivergenceText(d));
   for (const Vehicle& v : vehicles) line(kVehicleKey, VehicleText(v));
   for (const auto& [key, value] : other_lines) line(key, value);
@@ -273,6 +303,10 @@ Result<StatusReport> StatusReport::Parse(std::string_view text) {
       Result<MaxFeature> m = ReadMaxFeature(value);
       if (!m) return m.error();
       r.max_features.push_back(m.value());
+    } else if (key == kClockSuspectKey) {
+      Result<ClockSuspect> c = ReadClockSuspect(value);
+      if (!c) return c.error();
+      r.clock_suspects.push_back(c.value());
     } else if (key == kDivergenceKey) {
       Result<Divergence> d = ReadDivergence(value);
       if (!d) return d.error();

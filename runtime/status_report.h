@@ -27,15 +27,24 @@ namespace dt {
 //   received, rejected, played_back, applied, ignored_stale, fault_dropped, drop_probability,
 //   write_queued, write_retried, write_failed, write_given_up, voided, gave_up,
 //   refused_stranger, refused_role, refused_claim, refused_lamport, rejected_<reason> for every
-//   RejectReason in enum order, authenticated, auth_senders (one line each; flags are 1 or 0),
-//   then the repeated lines: max_feature per origin, divergence per open difference, vehicle per
-//   vehicle, then other_lines.
+//   RejectReason in enum order, authenticated, auth_senders, clock_suspect_senders,
+//   clock_worst_offset_ms, own_clock_suspect, own_clock_offset_ms (one line each; flags are 1 or
+//   0), then the repeated lines: max_feature per origin, clock_suspect per sender whose PDUs are
+//   dropped as stale, divergence per open difference, vehicle per vehicle, then other_lines.
 struct StatusReport {
   // "max_feature <site:host> <number>": the highest feature number known of an origin.
   struct MaxFeature {
     NodeAddress origin;
     int64_t number = 0;
     bool operator==(const MaxFeature&) const = default;
+  };
+  // "clock_suspect <site:host> offset_ms=<ms> stale=<n>": a sender whose PDUs are dropped as
+  // stale now (pdu/clock_watch.h ClockSuspect).
+  struct ClockSuspect {
+    NodeAddress sender;
+    int64_t offset_ms = 0;  // its clock minus this host's; positive: it is ahead
+    uint64_t stale = 0;     // its PDUs dropped as stale since it became suspect
+    bool operator==(const ClockSuspect&) const = default;
   };
   // "divergence <author> with <peer> changes <first>..<last>[ (not located)] since_ms <ms>": an
   // open anti-entropy difference (engine/anti_entropy.h).
@@ -90,7 +99,16 @@ struct StatusReport {
   std::array<uint64_t, kRejectReasonCount> rejected_by_reason{};
   bool authenticated = false;
   uint64_t auth_senders = 0;  // senders tracked for replays, itself included
+  // Clock skew (pdu/clock_watch.h): senders whose PDUs are dropped as stale now, and the suspect
+  // offset of the largest magnitude, signed (0 when none).
+  uint64_t clock_suspect_senders = 0;
+  int64_t clock_worst_offset_ms = 0;
+  // Whether this host's own clock is the likely culprit (every other sender is off alike), and
+  // then by how much (this host's clock minus the exercise's; 0 when not suspect).
+  bool own_clock_suspect = false;
+  int64_t own_clock_offset_ms = 0;
   std::vector<MaxFeature> max_features;
+  std::vector<ClockSuspect> clock_suspects;
   std::vector<Divergence> divergences;
   std::vector<Vehicle> vehicles;
   // Lines whose key this reader does not know, as (key, value) in the order they came: the

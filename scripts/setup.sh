@@ -13,6 +13,7 @@ packages=(
   libcli11-dev libtomlplusplus-dev libspdlog-dev libfmt-dev
   libsqlite3-dev libpng-dev libxxhash-dev libsodium-dev
   libgeographiclib-dev tshark
+  faketime
   clang libclang-rt-14-dev clang-format
   python3 python3-pip
   libcivetweb-dev nlohmann-json3-dev libjs-leaflet chromium

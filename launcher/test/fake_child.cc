@@ -1,10 +1,11 @@
 // fake_child: a stand-in for dt_node / dt_server in launcher tests.
 //   fake_child --name N [--config X] [--mode ready|fail|ignore-term|silent|wrapper|
-//                                           escaping-wrapper] [--exit-code C]
+//                                           escaping-wrapper] [--exit-code C] [--say LINE]...
 // ready: prints a line, a partial line, then "READY N", and exits C on SIGTERM.
 // fail: prints a line and exits C (3 if unset) before READY. ignore-term: READY, then answers
 // each SIGTERM with the line "ignoring SIGTERM" and runs on.
 // silent: never prints READY; exits C on SIGTERM.
+// --say: after "starting N", each LINE on stderr (as log lines), then "said" on stdout.
 // wrapper: as ready, after forking a descendant that keeps the output pipe open and waits in
 // the child's process group (a wrapper such as faketime that forks); prints "descendant <pid>".
 // escaping-wrapper: likewise, but the descendant moves to a process group of its own.
@@ -15,6 +16,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <vector>
 
 namespace {
 volatile sig_atomic_t g_term = 0;
@@ -30,13 +32,21 @@ int main(int argc, char** argv) {
   std::string name = "fake";
   std::string mode = "ready";
   int exit_code = -1;
+  std::vector<std::string> say;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (std::strcmp(argv[i], "--name") == 0) name = argv[i + 1];
     if (std::strcmp(argv[i], "--mode") == 0) mode = argv[i + 1];
     if (std::strcmp(argv[i], "--exit-code") == 0) exit_code = std::atoi(argv[i + 1]);
+    if (std::strcmp(argv[i], "--say") == 0) say.push_back(argv[i + 1]);
   }
   std::printf("starting %s\n", name.c_str());
   std::fflush(stdout);
+  if (!say.empty()) {
+    for (const std::string& line : say) std::fprintf(stderr, "%s\n", line.c_str());
+    std::fflush(stderr);
+    std::printf("said\n");
+    std::fflush(stdout);
+  }
   if (mode == "fail") return exit_code < 0 ? 3 : exit_code;
   struct sigaction sa {};
   sa.sa_handler = mode == "ignore-term" ? OnIgnoredTerm : OnTerm;

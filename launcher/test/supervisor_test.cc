@@ -110,6 +110,39 @@ TEST_F(SupervisorTest, TimeoutNamesTheSilentOnes) {
   sup.StopAll(5000);
 }
 
+TEST_F(SupervisorTest, TimeoutQuotesWhatTheChildSaidAboutItsClock) {
+  const std::string clock_line =
+      "2026-01-02T03:04:05.678 warning [b] clock skew: every PDU received is stamped about 45 s "
+      "behind this host's clock: this host's clock is probably 45 s ahead of the exercise";
+  const std::string drop_line =
+      "2026-01-02T03:04:05.679 warning [b] dropped a Construct PDU: stale (sent by 1:1 45.000 s "
+      "before this host's clock (tolerance 30.000 s)); 3 more stale since the last such line";
+  const std::string info_line = "2026-01-02T03:04:05.680 info [b] signing on";
+  std::vector<std::string> b = Fake("b", "silent");
+  b.insert(b.end(), {"--say", clock_line, "--say", drop_line, "--say", info_line});
+  std::vector<std::string> c = Fake("c", "silent");
+  c.insert(c.end(), {"--say", drop_line, "--say", info_line});
+  sup.Start("a", Fake("a", "ready"));
+  sup.Start("b", b);
+  sup.Start("c", c);
+  sup.Start("d", Fake("d", "silent"));
+  // Every line is read before the wait runs out: stderr's, then "said" on stdout.
+  const auto said = [&](const char* n) { return !lines[n].empty() && lines[n].back() == "said"; };
+  for (int i = 0; i < 100 && !(said("b") && said("c") && sup.ready("a")); ++i) sup.Poll(100);
+  ASSERT_TRUE(said("b") && said("c"));
+  Status s = sup.WaitReady({"a", "b", "c", "d"}, 1);
+  ASSERT_FALSE(s);
+  // b's clock line outranks its later warning; c, with no clock line, has its latest warning; d
+  // said nothing.
+  EXPECT_EQ(s.error().message, "not ready after 1 ms: b (its last word: \"" + clock_line +
+                                   "\"), c (its last word: \"" + drop_line + "\"), d");
+  // A restart forgets what the last run said.
+  sup.StopAll(5000);
+  sup.Start("b", Fake("b", "silent"));
+  EXPECT_EQ(sup.last_word("b"), "");
+  sup.StopAll(5000);
+}
+
 TEST_F(SupervisorTest, EscalatesToSigkillAndRestartsUnderTheSameName) {
   sup.Start("stubborn", Fake("stubborn", "ignore-term"));
   ASSERT_TRUE(sup.WaitReady({"stubborn"}, 10000));

@@ -49,6 +49,11 @@ StatusReport FullReport() {
   for (size_t i = 0; i < kRejectReasonCount; ++i) r.rejected_by_reason[i] = 1000 + i;
   r.authenticated = true;
   r.auth_senders = 4;
+  r.clock_suspect_senders = 2;
+  r.clock_worst_offset_ms = -45210;
+  r.own_clock_suspect = true;
+  r.own_clock_offset_ms = 45105;
+  r.clock_suspects = {{{1, 1}, -45000, 284}, {{1, 100}, -45210, 647}};
   r.max_features = {{{1, 1}, 12}, {{1, 2}, 3}};
   r.divergences = {{{1, 1}, {1, 3}, 4, 9, true, 1500}, {{1, 2}, {1, 100}, 1, 2, false, 1600}};
   StatusReport::Vehicle tank;
@@ -99,8 +104,14 @@ std::string FullReportText() {
     s += fmt::format("\nrejected_{} {}", RejectReasonName(static_cast<RejectReason>(i)), 1000 + i);
   }
   s += fmt::format("\nauthenticated {}\nauth_senders {}", 1, 4);
+  s += fmt::format(
+      "\nclock_suspect_senders {}\nclock_worst_offset_ms {}\nown_clock_suspect {}"
+      "\nown_clock_offset_ms {}",
+      2, -45210, 1, 45105);
   s += "\nmax_feature 1:1 12"
        "\nmax_feature 1:2 3"
+       "\nclock_suspect 1:1 offset_ms=-45000 stale=284"
+       "\nclock_suspect 1:100 offset_ms=-45210 stale=647"
        "\ndivergence 1:1 with 1:3 changes 4..9 since_ms 1500"
        "\ndivergence 1:2 with 1:100 changes 1..2 (not located) since_ms 1600"
        "\nvehicle 0 tank x_m=12.35 z_m=100.00 y_m=-0.00 heading_rad=1.235 speed_mps=5.50 "
@@ -145,6 +156,10 @@ TEST(StatusReportTest, TextReadsBackToTheSameText) {
   EXPECT_EQ(p.drop_probability, 0.25);
   EXPECT_EQ(p.rejected_by_reason, FullReport().rejected_by_reason);
   EXPECT_EQ(p.max_features, FullReport().max_features);
+  EXPECT_EQ(p.clock_suspects, FullReport().clock_suspects);
+  EXPECT_EQ(p.clock_worst_offset_ms, -45210);
+  EXPECT_TRUE(p.own_clock_suspect);
+  EXPECT_EQ(p.own_clock_offset_ms, 45105);
   EXPECT_EQ(p.divergences, FullReport().divergences);
   EXPECT_EQ(p.other_lines, FullReport().other_lines);
   ASSERT_EQ(p.vehicles.size(), 2u);
@@ -198,6 +213,18 @@ TEST(StatusReportTest, MissingTruncatedAndNonNumericTextNamesTheKey) {
             "status line \"digest again\" repeats the key \"digest\"");
   EXPECT_NE(ErrorOf(text + "\nmax_feature 1:3").find("status \"max_feature\" value \"1:3\""),
             std::string::npos);
+  EXPECT_EQ(ErrorOf(WithLine(text, "clock_worst_offset_ms", "clock_worst_offset_ms 45.2")),
+            "status \"clock_worst_offset_ms\" value \"45.2\" is not a whole number");
+  EXPECT_EQ(ErrorOf(WithLine(text, "own_clock_suspect", "")),
+            "status has no \"own_clock_suspect\" line");
+  for (const char* bad :
+       {"1:3 offset_ms=45000", "1:3 45000 stale=1", "1:3 offset_ms=4s stale=1",
+        "1:3 offset_ms=45000 stale=-1", "x offset_ms=1 stale=1", "1:3 offset_ms=1 stale=1 more"}) {
+    EXPECT_EQ(ErrorOf(text + "\nclock_suspect " + bad),
+              fmt::format("status \"clock_suspect\" value \"{}\" is not <site:host> "
+                          "offset_ms=<ms> stale=<n>",
+                          bad));
+  }
   EXPECT_NE(ErrorOf(text + "\ndivergence 1:1 with 1:3 changes 4-9 since_ms 1")
                 .find("status \"divergence\" value \"1:1 with 1:3 changes 4-9 since_ms 1\""),
             std::string::npos);
@@ -212,7 +239,7 @@ TEST(StatusReportTest, MissingTruncatedAndNonNumericTextNamesTheKey) {
 TEST(StatusReportTest, NoTextCrashesIt) {
   const std::string text = FullReportText();
   // Every prefix: those that end before the last single-line key are refused.
-  const size_t last_single = text.find("\nauth_senders ");
+  const size_t last_single = text.find("\nown_clock_offset_ms ");
   for (size_t n = 0; n <= text.size(); ++n) {
     Result<StatusReport> r = StatusReport::Parse(std::string_view(text).substr(0, n));
     if (n <= last_single) {

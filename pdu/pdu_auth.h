@@ -38,7 +38,7 @@ struct PduAuthConfig {
   // start, so a restarted process is a newer incarnation).
   uint64_t incarnation = 0;
   // The exercise's process names by address, for the clock-skew log lines (ClockWatch).
-  std::map<NodeAddress, std::string> sender_names;
+  std::map<NodeAddress, std::string> sender_names = {};
 };
 
 // Appends the trailer (auth_trailer.h) to every PDU a bus sends and checks the trailer of every

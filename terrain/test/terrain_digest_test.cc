@@ -111,6 +111,18 @@ TEST(TerrainDigestTest, GroundDigestEqualsTheDigestOfABareTerrain) {
   EXPECT_NE(ComputeDigest(g), ComputeDigest(*BuildSample(SampleFeatures())));
 }
 
+// The documented encoding's end for a terrain holding one feature, 7:8:9, after the ground
+// bytes in `w`: the count, the ID, the parameters; then the XXH3-128 of it all.
+TerrainDigest DigestWithTheOneFeature(const Terrain& t, ByteWriter& w) {
+  w.U32(1);
+  w.U16(7);
+  w.U16(8);
+  w.U32(9);
+  EncodeFeatureParams(t.Find({7, 8, 9})->params(), w);
+  const XXH128_hash_t h = XXH3_128bits(w.bytes().data(), w.bytes().size());
+  return TerrainDigest{h.high64, h.low64};
+}
+
 TEST(TerrainDigestTest, MatchesTheDocumentedEncoding) {
   // docs/terrain.md "State digest", byte by byte, for a 3 x 3 ground with one crater.
   Terrain t(HeightGrid(3, 4.0, {0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f, 8.5f}));
@@ -124,13 +136,7 @@ TEST(TerrainDigestTest, MatchesTheDocumentedEncoding) {
   for (float y : {0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 6.0f, 7.0f, 8.5f}) w.F32(y);
   // Squares (0,0), (1,0), (0,1), (1,1); lower then upper; grass is 1, rock is 4.
   for (int soil : {1, 1, 1, 4, 1, 1, 1, 1}) w.U16(static_cast<uint16_t>(soil));
-  w.U32(1);
-  w.U16(7);
-  w.U16(8);
-  w.U32(9);
-  EncodeFeatureParams(t.Find({7, 8, 9})->params(), w);
-  const XXH128_hash_t h = XXH3_128bits(w.bytes().data(), w.bytes().size());
-  EXPECT_EQ(ComputeDigest(t), (TerrainDigest{h.high64, h.low64}));
+  EXPECT_EQ(ComputeDigest(t), DigestWithTheOneFeature(t, w));
 }
 
 TEST(TerrainDigestTest, TheShapeOfTheGridIsPartOfTheDigest) {
@@ -160,13 +166,7 @@ TEST(TerrainDigestTest, ARectangularGroundMatchesTheDocumentedEncoding) {
   for (float y : {0.0f, 1.0f, 2.0f, 3.0f, 4.0f, 5.5f}) w.F32(y);
   // Squares (0,0), (1,0); lower then upper; grass is 1, rock is 4.
   for (int soil : {1, 1, 1, 4}) w.U16(static_cast<uint16_t>(soil));
-  w.U32(1);
-  w.U16(7);
-  w.U16(8);
-  w.U32(9);
-  EncodeFeatureParams(t.Find({7, 8, 9})->params(), w);
-  const XXH128_hash_t h = XXH3_128bits(w.bytes().data(), w.bytes().size());
-  EXPECT_EQ(ComputeDigest(t), (TerrainDigest{h.high64, h.low64}));
+  EXPECT_EQ(ComputeDigest(t), DigestWithTheOneFeature(t, w));
 }
 
 TEST(TerrainDigestTest, HexFormRoundTrips) {

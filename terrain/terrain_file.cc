@@ -201,8 +201,10 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
     }
     const FeatureId id{*site, *host, *number};
     // The origin is the node that created the feature; 0 is no node's site or host (an exercise
-    // gives every process a site and host in 1 .. 65535, docs/node.md).
-    if (id.site == 0 || id.host == 0) {
+    // gives every process a site and host in 1 .. 65535, docs/node.md). Both 0 is the base
+    // ground's origin (terrain/base_ground.h): a file exported from an exercise that started on a
+    // saved terrain holds that terrain's features under it.
+    if ((id.site == 0) != (id.host == 0)) {
       return fail(id.site == 0 ? record_at : record_at + 2,
                   fmt::format("feature {}: origin {} is 0, which is no node's (a node's site "
                               "and host are 1 .. 65535)",

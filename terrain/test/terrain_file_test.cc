@@ -360,10 +360,20 @@ TEST(TerrainFileTest, ResealedStructuralErrorsAreStillRefused) {
   }
   {
     auto b = bytes;
-    PutU32(b, kFeaturesAt + 4, 0);  // origin 0:0 (site and host of the first record)
+    b[kFeaturesAt + 4] = 0;  // origin 0:1 (0:0 alone is allowed: the base ground's origin)
+    b[kFeaturesAt + 4 + 1] = 0;
     Reseal(b);
-    ExpectRefused(b, fmt::format("byte {}: feature 0:0:1: origin site is 0, which is no node's",
+    ExpectRefused(b, fmt::format("byte {}: feature 0:1:1: origin site is 0, which is no node's",
                                  kFeaturesAt + 4));
+  }
+  {
+    // The base ground's origin 0:0 (terrain/base_ground.h) loads.
+    auto b = bytes;
+    PutU32(b, kFeaturesAt + 4, 0);
+    Reseal(b);
+    auto loaded = DecodeTerrainFile(b, "base");
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    EXPECT_NE(loaded.value()->Find({0, 0, 1}), nullptr);
   }
   {
     auto b = bytes;

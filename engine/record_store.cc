@@ -1,6 +1,7 @@
 #include "engine/record_store.h"
 
 #include <iterator>
+#include <stdexcept>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -11,6 +12,15 @@
 namespace dt {
 
 RecordStore::RecordStore(HeightGrid ground) : terrain_(std::move(ground)) {}
+
+RecordStore::RecordStore(BaseGround base) : terrain_(std::move(base.grid)) {
+  for (const auto& [id, params] : base.features) {
+    if (const Status s = terrain_.Add(id, params); !s) {
+      throw std::invalid_argument(fmt::format("base ground feature {} does not place: {}",
+                                              id.ToString(), s.error().message));
+    }
+  }
+}
 
 const Record* RecordStore::Find(FeatureId id) const {
   auto it = records_.find(id);

@@ -10,6 +10,7 @@
 
 #include "base/result.h"
 #include "engine/change.h"
+#include "terrain/base_ground.h"
 #include "terrain/terrain.h"
 
 namespace dt {
@@ -26,6 +27,10 @@ struct Record {
 class RecordStore {
  public:
   explicit RecordStore(HeightGrid ground);
+  // The base ground's features are in the terrain from the start and are no records: no change
+  // names them (their origin is no member's), so they stay as they are (docs/node.md). Throws
+  // std::invalid_argument if one does not place.
+  explicit RecordStore(BaseGround base);
 
   enum class Outcome { kApplied, kStale };
   // Last writer wins by Version; a Destruct always wins and is final.

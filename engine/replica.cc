@@ -50,11 +50,17 @@ void CheckConfig(const ReplicaConfig& c) {
 }  // namespace
 
 Replica::Replica(ReplicaConfig config, HeightGrid ground, PduBus& bus)
+    : Replica(std::move(config), BaseGround{std::move(ground), {}}, bus) {}
+
+Replica::Replica(ReplicaConfig config, BaseGround ground, PduBus& bus)
     : config_(config),
       bus_(bus),
       records_(std::move(ground)),
+      ground_digest_(ComputeDigest(records_.terrain())),
       scheduler_(config.playback_window, config.playback_retry_ms) {
   CheckConfig(config_);
+  DT_LOG_INFO("replica {}: ground {} ({})", config_.address.ToString(), ground_digest_.ToHex(),
+              config_.ground_source);
   bus_.Subscribe<dtpdu::construct_t>([this](const dtpdu::construct_t& p) { OnConstruct(p); });
   bus_.Subscribe<dtpdu::update_t>([this](const dtpdu::update_t& p) { OnUpdate(p); });
   bus_.Subscribe<dtpdu::destruct_t>([this](const dtpdu::destruct_t& p) { OnDestruct(p); });
@@ -184,8 +190,9 @@ void Replica::Tick(int64_t now_ms) {
         peers_answered = false;
       }
     }
-    if ((server_answered_ && peers_answered && waited >= config_.silence_ms) ||
-        (!config_.require_server && waited >= config_.silence_ms)) {
+    if (!exercise_ground_ &&
+        ((server_answered_ && peers_answered && waited >= config_.silence_ms) ||
+         (!config_.require_server && waited >= config_.silence_ms))) {
       CompleteSignOn();
     } else if (now_ms_ - sign_on_sent_ms_ >= config_.playback_retry_ms) {
       sign_on_sent_ms_ = now_ms_;
@@ -244,6 +251,14 @@ bool Replica::caught_up() const {
     if (log.has_gap()) return false;
   }
   return true;
+}
+
+std::map<NodeAddress, TerrainDigest> Replica::ground_mismatches() const {
+  std::map<NodeAddress, TerrainDigest> out;
+  for (const auto& [peer, digest] : peer_grounds_) {
+    if (digest != ground_digest_) out.emplace(peer, digest);
+  }
+  return out;
 }
 
 Replica::Counters Replica::counters() const {

@@ -23,9 +23,11 @@
 #include "engine/playback_scheduler.h"
 #include "engine/record_store.h"
 #include "pdu/pdu_type.h"
+#include "terrain/base_ground.h"
 #include "terrain/feature_params.h"
 #include "terrain/height_grid.h"
 #include "terrain/terrain.h"
+#include "terrain/terrain_digest.h"
 #include "transport/pdu_bus.h"
 
 namespace dt {
@@ -64,6 +66,9 @@ struct ReplicaConfig {
   // changes by any other author and role claims that disagree are refused and counted. Empty:
   // every sender is believed (unit tests and benchmarks only).
   std::map<NodeAddress, NodeRole> members;
+  // Where this replica's ground came from ("ground_file /x/y.dtt", "random seed 7 ..."), named
+  // with its digest when a member on another ground is refused (docs/pdu.md "Ground identity").
+  std::string ground_source = "the given ground";
 };
 
 // A received Lamport clock more than this far ahead of the receiver's is refused: a clock that
@@ -78,6 +83,9 @@ class Replica {
   // Subscribes to all PDU types on `bus`. A replica with a store first loads every stored change
   // (Load() reports a failure). Throws std::invalid_argument for a bad config (values named).
   Replica(ReplicaConfig config, HeightGrid ground, PduBus& bus);
+  // On a base ground with features every member has from the start (a saved terrain): they are
+  // in the terrain and the ground's digest, and are no records (engine/record_store.h).
+  Replica(ReplicaConfig config, BaseGround ground, PduBus& bus);
   ~Replica();
   Replica(const Replica&) = delete;
   Replica& operator=(const Replica&) = delete;
@@ -116,6 +124,18 @@ class Replica {
   AntiEntropy& anti_entropy() { return *anti_entropy_; }
   const ReplicaConfig& config() const { return config_; }
 
+  // Ground identity (docs/pdu.md "Ground identity"). The digest of the ground this replica
+  // loaded (its base ground, before any change), sent in every MaxFeature.
+  const TerrainDigest& ground_digest() const { return ground_digest_; }
+  // This replica heard the exercise's ground (the server's; the standby's while no server is
+  // heard on this replica's ground) and it is another: it takes no part, for good.
+  bool ground_refused() const { return exercise_ground_.has_value(); }
+  // The exercise's ground when refused, and who reported it.
+  std::optional<TerrainDigest> exercise_ground_digest() const { return exercise_ground_; }
+  NodeAddress exercise_ground_reporter() const { return exercise_ground_reporter_; }
+  // Members whose last MaxFeature reported another ground than this replica's, with it.
+  std::map<NodeAddress, TerrainDigest> ground_mismatches() const;
+
   struct Counters {
     uint64_t sent = 0, received = 0, rejected = 0, played_back = 0, applied = 0, ignored_stale = 0,
              voided = 0;
@@ -127,6 +147,9 @@ class Replica {
     // about a node's counters from someone who may not make it (or beyond what it can be), a
     // Lamport clock too far ahead.
     uint64_t refused_stranger = 0, refused_role = 0, refused_claim = 0, refused_lamport = 0;
+    // PDUs from a member on another ground, and everything while this replica is itself refused
+    // (docs/pdu.md "Ground identity").
+    uint64_t refused_ground = 0;
   };
   Counters counters() const;
   // When this replica last heard a PDU from a member (its Tick time); -1: never (observers are
@@ -180,6 +203,9 @@ class Replica {
   // A role claim that disagrees with the exercise file is refused; `what` names the PDU.
   bool AdmitsRole(NodeAddress sender, NodeRole role, std::string_view what);
   bool AdmitsClock(NodeAddress sender, uint64_t lamport);
+  // A MaxFeature's ground: refused (and counted) when it is not this replica's; a server's other
+  // ground refuses this replica itself.
+  bool AdmitsGround(NodeAddress sender, NodeRole role, const dtpdu::max_feature_t& pdu);
   // Counts a refusal and logs it, at most one line a second.
   void Refused(uint64_t& counter, const std::string& what);
   void ClaimAboutSelf(NodeAddress sender, NodeRole role, const dtpdu::max_feature_t& pdu);
@@ -229,6 +255,10 @@ class Replica {
   ReplicaConfig config_;
   PduBus& bus_;
   RecordStore records_;
+  TerrainDigest ground_digest_;
+  std::map<NodeAddress, TerrainDigest> peer_grounds_;  // per member, its last reported ground
+  std::optional<TerrainDigest> exercise_ground_;       // set when this replica is refused
+  NodeAddress exercise_ground_reporter_;
   std::map<NodeAddress, ChangeLog> logs_;
   PlaybackScheduler scheduler_;
   std::map<NodeAddress, Peer> peers_;

@@ -14,6 +14,12 @@ Status Replica::CheckSignedOn(int64_t changes) const {
     return Error{fmt::format("{} is an observer: it creates, changes and destroys nothing",
                              config_.address.ToString())};
   }
+  if (exercise_ground_) {
+    return Error{fmt::format(
+        "node {} is on ground {} ({}), not the exercise's {} (as {} reports): it takes no part",
+        config_.address.ToString(), ground_digest_.ToHex(), config_.ground_source,
+        exercise_ground_->ToHex(), exercise_ground_reporter_.ToString())};
+  }
   if (!signed_on_) {
     return Error{
         fmt::format("node {} has not signed on yet: it does not know its last feature "
@@ -154,7 +160,23 @@ Status Replica::Import(const Terrain& terrain) {
   if (ComputeDigest(terrain.ground()) != ComputeDigest(records_.terrain().ground())) {
     return Error{"the imported terrain's ground differs from this replica's ground"};
   }
-  const auto features = terrain.FeaturesById();
+  // The base ground's features (a file exported from an exercise that started on a saved
+  // terrain holds them) are this replica's already and are no records: equal ones are left out,
+  // another one under their origin is refused.
+  std::vector<const Feature*> features;
+  for (const Feature* f : terrain.FeaturesById()) {
+    if (OriginOf(f->id()) != kGroundOrigin) {
+      features.push_back(f);
+      continue;
+    }
+    const Feature* base = records_.terrain().Find(f->id());
+    if (base == nullptr || records_.Find(f->id()) != nullptr || !(base->params() == f->params())) {
+      return Error{
+          fmt::format("imported feature {} is of the base ground's origin {} but is not "
+                      "that ground's feature",
+                      f->id().ToString(), kGroundOrigin.ToString())};
+    }
+  }
   for (const Feature* f : features) {
     const Record* r = records_.Find(f->id());
     if (r != nullptr && r->destroyed) {

@@ -59,9 +59,64 @@ bool Replica::AdmitsRole(NodeAddress sender, NodeRole role, std::string_view wha
 }
 
 bool Replica::AdmitsSender(NodeAddress sender) {
-  if (IsMember(sender)) return true;
-  Refused(counters_.refused_stranger,
-          fmt::format("a PDU from {}, which is not a member of the exercise", sender.ToString()));
+  if (!IsMember(sender)) {
+    Refused(counters_.refused_stranger,
+            fmt::format("a PDU from {}, which is not a member of the exercise", sender.ToString()));
+    return false;
+  }
+  if (exercise_ground_) {
+    Refused(counters_.refused_ground,
+            fmt::format("{}: a PDU from {}: this process is on ground {} ({}), not the "
+                        "exercise's {}",
+                        log::kGroundMismatchMarker, sender.ToString(), ground_digest_.ToHex(),
+                        config_.ground_source, exercise_ground_->ToHex()));
+    return false;
+  }
+  // A member whose ground is not known yet is believed: every member's first PDU is a MaxFeature
+  // naming it, and one on another ground never signs on where there is a server, so it issues no
+  // change (docs/pdu.md "Ground identity").
+  auto known = peer_grounds_.find(sender);
+  if (known == peer_grounds_.end() || known->second == ground_digest_) return true;
+  Refused(counters_.refused_ground,
+          fmt::format("{}: a PDU from {}, whose ground is {}; this process's is {} ({})",
+                      log::kGroundMismatchMarker, sender.ToString(), known->second.ToHex(),
+                      ground_digest_.ToHex(), config_.ground_source));
+  return false;
+}
+
+bool Replica::AdmitsGround(NodeAddress sender, NodeRole role, const dtpdu::max_feature_t& pdu) {
+  const TerrainDigest theirs{static_cast<uint64_t>(pdu.ground_digest[0]),
+                             static_cast<uint64_t>(pdu.ground_digest[1])};
+  peer_grounds_[sender] = theirs;
+  if (theirs == ground_digest_) return true;
+  // The exercise's ground is the server's; the standby's while no server has been heard on this
+  // replica's ground. A server is its own authority (its database holds its ground's identity).
+  bool authority = role == NodeRole::kServer;
+  if (role == NodeRole::kStandby && config_.role != NodeRole::kStandby) {
+    authority = true;
+    for (const auto& [peer, digest] : peer_grounds_) {
+      if (digest == ground_digest_ && RoleOf(peer, NodeRole::kNode) == NodeRole::kServer) {
+        authority = false;
+      }
+    }
+  }
+  if (authority && config_.role != NodeRole::kServer && !exercise_ground_) {
+    exercise_ground_ = theirs;
+    exercise_ground_reporter_ = sender;
+    // An observer and a standby are signed on from the start: no longer. A node never will be
+    // (its sign-on needs the server's answer); it goes on asking, so the others keep naming it.
+    signed_on_ = false;
+    DT_LOG_ERROR(
+        "{}: {} {} loaded ground {} from {}, but the exercise's ground ({} {}) is {}: this "
+        "process takes no part (start it on the exercise's ground)",
+        log::kGroundMismatchMarker, NodeRoleName(config_.role), config_.address.ToString(),
+        ground_digest_.ToHex(), config_.ground_source, NodeRoleName(role), sender.ToString(),
+        theirs.ToHex());
+  }
+  Refused(counters_.refused_ground,
+          fmt::format("{}: {} {} is on ground {}; this process's is {} ({})",
+                      log::kGroundMismatchMarker, NodeRoleName(role), sender.ToString(),
+                      theirs.ToHex(), ground_digest_.ToHex(), config_.ground_source));
   return false;
 }
 

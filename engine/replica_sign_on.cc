@@ -21,6 +21,7 @@ void Replica::OnMaxFeature(const dtpdu::max_feature_t& pdu) {
             fmt::format("a MaxFeature from {}, an observer", sender.ToString()));
     return;
   }
+  if (!AdmitsGround(sender, role, pdu)) return;
   if (!AdmitsClock(sender, static_cast<uint64_t>(pdu.lamport))) return;
   HeardFrom(sender, role);
   ObserveLamport(static_cast<uint64_t>(pdu.lamport));
@@ -156,6 +157,8 @@ void Replica::SendReport(NodeAddress subject, bool sign_on, bool answer) {
   pdu.lamport = static_cast<int64_t>(lamport_);
   pdu.role = static_cast<uint8_t>(config_.role);
   pdu.sign_on = sign_on;
+  pdu.ground_digest[0] = static_cast<int64_t>(ground_digest_.high);
+  pdu.ground_digest[1] = static_cast<int64_t>(ground_digest_.low);
   if (auto s = bus_.Publish(pdu); !s) {
     DT_LOG_WARN("replica {}: MaxFeature failed: {}", config_.address.ToString(), s.error().message);
   }

@@ -20,6 +20,9 @@ spdlog::logger& Logger();
 // those lines out of a process's output: dt_launch and dt_drill show a child's latest one when it
 // never becomes ready (launcher/supervisor.h).
 inline constexpr std::string_view kClockSkewMarker = "clock skew";
+// A phrase in every line about a member on another ground than the exercise's (engine/replica.h
+// ground_refused), picked out the same way.
+inline constexpr std::string_view kGroundMismatchMarker = "ground mismatch";
 
 }  // namespace dt::log
 

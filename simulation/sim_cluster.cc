@@ -11,7 +11,7 @@ SimCluster::SimCluster(uint64_t seed, HeightGrid ground, ReplicaConfig defaults,
 SimCluster::~SimCluster() { members_.clear(); }
 
 Replica& SimCluster::Start(NodeAddress address, NodeRole role, ChangeStore* store,
-                           IdReservation* ids) {
+                           IdReservation* ids, const BaseGround* ground) {
   auto m = std::make_unique<Member>();
   // As in every process (runtime/process_runtime.cc): a refused write is queued and retried.
   m->transport = std::make_unique<RetryingTransport>(net_.Join(address, 1));
@@ -29,7 +29,8 @@ Replica& SimCluster::Start(NodeAddress address, NodeRole role, ChangeStore* stor
   rc.role = role;
   rc.store = store;
   rc.ids = ids;
-  m->replica = std::make_unique<Replica>(rc, ground_, *m->bus);
+  m->replica = ground != nullptr ? std::make_unique<Replica>(rc, *ground, *m->bus)
+                                 : std::make_unique<Replica>(rc, ground_, *m->bus);
   m->replica->SignOn(net_.now_ms());
   Replica& r = *m->replica;
   members_[address] = std::move(m);

@@ -20,8 +20,10 @@ class SimCluster {
 
   // A new replica for `address` that signs on at once. `store` (servers) and `ids` (nodes) are the
   // caller's and survive a crash, as files would.
+  // `ground`: another ground than the cluster's for this replica (a member started on the wrong
+  // file); null: the cluster's.
   Replica& Start(NodeAddress address, NodeRole role, ChangeStore* store = nullptr,
-                 IdReservation* ids = nullptr);
+                 IdReservation* ids = nullptr, const BaseGround* ground = nullptr);
   void Crash(NodeAddress address);
   bool alive(NodeAddress address) const { return members_.count(address) != 0; }
   Replica& at(NodeAddress address) { return *members_.at(address)->replica; }

@@ -173,6 +173,7 @@ TEST_F(ObserverTest, AnObserverIsNeverAskedForPlayback) {
   claim.max_change_seq = 1;
   claim.lamport = 1;
   claim.role = static_cast<uint8_t>(NodeRole::kNode);
+  testing::StampTestGround(claim);
   ASSERT_TRUE(BusAs(kA).Publish(claim).ok());  // A's last report, then A is gone
   for (int i = 0; i < 10; ++i) {
     ASSERT_TRUE(view.Publish(Request(kB, kB)).ok());
@@ -197,6 +198,7 @@ TEST_F(ObserverTest, AChangeByAnObserverAndAClaimAboutOneAreRefused) {
   claim.max_change_seq = 7;
   claim.lamport = 5;
   claim.role = static_cast<uint8_t>(NodeRole::kServer);
+  testing::StampTestGround(claim);
   ASSERT_TRUE(BusAs({1, 51}).Publish(claim).ok());  // no member: refused as a stranger anyway
   Run(300);
   for (Replica* r : {&A(), &B(), &S()}) {

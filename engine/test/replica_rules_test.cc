@@ -56,6 +56,7 @@ class RulesTest : public ::testing::Test, public testing::ServerAndTwoNodes {
     m.max_change_seq = seq;
     m.lamport = lamport;
     m.role = static_cast<uint8_t>(role);
+    testing::StampTestGround(m);
     return m;
   }
   void ExpectAllEqualAndCaughtUp() {

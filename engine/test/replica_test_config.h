@@ -9,6 +9,7 @@
 #include "engine/memory_change_store.h"
 #include "engine/replica.h"
 #include "simulation/sim_cluster.h"
+#include "terrain/terrain_digest.h"
 #include "transport/pdu_bus.h"
 #include "transport/transport.h"
 
@@ -31,6 +32,14 @@ inline ReplicaConfig TestReplicaConfig() {
 
 // The ground the replica tests share: 33 x 33 posts 4 m apart, relief 10 m.
 inline HeightGrid TestGround() { return HeightGrid(33, 4.0, 10.0f); }
+
+// A forged MaxFeature names the test ground, as every member's does (docs/pdu.md "Ground
+// identity"); one naming another ground is refused.
+inline void StampTestGround(dtpdu::max_feature_t& m) {
+  const TerrainDigest d = ComputeDigest(TestGround());
+  m.ground_digest[0] = static_cast<int64_t>(d.high);
+  m.ground_digest[1] = static_cast<int64_t>(d.low);
+}
 
 // A server and nodes A and B on one SimCluster, started and given 1 s of virtual time to sign
 // on; the base of the replica test fixtures. `ids_a`: A's feature number reservation, if any.

@@ -112,6 +112,8 @@ inline dtpdu::max_feature_t MaxFeature() {
   pdu.lamport = 77;
   pdu.role = static_cast<uint8_t>(NodeRole::kServer);
   pdu.sign_on = 1;
+  pdu.ground_digest[0] = static_cast<int64_t>(0x0123456789ABCDEFull);
+  pdu.ground_digest[1] = static_cast<int64_t>(0xFEDCBA9876543210ull);
   return pdu;
 }
 

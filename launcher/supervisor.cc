@@ -94,7 +94,8 @@ void Supervisor::Start(const std::string& name, const std::vector<std::string>& 
 }
 
 void Supervisor::Take(const std::string& name, Entry& e, std::string_view line) {
-  if (line.find(log::kClockSkewMarker) != std::string_view::npos) {
+  if (line.find(log::kClockSkewMarker) != std::string_view::npos ||
+      line.find(log::kGroundMismatchMarker) != std::string_view::npos) {
     e.last_clock_line = line.substr(0, kMaxKeptLineBytes);
   } else if (IsWarning(line)) {
     e.last_warning_line = line.substr(0, kMaxKeptLineBytes);

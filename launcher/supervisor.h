@@ -16,9 +16,9 @@ namespace dt {
 // Runs named children (each may be restarted under the same name). Every output line is handed
 // to the sink with the child's name. A child counts as ready once it prints "READY <name>" after
 // its latest start (docs/launcher.md). Of each start it remembers the latest line about clock
-// skew (log::kClockSkewMarker) and the latest warning or error line, so a child that never
-// becomes ready can be reported with why it said it could not. Single-threaded: Poll() does the
-// reading and reaping.
+// skew (log::kClockSkewMarker) or another ground (log::kGroundMismatchMarker) and the latest
+// warning or error line, so a child that never becomes ready can be reported with why it said it
+// could not. Single-threaded: Poll() does the reading and reaping.
 class Supervisor {
  public:
   using LineSink = std::function<void(const std::string& name, std::string_view line)>;
@@ -57,8 +57,8 @@ class Supervisor {
   bool ready(const std::string& name) const;
   // The wait status of the child's last run (see DescribeWaitStatus); -1 if it never exited.
   int last_wait_status(const std::string& name) const;
-  // The latest line of the child's current start about clock skew, else its latest warning or
-  // error line (spdlog's " warning [", " error [", " critical ["), else empty.
+  // The latest line of the child's current start about clock skew or another ground, else its
+  // latest warning or error line (spdlog's " warning [", " error [", " critical ["), else empty.
   std::string last_word(const std::string& name) const;
   std::vector<std::string> names() const;  // every child ever started, in start order
   bool any_running() const;

@@ -12,6 +12,7 @@
 
 #include "runtime/toml_reader.h"
 #include "terrain/height_grid.h"
+#include "terrain/terrain_file.h"
 #include "transport/transport.h"
 #include "vehicle/shipped_friction.h"
 #include "vehicle/vehicle_type.h"
@@ -77,6 +78,32 @@ VehicleGroupConfig ReadGroup(const TomlReader& r, double size_x_m, double size_z
   }
   r.Finish();
   return g;
+}
+
+// [terrain] ground_file, after the grid keys were read with their defaults: the saved terrain is
+// read here, so every process holds the same ground
+// from the start or none starts (docs/node.md "Starting from a saved terrain").
+void ReadGroundFile(const TomlReader& t, const std::filesystem::path& base_dir, ExerciseConfig& c) {
+  for (const char* key :
+       {"posts_per_side", "posts_x", "posts_z", "spacing_m", "relief_m", "seed"}) {
+    if (t.Has(key)) {
+      t.Fail(key, "the ground_file sets the ground: give no grid or random-ground keys with it");
+    }
+  }
+  const std::string file = t.String("ground_file");
+  if (file.empty()) t.Fail("ground_file", "must name a terrain file");
+  const std::filesystem::path base =
+      base_dir.empty() ? std::filesystem::current_path() : std::filesystem::absolute(base_dir);
+  c.ground_file = std::filesystem::absolute(base / file).lexically_normal();
+  Result<std::unique_ptr<Terrain>> loaded = LoadTerrain(c.ground_file);
+  if (!loaded) {
+    t.Fail("ground_file", fmt::format("{}: {}", c.ground_file.string(), loaded.error().message));
+  }
+  auto ground = std::make_shared<const BaseGround>(BaseGroundFromTerrain(*loaded.value()));
+  c.terrain.posts_x = ground->grid.posts_x();
+  c.terrain.posts_z = ground->grid.posts_z();
+  c.terrain.spacing_m = ground->grid.spacing_m();
+  c.ground = std::move(ground);
 }
 
 ProcessConfig ReadProcess(const TomlReader& r, const std::filesystem::path& base_dir, bool is_node,
@@ -244,8 +271,8 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   const std::string friction_file = ex.String("friction_file", "");
   ex.Finish();
 
-  const TomlReader t = top.Table(
-      "terrain", {"posts_per_side", "posts_x", "posts_z", "spacing_m", "relief_m", "seed"});
+  const TomlReader t = top.Table("terrain", {"posts_per_side", "posts_x", "posts_z", "spacing_m",
+                                             "relief_m", "seed", "ground_file"});
   // A square (posts_per_side, the default) or a rectangle (posts_x and posts_z, both given).
   const bool rectangle = t.Has("posts_x") || t.Has("posts_z");
   if (rectangle) {
@@ -268,6 +295,7 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   c.terrain.spacing_m = t.Double("spacing_m", 10.0, 0.01, 10000.0);
   c.terrain.relief_m = t.Double("relief_m", 50.0, 0.0, 10000.0);
   c.terrain.seed = static_cast<uint64_t>(t.Int("seed", 1, 0, INT64_MAX));
+  if (t.Has("ground_file")) ReadGroundFile(t, base_dir, c);
   t.Finish();
 
   bool require_server = true;

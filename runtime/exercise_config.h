@@ -12,6 +12,7 @@
 
 #include "base/feature_id.h"
 #include "pdu/exercise_key.h"
+#include "terrain/base_ground.h"
 #include "terrain/friction_table.h"
 #include "terrain/random_terrain.h"
 #include "transport/fault_model.h"
@@ -111,6 +112,11 @@ struct ExerciseConfig {
   std::shared_ptr<const FrictionTable> friction;
   // [terrain]: posts_per_side (a square) or posts_x and posts_z, spacing, relief, seed.
   RandomTerrainParams terrain;
+  // [terrain] ground_file: a saved terrain (terrain/terrain_file.h, what the server's `export`
+  // writes) the exercise starts on instead of random ground, read at load (absolute; empty:
+  // none). Its grid's posts and spacing are then `terrain`'s; `ground` holds it as base ground.
+  std::filesystem::path ground_file;
+  std::shared_ptr<const BaseGround> ground;
   ProtocolTiming protocol;
   AuthSettings auth;
   FaultConfig faults;  // injected on receipt by every process (transport/faulty_transport.h)
@@ -142,7 +148,8 @@ struct ExerciseConfig {
 // run_dir resolves against the current directory. The key file is read here. Throws
 // std::invalid_argument naming `source_name`, the key and the offending value for a syntax
 // error, a missing or mistyped key, a value out of range, an unknown key, duplicate process names
-// or addresses, a missing [server] (unless [protocol] require_server = false) or a [server] or
+// or addresses, a ground_file that does not load (its path and the reason) or comes with grid
+// keys, a missing [server] (unless [protocol] require_server = false) or a [server] or
 // [standby] in an exercise without a server, a missing [auth] table, a key file that cannot be
 // read or is too short (the message names its path and length), or a bad friction file.
 ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,

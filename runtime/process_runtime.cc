@@ -15,6 +15,7 @@
 #include "render/camera.h"
 #include "render/png_io.h"
 #include "render/renderer.h"
+#include "runtime/exercise_ground.h"
 #include "runtime/simulated_vehicle_sprite.h"
 
 namespace dt {
@@ -86,6 +87,7 @@ ReplicaConfig MakeReplicaConfig(const ExerciseConfig& exercise, const ProcessCon
   rc.playback_window = exercise.protocol.playback_window;
   rc.anti_entropy_period_ms = exercise.protocol.anti_entropy_period_ms;
   rc.gap_give_up_ms = exercise.protocol.gap_give_up_ms;
+  rc.ground_source = ExerciseGroundSource(exercise);
   if (exercise.server) rc.members[exercise.server->address] = NodeRole::kServer;
   rc.require_server = exercise.require_server();
   if (exercise.standby) rc.members[exercise.standby->address] = NodeRole::kStandby;
@@ -160,6 +162,15 @@ StatusReport MakeStatusReport(const std::string& name, NodeRole role, const Repl
   r.refused_role = c.refused_role;
   r.refused_claim = c.refused_claim;
   r.refused_lamport = c.refused_lamport;
+  r.refused_ground = c.refused_ground;
+  r.ground_digest = replica.ground_digest().ToHex();
+  r.ground_source = replica.config().ground_source;
+  r.ground_refused = replica.ground_refused();
+  if (auto exercise = replica.exercise_ground_digest())
+    r.exercise_ground_digest = exercise->ToHex();
+  for (const auto& [member, digest] : replica.ground_mismatches()) {
+    r.ground_mismatches.push_back({member, digest.ToHex()});
+  }
   // The bus's rejections by reason (validation and authentication), all of them, zeros too.
   const RejectCounters& rejects = transport.bus->rejects();
   for (size_t i = 0; i < kRejectReasonCount; ++i) {

@@ -52,6 +52,11 @@ void ForEachSingleLine(Report& r, Visit&& visit) {
   visit("refused_role", r.refused_role);
   visit("refused_claim", r.refused_claim);
   visit("refused_lamport", r.refused_lamport);
+  visit("refused_ground", r.refused_ground);
+  visit("ground_digest", r.ground_digest);
+  visit("ground_source", r.ground_source);
+  visit("ground_refused", r.ground_refused);
+  visit("exercise_ground_digest", r.exercise_ground_digest);
   for (size_t i = 0; i < kRejectReasonCount; ++i) visit(RejectedKey(i), r.rejected_by_reason[i]);
   visit("authenticated", r.authenticated);
   visit("auth_senders", r.auth_senders);
@@ -64,6 +69,7 @@ void ForEachSingleLine(Report& r, Visit&& visit) {
 // The keys of the repeated lines.
 constexpr std::string_view kMaxFeatureKey = "max_feature";
 constexpr std::string_view kClockSuspectKey = "clock_suspect";
+constexpr std::string_view kGroundMismatchKey = "ground_mismatch";
 constexpr std::string_view kDivergenceKey = "divergence";
 constexpr std::string_view kVehicleKey = "vehicle";
 
@@ -279,6 +285,9 @@ std::string StatusReport::ToText() const {
   ForEachSingleLine(*this, [&](std::string_view key, const auto& v) { line(key, ValueText(v)); });
   for (const MaxFeature& m : max_features) line(kMaxFeatureKey, MaxFeatureText(m));
   for (const ClockSuspect& c : clock_suspects) line(kClockSuspectKey, ClockSuspectText(c));
+  for (const GroundMismatch& g : ground_mismatches) {
+    line(kGroundMismatchKey, fmt::format("{} digest={}", g.member.ToString(), g.digest));
+  }
   for (const Divergence& d : divergences) line(kDivergenceKey, DivergenceText(d));
   for (const Vehicle& v : vehicles) line(kVehicleKey, VehicleText(v));
   for (const auto& [key, value] : other_lines) line(key, value);
@@ -307,6 +316,14 @@ Result<StatusReport> StatusReport::Parse(std::string_view text) {
       Result<ClockSuspect> c = ReadClockSuspect(value);
       if (!c) return c.error();
       r.clock_suspects.push_back(c.value());
+    } else if (key == kGroundMismatchKey) {
+      const size_t gap = value.find(" digest=");
+      Result<NodeAddress> member = ParseNodeAddress(value.substr(0, gap));
+      if (gap == std::string_view::npos || !member || value.size() == gap + 8) {
+        return Error{fmt::format("status line \"{}\" is not \"{} <site:host> digest=<hex>\"", l,
+                                 kGroundMismatchKey)};
+      }
+      r.ground_mismatches.push_back({member.value(), std::string(value.substr(gap + 8))});
     } else if (key == kDivergenceKey) {
       Result<Divergence> d = ReadDivergence(value);
       if (!d) return d.error();

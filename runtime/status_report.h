@@ -26,11 +26,13 @@ namespace dt {
 //   features, digest, own_feature_number, own_change_seq, acknowledged_change_seq, sent,
 //   received, rejected, played_back, applied, ignored_stale, fault_dropped, drop_probability,
 //   write_queued, write_retried, write_failed, write_given_up, voided, gave_up,
-//   refused_stranger, refused_role, refused_claim, refused_lamport, rejected_<reason> for every
+//   refused_stranger, refused_role, refused_claim, refused_lamport, refused_ground, ground_digest,
+//   ground_source, ground_refused, exercise_ground_digest, rejected_<reason> for every
 //   RejectReason in enum order, authenticated, auth_senders, clock_suspect_senders,
 //   clock_worst_offset_ms, own_clock_suspect, own_clock_offset_ms (one line each; flags are 1 or
 //   0), then the repeated lines: max_feature per origin, clock_suspect per sender whose PDUs are
-//   dropped as stale, divergence per open difference, vehicle per vehicle, then other_lines.
+//   dropped as stale, ground_mismatch per member on another ground, divergence per open difference,
+//   vehicle per vehicle, then other_lines.
 struct StatusReport {
   // "max_feature <site:host> <number>": the highest feature number known of an origin.
   struct MaxFeature {
@@ -45,6 +47,13 @@ struct StatusReport {
     int64_t offset_ms = 0;  // its clock minus this host's; positive: it is ahead
     uint64_t stale = 0;     // its PDUs dropped as stale since it became suspect
     bool operator==(const ClockSuspect&) const = default;
+  };
+  // "ground_mismatch <site:host> digest=<hex>": a member whose last MaxFeature reported another
+  // ground than this process's (docs/pdu.md "Ground identity").
+  struct GroundMismatch {
+    NodeAddress member;
+    std::string digest;
+    bool operator==(const GroundMismatch&) const = default;
   };
   // "divergence <author> with <peer> changes <first>..<last>[ (not located)] since_ms <ms>": an
   // open anti-entropy difference (engine/anti_entropy.h).
@@ -95,6 +104,14 @@ struct StatusReport {
   uint64_t write_queued = 0, write_retried = 0, write_failed = 0, write_given_up = 0;
   uint64_t voided = 0, gave_up = 0;
   uint64_t refused_stranger = 0, refused_role = 0, refused_claim = 0, refused_lamport = 0;
+  uint64_t refused_ground = 0;
+  // Ground identity (docs/pdu.md "Ground identity"): the digest of the ground this process
+  // loaded and where from (runtime/exercise_ground.h); whether it is refused for being on
+  // another ground than the exercise's, and that ground's digest then ("-" otherwise).
+  std::string ground_digest;
+  std::string ground_source;
+  bool ground_refused = false;
+  std::string exercise_ground_digest = "-";
   // The bus's rejections, indexed by RejectReason: "rejected_<RejectReasonName> <n>".
   std::array<uint64_t, kRejectReasonCount> rejected_by_reason{};
   bool authenticated = false;
@@ -109,6 +126,7 @@ struct StatusReport {
   int64_t own_clock_offset_ms = 0;
   std::vector<MaxFeature> max_features;
   std::vector<ClockSuspect> clock_suspects;
+  std::vector<GroundMismatch> ground_mismatches;
   std::vector<Divergence> divergences;
   std::vector<Vehicle> vehicles;
   // Lines whose key this reader does not know, as (key, value) in the order they came: the

@@ -11,12 +11,31 @@ namespace dt {
 Result<std::unique_ptr<ServerReplica>> ServerReplica::Open(ReplicaConfig config, HeightGrid ground,
                                                            PduBus& bus,
                                                            const std::filesystem::path& database) {
+  return Open(std::move(config), BaseGround{std::move(ground), {}}, bus, database);
+}
+
+Result<std::unique_ptr<ServerReplica>> ServerReplica::Open(ReplicaConfig config, BaseGround ground,
+                                                           PduBus& bus,
+                                                           const std::filesystem::path& database) {
   if (config.role == NodeRole::kNode) {
     throw std::invalid_argument(
         fmt::format("server {}: role must be server or standby", config.address.ToString()));
   }
-  auto store = SqliteChangeStore::Open(database, ground.size_x_m(), ground.size_z_m());
+  auto store = SqliteChangeStore::Open(database, ground.grid.size_x_m(), ground.grid.size_z_m());
   if (!store) return store.error();
+  const SqliteChangeStore::Ground mine{ComputeDigest(ground).ToHex(), config.ground_source};
+  auto recorded = store.value()->LoadGround();
+  if (!recorded) return recorded.error();
+  if (!recorded.value()) {
+    if (auto s = store.value()->SaveGround(mine); !s) return s.error();
+  } else if (recorded.value()->digest != mine.digest) {
+    return Error{fmt::format(
+        "{}: holds an exercise on ground {} ({}), but this server loaded ground {} ({}): refusing "
+        "to start on another ground (start on that ground, or move the database away for a new "
+        "exercise)",
+        database.string(), recorded.value()->digest, recorded.value()->source, mine.digest,
+        mine.source)};
+  }
   std::unique_ptr<ServerReplica> server(new ServerReplica());
   server->store_ = std::move(store).value();
   config.store = server->store_.get();

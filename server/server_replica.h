@@ -15,6 +15,12 @@ class ServerReplica {
   // Opens (or creates) the database, then builds the replica from every stored change.
   // config.role must be kServer or kStandby; config.store is set here. Fails if the database
   // cannot be opened or read.
+  // The database records the ground's digest (terrain/base_ground.h) when it holds none; one
+  // that records another ground is refused, naming both digests and where each came from
+  // (config.ground_source), before any change is read.
+  static Result<std::unique_ptr<ServerReplica>> Open(ReplicaConfig config, BaseGround ground,
+                                                     PduBus& bus,
+                                                     const std::filesystem::path& database);
   static Result<std::unique_ptr<ServerReplica>> Open(ReplicaConfig config, HeightGrid ground,
                                                      PduBus& bus,
                                                      const std::filesystem::path& database);

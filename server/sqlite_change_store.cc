@@ -291,6 +291,38 @@ SqliteChangeStore::~SqliteChangeStore() {
 
 Status SqliteChangeStore::Exec(const char* sql) { return ExecOn(db_, path_, sql); }
 
+namespace {
+constexpr const char* kCreateGroundTable =
+    "CREATE TABLE IF NOT EXISTS ground (id INTEGER PRIMARY KEY CHECK (id = 1),"
+    " digest TEXT NOT NULL, source TEXT NOT NULL);";
+}  // namespace
+
+Result<std::optional<SqliteChangeStore::Ground>> SqliteChangeStore::LoadGround() {
+  if (auto s = Exec(kCreateGroundTable); !s) return s.error();
+  auto digest = Column(db_, path_, "SELECT digest FROM ground WHERE id = 1;");
+  if (!digest) return digest.error();
+  auto source = Column(db_, path_, "SELECT source FROM ground WHERE id = 1;");
+  if (!source) return source.error();
+  if (digest.value().empty() || source.value().empty()) return std::optional<Ground>{};
+  return std::optional<Ground>{Ground{digest.value().front(), source.value().front()}};
+}
+
+Status SqliteChangeStore::SaveGround(const Ground& ground) {
+  if (auto s = Exec(kCreateGroundTable); !s) return s;
+  sqlite3_stmt* q = nullptr;
+  const char* sql = "INSERT OR REPLACE INTO ground (id, digest, source) VALUES (1, ?, ?);";
+  bool ok = sqlite3_prepare_v2(db_, sql, -1, &q, nullptr) == SQLITE_OK;
+  ok = ok && sqlite3_bind_text(q, 1, ground.digest.c_str(), -1, SQLITE_TRANSIENT) == SQLITE_OK &&
+       sqlite3_bind_text(q, 2, ground.source.c_str(), -1, SQLITE_TRANSIENT) == SQLITE_OK &&
+       sqlite3_step(q) == SQLITE_DONE;
+  sqlite3_finalize(q);
+  if (!ok) {
+    return Error{
+        fmt::format("{}: cannot record the exercise's ground: {}", path_.string(), SqlError(db_))};
+  }
+  return Status::Ok();
+}
+
 Status SqliteChangeStore::Prepare() {
   constexpr const char* kColumns =
       " INTO changes (author_site, author_host, seq, lamport, kind, origin_site,"

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
+#include <string>
 
 #include "engine/change_store.h"
 
@@ -45,6 +47,19 @@ class SqliteChangeStore final : public ChangeStore {
   // Fails at the first row whose checksum or content is refused, naming the file, the row
   // (author site:host, change_seq, rowid) and what is wrong.
   Result<std::vector<Change>> LoadAll() override;
+
+  // The ground the exercise's changes were made on (docs/node.md "Starting from a saved
+  // terrain"): its digest (hex) and where it came from. In a table of its own beside `changes`
+  // (added without a schema version: a build that does not know it reads the database as before).
+  struct Ground {
+    std::string digest;
+    std::string source;
+  };
+  // The ground recorded; nullopt when none is (a new database, or one from before grounds were
+  // recorded).
+  Result<std::optional<Ground>> LoadGround();
+  // Records the ground, replacing any recorded before.
+  Status SaveGround(const Ground& ground);
 
   // Caps the database at this many pages (SQLite's max_page_count), as a quota or a full disk
   // would; Append then fails with SQLITE_FULL and stores nothing of the batch.

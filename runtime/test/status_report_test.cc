@@ -46,6 +46,12 @@ StatusReport FullReport() {
   r.refused_role = 19;
   r.refused_claim = 20;
   r.refused_lamport = 21;
+  r.refused_ground = 22;
+  r.ground_digest = "00112233445566778899aabbccddeeff";
+  r.ground_source = "ground_file /ex/field.dtt";
+  r.ground_refused = true;
+  r.exercise_ground_digest = "ffeeddccbbaa99887766554433221100";
+  r.ground_mismatches = {{{1, 3}, "0f0f0f0f0f0f0f0f0f0f0f0f0f0f0f0f"}};
   for (size_t i = 0; i < kRejectReasonCount; ++i) r.rejected_by_reason[i] = 1000 + i;
   r.authenticated = true;
   r.auth_senders = 4;
@@ -100,6 +106,11 @@ std::string FullReportText() {
       "\nvoided {}\ngave_up {}\nrefused_stranger {}\nrefused_role {}\nrefused_claim "
       "{}\nrefused_lamport {}",
       16, 17, 18, 19, 20, 21);
+  s += fmt::format(
+      "\nrefused_ground {}\nground_digest {}\nground_source {}\nground_refused {}"
+      "\nexercise_ground_digest {}",
+      22, "00112233445566778899aabbccddeeff", "ground_file /ex/field.dtt", 1,
+      "ffeeddccbbaa99887766554433221100");
   for (size_t i = 0; i < kRejectReasonCount; ++i) {
     s += fmt::format("\nrejected_{} {}", RejectReasonName(static_cast<RejectReason>(i)), 1000 + i);
   }
@@ -112,6 +123,7 @@ std::string FullReportText() {
        "\nmax_feature 1:2 3"
        "\nclock_suspect 1:1 offset_ms=-45000 stale=284"
        "\nclock_suspect 1:100 offset_ms=-45210 stale=647"
+       "\nground_mismatch 1:3 digest=0f0f0f0f0f0f0f0f0f0f0f0f0f0f0f0f"
        "\ndivergence 1:1 with 1:3 changes 4..9 since_ms 1500"
        "\ndivergence 1:2 with 1:100 changes 1..2 (not located) since_ms 1600"
        "\nvehicle 0 tank x_m=12.35 z_m=100.00 y_m=-0.00 heading_rad=1.235 speed_mps=5.50 "
@@ -223,6 +235,12 @@ TEST(StatusReportTest, MissingTruncatedAndNonNumericTextNamesTheKey) {
     EXPECT_EQ(ErrorOf(text + "\nclock_suspect " + bad),
               fmt::format("status \"clock_suspect\" value \"{}\" is not <site:host> "
                           "offset_ms=<ms> stale=<n>",
+                          bad));
+  }
+  for (const char* bad : {"1:3", "1:3 digest=", "x digest=00", "1:3 0f0f"}) {
+    EXPECT_EQ(ErrorOf(text + "\nground_mismatch " + bad),
+              fmt::format("status line \"ground_mismatch {}\" is not \"ground_mismatch "
+                          "<site:host> digest=<hex>\"",
                           bad));
   }
   EXPECT_NE(ErrorOf(text + "\ndivergence 1:1 with 1:3 changes 4-9 since_ms 1")

@@ -15,6 +15,7 @@
 
 #include "simulation/sim_cluster.h"
 #include "simulation/sim_network.h"
+#include "terrain/terrain_digest.h"
 #include "terrain/terrain_file.h"
 
 namespace dt {
@@ -269,6 +270,47 @@ TEST_F(ServerReplicaTest, AFullDatabaseIsReportedAndNothingIsAcknowledged) {
   Run(600);
   EXPECT_TRUE(server_->replica().store_status().ok());
   EXPECT_EQ(node_->acknowledged_change_seq(), 60);
+}
+
+}  // namespace
+}  // namespace dt
+
+namespace dt {
+namespace {
+
+// docs/node.md "Starting from a saved terrain": the database records the ground its exercise is
+// held on; a server started on another ground refuses it, naming both digests and sources.
+TEST_F(ServerReplicaTest, ADatabaseFromAnotherGroundIsRefusedNamingBothGrounds) {
+  ASSERT_TRUE(node_->Create(FeatureParams::Crater(40, 40, 3)).ok());
+  Run(500);
+  CrashServer();
+  {
+    auto store = SqliteChangeStore::Open(dir_ / "server.db", 128.0, 128.0);
+    ASSERT_TRUE(store.ok()) << store.error().message;
+    auto recorded = store.value()->LoadGround();
+    ASSERT_TRUE(recorded.ok()) << recorded.error().message;
+    ASSERT_TRUE(recorded.value().has_value());
+    EXPECT_EQ(recorded.value()->digest, ComputeDigest(Ground()).ToHex());
+    EXPECT_EQ(recorded.value()->source, "the given ground");  // ReplicaConfig's default
+  }
+  server_transport_ = net_.Join(kServer, 1);
+  server_bus_ = std::make_unique<PduBus>(*server_transport_, BusConfig(kServer));
+  ReplicaConfig config = Config(kServer, NodeRole::kServer);
+  config.ground_source = "ground_file /grounds/other.dtt";
+  const HeightGrid other(33, 4.0, 11.0f);
+  auto refused = ServerReplica::Open(config, other, *server_bus_, dir_ / "server.db");
+  ASSERT_FALSE(refused.ok());
+  const std::string& m = refused.error().message;
+  EXPECT_NE(m.find((dir_ / "server.db").string()), std::string::npos) << m;
+  EXPECT_NE(m.find(ComputeDigest(Ground()).ToHex()), std::string::npos) << m;
+  EXPECT_NE(m.find(ComputeDigest(other).ToHex()), std::string::npos) << m;
+  EXPECT_NE(m.find("the given ground"), std::string::npos) << m;
+  EXPECT_NE(m.find("ground_file /grounds/other.dtt"), std::string::npos) << m;
+  // The same ground opens it again, with everything it held.
+  server_bus_.reset();
+  server_transport_.reset();
+  OpenServer();
+  EXPECT_EQ(server_->replica().live_feature_count(), 1u);
 }
 
 }  // namespace

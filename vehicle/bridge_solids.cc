@@ -79,6 +79,7 @@ std::vector<Solid> BridgeSolids(const Bridge& b, const HeightGrid& ground) {
     s.top1_m = gb + h;
     s.bottom0_m = ga - 1.0;
     s.bottom1_m = gb - 1.0;
+    s.rubble = true;
     out.push_back(s);
   }
   return out;

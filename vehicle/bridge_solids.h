@@ -25,6 +25,7 @@ struct Solid {
   FeatureId bridge;
   Material material = Material::kConcrete;
   bool deck = false;                          // a deck slab: standing on it is being on the bridge
+  bool rubble = false;                        // a destroyed span lying on the ground
   double origin_x_m = 0.0, origin_z_m = 0.0;  // the bridge's placement point
   double ux = 1.0, uz = 0.0;                  // unit vector along the bridge
   double a0_m = 0.0, a1_m = 0.0, r0_m = 0.0, r1_m = 0.0;

@@ -1,4 +1,4 @@
-// Bridge mesh: a bridge's deck, sides and piers; a destroyed span sags to the ground.
+// Bridge mesh: a bridge drawn as the solids the vehicles meet (deck slabs, piers, fallen span).
 #pragma once
 
 #include "render/mesh.h"
@@ -7,14 +7,12 @@
 
 namespace dt {
 
-// Thickness of the drawn deck below its driving surface, and of the piers along the bridge.
-inline constexpr double kBridgeDeckThicknessM = 1.0;
-inline constexpr double kBridgePierThicknessM = 1.0;
-
-// Appends the bridge: the deck surface between consecutive cross-sections of
-// Bridge::DeckProfile (so a destroyed span is drawn with its middle on the ground, thesis IV.C),
-// the deck's side faces, and a pier under each joint of ramp and span from the ground to the
-// deck's underside. Colours are the bridge material, flat-shaded.
+// Appends the bridge as the closed boxes of vehicle/bridge_solids.h's BridgeSolids, the one
+// geometry of a bridge: a slab for each ramp and the span (kDeckThicknessM thick), a pier column
+// under each deck edge at each joint, and for a destroyed bridge the rubble of its span on the
+// ground between the piers (docs/vehicles.md "Bridges as solids"). So a vehicle drawn beside,
+// under or on a bridge is where the physics put it against the same faces. Colours are the
+// bridge material, flat-shaded.
 void AppendBridge(const Bridge& bridge, const Terrain& terrain, Mesh& mesh);
 
 }  // namespace dt

@@ -3,83 +3,102 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 
 namespace dt {
 
-std::vector<Solid> BridgeSolids(const Bridge& b, const HeightGrid& ground) {
-  const FeatureParams p = b.params();
+std::vector<Solid> BridgeSolidPlans(const FeatureParams& p) {
   Solid base;
-  base.bridge = b.id();
-  base.material = b.material();
   base.origin_x_m = p.x_m;
   base.origin_z_m = p.z_m;
   base.ux = std::cos(p.direction_rad);
   base.uz = std::sin(p.direction_rad);
+  const double half_w = p.width_m / 2.0;
+  const double span = p.length_m[0];
+  const bool destroyed = p.status == BridgeStatus::kDestroyed;
+  std::vector<Solid> out;
+  auto plan = [&](double a0, double a1, double r0, double r1, bool deck) {
+    Solid s = base;
+    s.a0_m = a0;
+    s.a1_m = a1;
+    s.r0_m = r0;
+    s.r1_m = r1;
+    s.deck = deck;
+    out.push_back(s);
+  };
+  // The deck slabs: ramp 1, the span (intact only), ramp 2.
+  plan(-p.length_m[1], 0.0, -half_w, half_w, true);
+  if (!destroyed) plan(0.0, span, -half_w, half_w, true);
+  plan(span, span + p.length_m[2], -half_w, half_w, true);
+  // Piers under both deck edges at both joints.
+  const double pier = std::min(kPierWidthM, half_w);
+  for (const double along : {0.0, span}) {
+    for (const double r0 : {-half_w, half_w - pier})
+      plan(along - pier / 2.0, along + pier / 2.0, r0, r0 + pier, false);
+  }
+  // The fallen span between the piers.
+  if (destroyed) {
+    const double a0 = std::min(pier / 2.0, span / 4.0);
+    plan(a0, span - a0, -half_w, half_w, false);
+    out.back().rubble = true;
+  }
+  return out;
+}
+
+std::vector<Solid> BridgeSolids(const Bridge& b, const HeightGrid& ground) {
+  const FeatureParams p = b.params();
+  std::vector<Solid> out = BridgeSolidPlans(p);
   auto ground_at = [&](double along_m, double right_m) {
     // Right of direction d is (sin d, -cos d) = (uz, -ux).
-    const double x = p.x_m + along_m * base.ux + right_m * base.uz;
-    const double z = p.z_m + along_m * base.uz - right_m * base.ux;
+    const Solid& f = out.front();
+    const double x = p.x_m + along_m * f.ux + right_m * f.uz;
+    const double z = p.z_m + along_m * f.uz - right_m * f.ux;
     return ground.ElevationAt(std::clamp(x, 0.0, ground.size_x_m()),
                               std::clamp(z, 0.0, ground.size_z_m()));
   };
   const std::vector<DeckSection> profile = b.DeckProfile();  // 4 intact, 6 destroyed
-  const double half_w = b.width_m() / 2.0;
   const double foot1 = profile.front().elevation_m, foot2 = profile.back().elevation_m;
   const double top1 = profile[1].elevation_m;
   const double top2 = profile[profile.size() - 2].elevation_m;
   const double span = b.span_length_m();
-
-  std::vector<Solid> out;
-  auto slab = [&](double a0, double a1, double t0, double t1) {
-    Solid s = base;
-    s.a0_m = a0;
-    s.a1_m = a1;
-    s.r0_m = -half_w;
-    s.r1_m = half_w;
+  // The plans come in BridgeSolidPlans' order: ramp 1, span (intact), ramp 2, four piers,
+  // rubble (destroyed).
+  size_t k = 0;
+  auto slab = [&](double t0, double t1) {
+    Solid& s = out[k++];
     s.top0_m = t0;
     s.top1_m = t1;
     s.bottom0_m = t0 - kDeckThicknessM;
     s.bottom1_m = t1 - kDeckThicknessM;
-    s.deck = true;
-    out.push_back(s);
   };
-  slab(b.start_along_m(), 0.0, foot1, top1);
-  if (!b.destroyed()) slab(0.0, span, top1, top2);
-  slab(span, b.end_along_m(), top2, foot2);
-
-  // Piers under both deck edges at both joints, from below the ground to the slab's underside.
-  const double pier = std::min(kPierWidthM, half_w);
+  slab(foot1, top1);
+  if (!b.destroyed()) slab(top1, top2);
+  slab(top2, foot2);
+  // Piers from below the ground to the slab's underside.
   for (const auto& [along, top] : {std::pair{0.0, top1}, std::pair{span, top2}}) {
-    for (const double r0 : {-half_w, half_w - pier}) {
-      Solid s = base;
-      s.a0_m = along - pier / 2.0;
-      s.a1_m = along + pier / 2.0;
-      s.r0_m = r0;
-      s.r1_m = r0 + pier;
-      const double g = std::min(ground_at(along, r0), ground_at(along, r0 + pier));
+    for (int side = 0; side < 2; ++side) {
+      Solid& s = out[k++];
+      const double g = std::min(ground_at(along, s.r0_m), ground_at(along, s.r1_m));
       s.bottom0_m = s.bottom1_m = g - 1.0;
       s.top0_m = s.top1_m = std::max(g, top - kDeckThicknessM);
-      out.push_back(s);
     }
   }
-
   if (b.destroyed()) {
-    // The fallen span: rubble on the ground between the piers, never higher than the deck's
-    // underside at the joints, so falling from a joint is a drop.
+    // Rubble never higher than the deck's underside at the joints, so falling from a joint is a
+    // drop.
+    Solid& s = out[k++];
     const double g1 = ground_at(0.0, 0.0), g2 = ground_at(span, 0.0);
     const double lowest_deck = std::min(top1 - g1, top2 - g2);
     const double h = std::clamp(lowest_deck - kDeckThicknessM, 0.05, kRubbleHeightM);
-    Solid s = base;
-    s.a0_m = std::min(pier / 2.0, span / 4.0);
-    s.a1_m = span - s.a0_m;
-    s.r0_m = -half_w;
-    s.r1_m = half_w;
     const double ga = ground_at(s.a0_m, 0.0), gb = ground_at(s.a1_m, 0.0);
     s.top0_m = ga + h;
     s.top1_m = gb + h;
     s.bottom0_m = ga - 1.0;
     s.bottom1_m = gb - 1.0;
-    out.push_back(s);
+  }
+  for (Solid& s : out) {
+    s.bridge = b.id();
+    s.material = b.material();
   }
   return out;
 }

@@ -25,6 +25,7 @@ struct Solid {
   FeatureId bridge;
   Material material = Material::kConcrete;
   bool deck = false;                          // a deck slab: standing on it is being on the bridge
+  bool rubble = false;                        // a destroyed span lying on the ground
   double origin_x_m = 0.0, origin_z_m = 0.0;  // the bridge's placement point
   double ux = 1.0, uz = 0.0;                  // unit vector along the bridge
   double a0_m = 0.0, a1_m = 0.0, r0_m = 0.0, r1_m = 0.0;
@@ -48,6 +49,11 @@ struct Solid {
 
 // The rectangle on the ground holding a solid's plan.
 Rect PlanBounds(const Solid& solid);
+
+// The plans of a bridge's solids (kinds, origin, direction and a0/a1/r0/r1; no heights, bridge ID
+// or material) from its parameters alone, in the order BridgeSolids gives them: ramp 1, the span
+// (intact only), ramp 2, the four piers, the rubble (destroyed only). What a plan view draws.
+std::vector<Solid> BridgeSolidPlans(const FeatureParams& bridge);
 
 // The solids of one bridge (docs/vehicles.md "Bridges as solids"): an intact bridge is three
 // deck slabs (ramp 1, span, ramp 2) and four piers; a destroyed one keeps its ramp slabs and piers

@@ -26,6 +26,12 @@ using physical_internal::kBellyTravelM;
 constexpr double kDampingRatio = 0.6;
 // Belly grid points are at most this far apart.
 constexpr double kBellyGridSpacingM = 0.5;
+// A wreck's box is sampled at points at most this far apart, as the belly's grid.
+constexpr double kWreckSampleSpacingM = 0.5;
+// A solid's top this far above a wreck's point still carries it: a wreck rolling over a deck's
+// or the rubble's edge rides up onto its top rather than into it (half a deck slab's thickness,
+// so never up through a slab from below).
+constexpr double kWreckReachM = 0.25;
 // Hull perimeter points are at most this far apart.
 constexpr double kHullSampleSpacingM = 0.5;
 // Contacts per side of a tracked vehicle: one every this many metres of track, at least three.
@@ -37,6 +43,11 @@ constexpr double kNearCacheMarginM = 24.0;
 // A sleeping vehicle wakes for changes this close to its hull box's plan.
 constexpr double kSleepAreaMarginM = 0.5;
 const double kRestTurnHalfCos = std::cos(kRestTurnRad / 2.0);
+// A wreck's window is ten times wider: lying on a side or an edge on uneven ground, its contacts
+// let it creep at 1-2 cm/s and rad/s for minutes, an artefact of the springs a wreck, which no
+// one drives, need not be computed for (a real slide speeds up past kRestSpeedMps).
+constexpr double kWreckRestDriftM = 10.0 * kRestDriftM;
+const double kWreckRestTurnHalfCos = std::cos(10.0 * kRestTurnRad / 2.0);
 
 Quaterniond HeadingQuaternion(double heading_rad) {
   return Quaterniond(Eigen::AngleAxisd(-heading_rad, Vector3d::UnitY()));
@@ -126,6 +137,23 @@ PhysicalVehicle::PhysicalVehicle(const PhysicalVehicleType& type, double x_m, do
       hull_points_.emplace_back(L / 2.0, up - cg, left);
       hull_points_.emplace_back(-L / 2.0, up - cg, left);
     }
+  }
+  // A wreck's box surface, from the gear's bottom to the roof.
+  {
+    const int wa = static_cast<int>(std::ceil(L / kWreckSampleSpacingM)) + 1;
+    const int wl = static_cast<int>(std::ceil(W / kWreckSampleSpacingM)) + 1;
+    const int wh = static_cast<int>(std::ceil(H / kWreckSampleSpacingM)) + 1;
+    for (int i = 0; i < wa; ++i) {
+      for (int j = 0; j < wl; ++j) {
+        for (int k = 0; k < wh; ++k) {
+          if (i != 0 && i != wa - 1 && j != 0 && j != wl - 1 && k != 0 && k != wh - 1) continue;
+          const Vector3d b(-L / 2.0 + L * i / (wa - 1), -cg + H * k / (wh - 1),
+                           -W / 2.0 + W * j / (wl - 1));
+          wreck_contacts_.push_back({b, false, kWreckReachM, 0, false, {}});
+        }
+      }
+    }
+    wreck_stiffness_ = static_cast<double>(2 * per_side) / (wl * wh);
   }
   half_diagonal_m_ = 0.5 * std::hypot(L, W);
   for (size_t k = 0; k < grip_wall_factor_.size(); ++k) {
@@ -300,9 +328,11 @@ const Matrix3d& PhysicalVehicle::Rotation() {
 
 void PhysicalVehicle::CountRest(const Terrain& terrain) {
   // |q . rest_q| is the cosine of half the turn between the two orientations.
+  const bool wreck = !alive();
   const bool quiet = cmd_speed_mps_ == 0.0 && cmd_rate_rad_s_ == 0.0 && v_.norm() < kRestSpeedMps &&
-                     w_.norm() < kRestRateRadS && (x_ - rest_x_).norm() < kRestDriftM &&
-                     std::abs(q_.dot(rest_q_)) > kRestTurnHalfCos;
+                     w_.norm() < kRestRateRadS &&
+                     (x_ - rest_x_).norm() < (wreck ? kWreckRestDriftM : kRestDriftM) &&
+                     std::abs(q_.dot(rest_q_)) > (wreck ? kWreckRestTurnHalfCos : kRestTurnHalfCos);
   if (!quiet) {
     rest_s_ = 0.0;
     rest_x_ = x_;
@@ -358,7 +388,6 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
   pending_ns_ += std::llround(dt_s * 1e9);
   const int64_t steps = pending_ns_ / kPhysicsStepNs;
   pending_ns_ -= steps * kPhysicsStepNs;
-  if (frozen_) return report;
   if (asleep_ && !StaysAsleep(terrain)) {
     asleep_ = false;
     rest_s_ = 0.0;
@@ -377,7 +406,7 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
   const double reach = half_diagonal_m_ + type_.hull_height_m + 2.0;
   // Solids are gathered for chunks of steps, over the area the vehicle can reach in one.
   constexpr int64_t kChunkSteps = 40;
-  for (int64_t done = 0; done < steps && !frozen_ && !asleep_;) {
+  for (int64_t done = 0; done < steps && !asleep_;) {
     const int64_t n = std::min(kChunkSteps, steps - done);
     const double margin = reach + (v_.norm() + 20.0) * kPhysicsStepS * static_cast<double>(n);
     const Rect area = Rect{x_.x(), x_.z(), x_.x(), x_.z()}.Expanded(margin);
@@ -399,7 +428,7 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
     for (const NearEarthwork& e : near_earthworks_) {
       if (e.bounds.Intersects(area)) earthworks_.push_back(e);
     }
-    for (int64_t k = 0; k < n && !frozen_; ++k) {
+    for (int64_t k = 0; k < n; ++k) {
       // Substeps keep every move under kMaxMovePerStepM, so no solid is tunnelled through.
       const double fastest = v_.norm() + w_.norm() * reach;
       const int sub =

@@ -56,9 +56,12 @@ struct PhysicalReport {
   FeatureId mounted;    // got onto this bridge's deck (number 0: no)
   FeatureId drove_off;  // drove off this bridge's deck onto the ground
   FeatureId fell_off;   // fell off this bridge's deck (reported once per fall)
-  // Leaving a deck (0.1 s without it under the running gear) within half a hot spot of a ramp
-  // foot is driving off; leaving it anywhere else is falling off.
-  double max_landing_mps = 0.0;       // fastest landing (normal speed of a contact touching down)
+  // Leaving a deck (0.1 s without it under the running gear) alive with the centre of mass in the
+  // outer part of a hot spot (beyond a ramp's foot) is driving off; anything else is falling off.
+  double max_landing_mps = 0.0;  // fastest landing (normal speed of a contact touching down)
+  // Fastest impact with a bridge solid: the speed the hull lost along the face's normal. Judged
+  // against the landing thresholds, as a landing is.
+  double max_impact_mps = 0.0;
   bool blocked = false;               // the hull met a solid and was stopped against it
   bool sliding = false;               // the grip needed exceeded static friction at some step
   Damage damage_now = Damage::kNone;  // damage that happened in this call
@@ -154,7 +157,6 @@ class PhysicalVehicle {
     bool gear_touching = false;
     FeatureId deck;  // the deck that carries the running gear hardest
     double deck_n = 0.0;
-    Eigen::Vector3d deck_point = Eigen::Vector3d::Zero();
     FeatureId hull_deck;  // a deck the belly rests on
     size_t sampled = 0;   // contacts sampled: the running gear, or all with the belly
   };
@@ -168,10 +170,15 @@ class PhysicalVehicle {
   // spring-damper force joins `forces` and it joins `touches`. Returns its normal force, N.
   double AddTouch(const Eigen::Vector3d& r, const Eigen::Vector3d& p, const Eigen::Vector3d& body,
                   const SurfaceSample& s, double depth_m, double vn_mps, bool gear,
-                  StepForces& forces, std::span<Touch> touches, size_t& count);
+                  StepForces& forces, std::span<Touch> touches, size_t& count,
+                  double stiffness = 1.0);
   size_t GatherTouches(const Terrain& terrain, std::span<const Solid> solids,
                        const Eigen::Matrix3d& R, double h, std::span<Touch> touches,
                        StepForces& forces, PhysicalReport& report);
+  // A destroyed vehicle's box: every face meets the ground and the solids' tops.
+  size_t GatherWreckTouches(const Terrain& terrain, std::span<const Solid> solids,
+                            const Eigen::Matrix3d& R, std::span<Touch> touches, size_t count,
+                            StepForces& forces);
   size_t GatherRefinedBellyTouches(const Terrain& terrain, std::span<const Solid> solids,
                                    const Eigen::Matrix3d& R, std::span<Touch> touches, size_t count,
                                    StepForces& forces);
@@ -185,18 +192,17 @@ class PhysicalVehicle {
   void ApplyHardStops(std::span<const Touch> touches, const Eigen::Vector3d& x_before, double h_s);
   void UpdateBridgeTag(const Terrain& terrain, const StepForces& forces, double h,
                        PhysicalReport& report);
-  void CheckDamage(const Terrain& terrain, bool touched, PhysicalReport& report);
+  void CheckDamage(PhysicalReport& report);
   // The hull against bridge solids (physical_vehicle_hull.cc).
   void ResolveHull(std::span<const Solid> solids, PhysicalReport& report);
   bool OnTerrain(const Terrain& terrain) const;
   // The corners of the box from the gear's bottom to the roof over the footprint, world.
   std::array<Eigen::Vector3d, 8> HullBoxCorners() const;
-  // True if a corner of the box from the gear's bottom to the roof is at or below the ground.
-  bool HullCornerAtGround(const Terrain& terrain) const;
   Status CheckClearOfSolids(const Terrain& terrain) const;
-  // True if the deck last carried the gear within half a hot spot of one of the bridge's ramp
-  // feet: leaving it there is driving off, elsewhere falling off.
-  bool NearRampFoot(const Terrain& terrain, FeatureId bridge) const;
+  // True if the centre of mass is in the outer part of one of the bridge's hot spots (beyond a
+  // ramp's foot by at most half a hot spot, within the bridge's width): leaving the deck there is
+  // driving off, anywhere else falling off (thesis IV.B.3).
+  bool InOuterHotSpot(const Terrain& terrain, FeatureId bridge) const;
   void Damaged(Damage damage, std::string cause, PhysicalReport& report);
   // After a step: counts the time at rest, and falls asleep once it is long enough.
   void CountRest(const Terrain& terrain);
@@ -210,10 +216,14 @@ class PhysicalVehicle {
   PhysicalVehicleType type_;
   std::vector<Contact> contacts_;
   std::vector<Eigen::Vector3d> hull_points_;  // body frame, perimeter at three heights
-  Eigen::Vector3d inertia_;                   // principal moments, body frame (ahead, up, left)
-  Eigen::Vector3d inverse_inertia_;           // their inverses
-  double spring_n_per_m_ = 0.0;               // per contact
-  double damper_n_s_per_m_ = 0.0;             // per contact
+  // A wreck's contacts: the surface of the box from the gear's bottom to the roof, each face's
+  // springs together as stiff as the running gear's at least (the smallest face's).
+  std::vector<Contact> wreck_contacts_;
+  double wreck_stiffness_ = 1.0;     // each wreck contact's spring and damper ÷ a gear contact's
+  Eigen::Vector3d inertia_;          // principal moments, body frame (ahead, up, left)
+  Eigen::Vector3d inverse_inertia_;  // their inverses
+  double spring_n_per_m_ = 0.0;      // per contact
+  double damper_n_s_per_m_ = 0.0;    // per contact
   int gear_count_ = 0;
   int per_side_ = 0;  // gear points per side; as many belly centre-line points
   BellyGrid belly_grid_;
@@ -254,11 +264,9 @@ class PhysicalVehicle {
   double belly_clock_s_ = 0.0;
   std::vector<double> grid_touched_until_s_;
   Damage damage_ = Damage::kNone;
-  bool frozen_ = false;  // tipped over: the wreck stays where it came to lie
   double sin_pitch_limit_ = 0.0, tan_roll_limit_ = 0.0;
   FeatureId bridge_;
   FeatureId fell_from_;  // a fall from this bridge was reported; cleared on the ground
-  double last_deck_x_m_ = 0.0, last_deck_z_m_ = 0.0;  // where the deck last carried the gear
   double air_s_ = 0.0;   // time since the running gear last touched anything
   double rest_s_ = 0.0;  // time at rest with no command, near the pose below (kRestDriftM)
   Eigen::Vector3d rest_x_ = Eigen::Vector3d::Zero();

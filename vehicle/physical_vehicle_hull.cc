@@ -23,13 +23,6 @@ constexpr double kWedgeLevelExitMaxM = 0.3;
 
 }  // namespace
 
-bool PhysicalVehicle::HullCornerAtGround(const Terrain& terrain) const {
-  for (const Vector3d& p : HullBoxCorners()) {
-    if (p.y() <= terrain.ElevationAt(p.x(), p.z())) return true;
-  }
-  return false;
-}
-
 void PhysicalVehicle::ResolveHull(std::span<const Solid> solids, PhysicalReport& report) {
   // Only solids within the hull's bounding sphere are tested point by point.
   const double radius = 0.5 * std::sqrt(type_.base.length_m * type_.base.length_m +
@@ -50,11 +43,15 @@ void PhysicalVehicle::ResolveHull(std::span<const Solid> solids, PhysicalReport&
   }
   if (near_count == 0) return;
   std::array<Vector3d, 1024> world;
-  const size_t n = std::min(world.size(), hull_points_.size());
+  // A wreck may lie on any face: its whole box is tested.
+  const size_t n_hull = std::min(world.size(), hull_points_.size());
+  const size_t n =
+      alive() ? n_hull : std::min(world.size(), hull_points_.size() + wreck_contacts_.size());
   for (int pass = 0; pass < 4; ++pass) {
     const Matrix3d R = q_.toRotationMatrix();
     const bool level_bottom = (R * Vector3d::UnitY()).y() > kLevelBottomMinCos;
-    for (size_t i = 0; i < n; ++i) world[i] = x_ + R * hull_points_[i];
+    for (size_t i = 0; i < n_hull; ++i) world[i] = x_ + R * hull_points_[i];
+    for (size_t i = n_hull; i < n; ++i) world[i] = x_ + R * wreck_contacts_[i - n_hull].body;
     const HullPenetration hit = DeepestPenetration(std::span<const Vector3d>(world.data(), n),
                                                    std::span<const Solid>(near.data(), near_count),
                                                    kBellyTravelM, level_bottom);
@@ -68,7 +65,10 @@ void PhysicalVehicle::ResolveHull(std::span<const Solid> solids, PhysicalReport&
       // loses its velocity into the face.
       x_ += hit.push_m;
       const double into = v_.dot(face);
-      if (into < 0.0) v_ -= into * face;
+      if (into < 0.0) {
+        v_ -= into * face;
+        report.max_impact_mps = std::max(report.max_impact_mps, -into);
+      }
       continue;
     }
     // Down through a slab's underside (a roof or corner grazing it): as the hard stops, the point
@@ -91,7 +91,10 @@ void PhysicalVehicle::ResolveHull(std::span<const Solid> solids, PhysicalReport&
       if (into < 0.0 && level_m <= kWedgeLevelExitMaxM) {
         x_ += back * level_m;
         const double com_into = v_.dot(back);
-        if (com_into < 0.0) v_ -= com_into * back;
+        if (com_into < 0.0) {
+          v_ -= com_into * back;
+          report.max_impact_mps = std::max(report.max_impact_mps, -com_into);
+        }
         continue;
       }
     }
@@ -106,6 +109,7 @@ void PhysicalVehicle::ResolveHull(std::span<const Solid> solids, PhysicalReport&
       const double j = -vn / w;
       v_ += face * (j / type_.mass_kg);
       w_ += Iw * rn * j;
+      report.max_impact_mps = std::max(report.max_impact_mps, -vn);
     }
   }
 }

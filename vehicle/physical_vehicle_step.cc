@@ -94,6 +94,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
   forces.F = Vector3d(0.0, -kGravityMps2 * type_.mass_kg, 0.0);
   size_t count = GatherTouches(terrain, solids, R, h, touches, forces, report);
   count = GatherRefinedBellyTouches(terrain, solids, R, touches, count, forces);
+  if (!alive()) count = GatherWreckTouches(terrain, solids, R, touches, count, forces);
   if (!solids.empty()) count = GatherSolidEdgeTouches(terrain, solids, R, touches, count, forces);
   const std::span<const Touch> touched(touches.data(), count);
   if (forces.total_n > 0.0) ApplyGrip(R, h, touched, forces, report);
@@ -112,7 +113,7 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
     cmd_rate_rad_s_ = 0.0;
   }
   UpdateBridgeTag(terrain, forces, h, report);
-  CheckDamage(terrain, count > 0, report);
+  CheckDamage(report);
 }
 
 // Inlined: the gatherers call it per touch, and the call with its eleven arguments cost more
@@ -120,8 +121,9 @@ void PhysicalVehicle::Step(const Terrain& terrain, std::span<const Solid> solids
 [[gnu::always_inline]] inline double PhysicalVehicle::AddTouch(
     const Vector3d& r, const Vector3d& p, const Vector3d& body, const SurfaceSample& s,
     double depth_m, double vn_mps, bool gear, StepForces& forces, std::span<Touch> touches,
-    size_t& count) {
-  const double normal_n = std::max(0.0, spring_n_per_m_ * depth_m - damper_n_s_per_m_ * vn_mps);
+    size_t& count, double stiffness) {
+  const double normal_n =
+      stiffness * std::max(0.0, spring_n_per_m_ * depth_m - damper_n_s_per_m_ * vn_mps);
   forces.F += normal_n * s.normal;
   forces.tau += r.cross(normal_n * s.normal);
   forces.total_n += normal_n;
@@ -216,7 +218,6 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
       if (s.bridge.number != 0 && normal_n >= forces.deck_n) {
         forces.deck = s.bridge;
         forces.deck_n = normal_n;
-        forces.deck_point = p;
       }
     }
   };
@@ -231,6 +232,33 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
     // The belly clock runs in the steps that sample the belly, as a point's time in the air did
     // when each point counted its own.
     belly_clock_s_ += h;
+  }
+  return count;
+}
+
+// A wreck's whole box meets the ground and the solids' tops, so it falls, tumbles and comes to
+// rest on any face.
+size_t PhysicalVehicle::GatherWreckTouches(const Terrain& terrain, std::span<const Solid> solids,
+                                           const Matrix3d& R, std::span<Touch> touches,
+                                           size_t count, StepForces& forces) {
+  for (Contact& c : wreck_contacts_) {
+    if (count >= touches.size()) break;
+    const Vector3d r = R * c.body;
+    const Vector3d p = x_ + r;
+    if (c.ground.stamp != terrain.stamp()) {
+      c.ground.valid = false;
+      c.ground.stamp = terrain.stamp();
+    }
+    // Most of the box is clear of the surface: the kept ground plane tells, before a sample.
+    if (solids.empty() && c.ground.Holds(p.x(), p.z()) &&
+        (c.ground.HeightAt(p.x(), p.z()) - p.y()) * c.ground.normal.y() <= 0.0)
+      continue;
+    const SurfaceSample s = SampleSurface(terrain, solids, {near_earthworks_, near_area_}, p.x(),
+                                          p.z(), p.y() + c.reach_m, c.ground);
+    const double depth = (s.height_m - p.y()) * s.normal.y();
+    if (depth <= 0.0) continue;
+    AddTouch(r, p, c.body, s, depth, (v_ + w_.cross(r)).dot(s.normal), false, forces, touches,
+             count, wreck_stiffness_);
   }
   return count;
 }
@@ -377,7 +405,8 @@ void PhysicalVehicle::ApplyGrip(const Matrix3d& R, double h, std::span<const Tou
     const double limit = std::abs(vf) / type_.min_turn_radius_m;
     r_cmd = std::clamp(r_cmd, -limit, limit);
   }
-  if (!forces.gear_touching) v_cmd = vf;  // a beached hull has nothing to push with
+  // A beached hull has nothing to push with; a wreck brakes on whatever it touches.
+  if (!forces.gear_touching && drive) v_cmd = vf;
   const double f_rr = (vf > 0 ? -1.0 : 1.0) * std::min(rr, m * std::abs(vf) / h);
   const double vf1 = vf + f_rr * h / m;
   double fw = m * (v_cmd - vf1) / h;
@@ -479,8 +508,6 @@ void PhysicalVehicle::UpdateBridgeTag(const Terrain& terrain, const StepForces& 
       if (deck != fell_from_) report.mounted = deck;
       bridge_ = deck;
     }
-    last_deck_x_m_ = forces.deck_point.x();
-    last_deck_z_m_ = forces.deck_point.z();
   } else if (on_bridge() && forces.hull_deck == bridge_) {
     // The running gear lifted (a bounce) while the hull rests on the deck: still on it.
     off_deck_s_ = 0.0;
@@ -488,7 +515,7 @@ void PhysicalVehicle::UpdateBridgeTag(const Terrain& terrain, const StepForces& 
     off_deck_s_ = std::min(off_deck_s_ + h, kLatchCapS);
     if (on_bridge() && off_deck_s_ >= kLeaveDeckS - kLatchSlackS) {
       if (bridge_ != fell_from_) {
-        if (NearRampFoot(terrain, bridge_)) {
+        if (alive() && InOuterHotSpot(terrain, bridge_)) {
           report.drove_off = bridge_;
         } else {
           report.fell_off = bridge_;
@@ -501,23 +528,27 @@ void PhysicalVehicle::UpdateBridgeTag(const Terrain& terrain, const StepForces& 
   }
 }
 
-void PhysicalVehicle::CheckDamage(const Terrain& terrain, bool touched, PhysicalReport& report) {
-  // Damage: landing speed, then static stability.
+void PhysicalVehicle::CheckDamage(PhysicalReport& report) {
+  // Damage: landing speed or impact speed (both the speed lost along the contact's normal),
+  // then static stability.
   if (alive()) {
-    if (report.max_landing_mps >= type_.land_kill_mps) {
-      Damaged(Damage::kDestroyed,
-              fmt::format("landed at {:.2f} m/s (kill threshold {} m/s)", report.max_landing_mps,
-                          type_.land_kill_mps),
-              report);
-    } else if (report.max_landing_mps >= type_.land_immobilise_mps) {
+    const bool impact = report.max_impact_mps > report.max_landing_mps;
+    const double speed = std::max(report.max_landing_mps, report.max_impact_mps);
+    const char* what = impact ? "hit a bridge solid" : "landed";
+    if (speed >= type_.land_kill_mps) {
+      Damaged(
+          Damage::kDestroyed,
+          fmt::format("{} at {:.2f} m/s (kill threshold {} m/s)", what, speed, type_.land_kill_mps),
+          report);
+    } else if (speed >= type_.land_immobilise_mps) {
       Damaged(Damage::kImmobilised,
-              fmt::format("landed at {:.2f} m/s (immobilise threshold {} m/s)",
-                          report.max_landing_mps, type_.land_immobilise_mps),
+              fmt::format("{} at {:.2f} m/s (immobilise threshold {} m/s)", what, speed,
+                          type_.land_immobilise_mps),
               report);
     }
   }
-  // Static stability, for a wreck too: the hull has no contacts on its sides and roof, so one
-  // destroyed by a landing that then rolled over would sink into the ground on its side.
+  // Static stability: past it the vehicle is destroyed, and its wreck goes on as a box under
+  // gravity (GatherWreckTouches) until it comes to rest on what is below it.
   // |pitch| > limit is |forward.y| > sin(limit); |roll| > limit is |left.y| > tan(limit) up.y.
   const Matrix3d& Rn = Rotation();
   const double up_y = Rn(1, 1);
@@ -531,19 +562,19 @@ void PhysicalVehicle::CheckDamage(const Terrain& terrain, bool touched, Physical
                         type_.StaticPitchLimitRad() * 180.0 / std::numbers::pi,
                         type_.StaticRollLimitRad() * 180.0 / std::numbers::pi),
             report);
-    // The wreck stays where it came to lie: once it rests on something (a contact touched in
-    // this step, or a hull corner is down at the ground). One that tips in the air falls on.
-    if (touched || HullCornerAtGround(terrain)) frozen_ = true;
   }
 }
 
-bool PhysicalVehicle::NearRampFoot(const Terrain& terrain, FeatureId id) const {
+bool PhysicalVehicle::InOuterHotSpot(const Terrain& terrain, FeatureId id) const {
   const Feature* f = terrain.Find(id);
   if (f == nullptr || f->type() != FeatureType::kBridge) return false;
   const auto* b = static_cast<const Bridge*>(f);
-  const double along = b->ToBridge(last_deck_x_m_, last_deck_z_m_).along_m;
+  // Thesis IV.B.3: only the part of a hot spot beyond the bridge is used to get off it.
+  const BridgeCoords c = b->ToBridge(x_.x(), x_.z());
+  if (std::abs(c.right_m) > b->width_m() / 2.0) return false;
   const double h = kBridgeHotSpotLengthM / 2.0;
-  return std::abs(along - b->start_along_m()) <= h || std::abs(along - b->end_along_m()) <= h;
+  return (c.along_m <= b->start_along_m() && c.along_m >= b->start_along_m() - h) ||
+         (c.along_m >= b->end_along_m() && c.along_m <= b->end_along_m() + h);
 }
 
 }  // namespace dt

@@ -1,6 +1,9 @@
 #include "view/view_model.h"
 
 #include <algorithm>
+#include <utility>
+
+#include "vehicle/bridge_solids.h"
 
 namespace dt {
 namespace {
@@ -15,6 +18,24 @@ const char* KindName(ChangeKind k) {
       return "destroy";
   }
   return "unknown";
+}
+
+// The plan of each solid a vehicle meets (vehicle/bridge_solids.h, the geometry the physics and
+// the renderer use): its kind and its four corners (x, z), so the page draws the bridge driven.
+nlohmann::json BridgePlanJson(const FeatureParams& p) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Solid& s : BridgeSolidPlans(p)) {
+    nlohmann::json corners = nlohmann::json::array();
+    for (const auto& [a, r] : {std::pair{s.a0_m, s.r0_m}, std::pair{s.a1_m, s.r0_m},
+                               std::pair{s.a1_m, s.r1_m}, std::pair{s.a0_m, s.r1_m}}) {
+      corners.push_back({s.origin_x_m + a * s.ux + r * s.uz, s.origin_z_m + a * s.uz - r * s.ux});
+    }
+    out.push_back({{"kind", s.deck     ? "deck"
+                            : s.rubble ? "rubble"
+                                       : "pier"},
+                   {"corners", std::move(corners)}});
+  }
+  return out;
 }
 
 }  // namespace
@@ -45,6 +66,7 @@ nlohmann::json FeatureJson(FeatureId id, const Record& record) {
       j["h1"] = p.height_m[0];
       j["h2"] = p.height_m[1];
       j["status"] = p.status == BridgeStatus::kDestroyed ? "destroyed" : "intact";
+      j["solids"] = BridgePlanJson(p);
       break;
     case FeatureType::kDitch:
     case FeatureType::kBermLine:

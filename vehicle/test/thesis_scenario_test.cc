@@ -1,6 +1,7 @@
 // Thesis chapter IV vehicle behaviours as named scenarios: each prints its figures and checks
 // them, under the physical model and, where the thesis's rule applies, the light model.
 #include <cstdio>
+#include <utility>
 
 #include "terrain/berm.h"
 #include "terrain/berm_operations.h"
@@ -458,6 +459,29 @@ TEST(ThesisScenario, OneTireOffTheDeckWithTheCentreOverItRests) {
     EXPECT_NEAR(v.roll_rad(), rest_roll_rad, 0.035) << z;  // 2 degrees
     EXPECT_LT(l.max_roll_rad, rest_roll_rad + 0.1) << z;   // the drop onto the edge overshoots
     EXPECT_NEAR(v.z_m(), z, 0.05) << z;                    // not pushed off sideways
+  }
+}
+
+// Thesis IV.B.3: a vehicle leaves a bridge by driving off only through the outer part of a hot
+// spot (beyond a ramp's foot, within the bridge's width); leaving anywhere else is a fall. A tank
+// 30 degrees off the bridge's axis mounts ramp 1 at its foot and rolls off the ramp's side: at
+// 8 m/s from z 176 it goes over the south side 11 m from the foot (reported as driving off while
+// the rule looked only at where the deck last carried the gear), from z 180 over the north side.
+TEST(ThesisScenario, LeavingARampsSideIsAFallNotDrivingOff) {
+  for (const auto& [speed, z0] : {std::pair{8.0, 176.0}, {3.0, 180.0}, {5.0, 180.0}}) {
+    auto t = BridgeTerrain();
+    auto v = PhysicalVehicle::Make(PhysType("tank"), *t, 40, z0, kPi / 6).value();
+    DriveLog l =
+        Drive(*t, v, speed, 0, 20, [](const PhysicalVehicle& pv) { return pv.z_m() > 215; });
+    const DriveLog rest = Drive(*t, v, 0, 0, 10);
+    l.fell_off += rest.fell_off;
+    l.drove_off += rest.drove_off;
+    Print("30 deg off the axis, off ramp 1's side", v, l);
+    EXPECT_EQ(l.mounted, 1) << speed << " m/s from z " << z0;
+    EXPECT_EQ(l.drove_off, 0) << speed << " m/s from z " << z0;
+    EXPECT_EQ(l.fell_off, 1) << speed << " m/s from z " << z0;
+    EXPECT_EQ(v.damage(), Damage::kDestroyed);
+    EXPECT_FALSE(v.on_bridge());
   }
 }
 

@@ -13,6 +13,7 @@
 
 #include "terrain/friction_table.h"
 #include "terrain/terrain.h"
+#include "vehicle/bridge_solids.h"
 #include "vehicle/physical_vehicle.h"
 
 namespace dt::test {
@@ -97,6 +98,51 @@ DriveLog Drive(const Terrain& t, PhysicalVehicle& v, double speed_mps, double ra
 inline DriveLog Drive(const Terrain& t, PhysicalVehicle& v, double speed_mps, double rate_rad_s,
                       double seconds) {
   return Drive(t, v, speed_mps, rate_rad_s, seconds, [](const PhysicalVehicle&) { return false; });
+}
+
+// World points on the surface of the vehicle's box at most `spacing_m` apart: over the footprint,
+// from the bottom of the running gear (or, with `from_belly`, from the hull's bottom) to the roof.
+inline std::vector<Eigen::Vector3d> BoxPoints(const PhysicalVehicle& v, double spacing_m,
+                                              bool from_belly = false) {
+  const PhysicalVehicleType& t = v.type();
+  const double L = t.base.length_m, W = t.base.width_m;
+  const double lo = (from_belly ? t.clearance_m : 0.0) - t.cg_height_m;
+  const double hi = t.hull_height_m - t.cg_height_m;
+  const int na = static_cast<int>(std::ceil(L / spacing_m)) + 1;
+  const int nl = static_cast<int>(std::ceil(W / spacing_m)) + 1;
+  const int nh = static_cast<int>(std::ceil((hi - lo) / spacing_m)) + 1;
+  const Eigen::Matrix3d r = v.orientation().toRotationMatrix();
+  std::vector<Eigen::Vector3d> out;
+  for (int i = 0; i < na; ++i) {
+    for (int j = 0; j < nl; ++j) {
+      for (int k = 0; k < nh; ++k) {
+        if (i != 0 && i != na - 1 && j != 0 && j != nl - 1 && k != 0 && k != nh - 1) continue;
+        const Eigen::Vector3d b(-L / 2 + L * i / (na - 1), lo + (hi - lo) * k / (nh - 1),
+                                -W / 2 + W * j / (nl - 1));
+        out.push_back(v.position_m() + r * b);
+      }
+    }
+  }
+  return out;
+}
+
+// How far the lowest point of the vehicle's box is above what lies under it: the ground and
+// earthworks, or the top of a bridge solid at most 0.1 m above the point. A wreck at rest on a
+// support has this within a few centimetres of zero.
+inline double SupportGap(const Terrain& t, const PhysicalVehicle& v) {
+  const std::vector<Solid> solids =
+      SolidsNear(t, Rect{v.x_m(), v.z_m(), v.x_m(), v.z_m()}.Expanded(15));
+  double gap = INFINITY;
+  for (const Eigen::Vector3d& p : BoxPoints(v, 0.25)) {
+    double under = t.ElevationAt(p.x(), p.z());
+    for (const Solid& s : solids) {
+      double a = 0, r = 0;
+      s.ToLocal(p.x(), p.z(), a, r);
+      if (s.InPlan(a, r) && s.TopAt(a) <= p.y() + 0.1) under = std::max(under, s.TopAt(a));
+    }
+    gap = std::min(gap, p.y() - under);
+  }
+  return gap;
 }
 
 inline double Deg(double rad) { return rad * 180.0 / 3.14159265358979323846; }

@@ -1,6 +1,7 @@
 // Property tests of the physical model over seeded random terrains, features and drives: the hull
-// never enters the ground or a feature by more than 0.1 m, no tick drops the vehicle further than
-// free fall allows, and a vehicle at rest on flat ground stays at rest. DT_VEHICLE_SEEDS sets the
+// never enters the ground or a feature (a drawn bridge solid) by more than 0.1 m, no tick drops
+// the vehicle further than free fall allows, a destroyed vehicle comes to rest on a support, and a
+// vehicle at rest on flat ground stays at rest. DT_VEHICLE_SEEDS sets the
 // number of seeds (default 4) and DT_VEHICLE_FIRST_SEED the first (default 1), so one seed runs
 // alone; DT_VEHICLE_TRACE=1 prints each tick that drops beyond free fall.
 #include <cstdlib>
@@ -70,6 +71,10 @@ World RandomWorld(uint64_t seed) {
 struct Worst {
   double ground_m = 0.0, solid_m = 0.0, drop_excess_m = -INFINITY;
   std::string damage;
+  // A destroyed vehicle, left alone after the drive: at rest (asleep) and how far its lowest
+  // point is from what lies under it (SupportGap).
+  bool wreck = false, wreck_at_rest = false;
+  double wreck_gap_m = 0.0;
 };
 
 // Drives a random vehicle with random demands changed every 2 s for `seconds`, checking each tick.
@@ -92,18 +97,38 @@ Worst RandomDrive(const Terrain& t, uint64_t seed, double seconds) {
                            unit(rng) * (type.base.max_speed_mps + type.base.max_reverse_speed_mps);
       EXPECT_TRUE(v.Command(speed, (2 * unit(rng) - 1) * type.base.max_turn_rate_rad_s).ok());
     }
+    const bool was_wreck = !v.alive();
     const PhysicalReport r = v.Advance(t, kTick).value();
     // Depth below the ground and earthworks, along the surface's normal (a point 0.1 m into a
-    // 45-degree face is 0.14 m below it).
-    for (const Eigen::Vector3d& p : v.HullBottomPoints(0.25)) {
+    // 45-degree face is 0.14 m below it): the hull's bottom, and a wreck's whole box from the tick
+    // after the one it was destroyed in (the box's running gear, on its travel up to then, is on
+    // the ground's side of it).
+    for (const Eigen::Vector3d& p : was_wreck ? BoxPoints(v, 0.25) : v.HullBottomPoints(0.25)) {
       const SurfaceSample s = SampleSurface(t, {}, p.x(), p.z(), p.y());
-      worst.ground_m =
-          std::max(worst.ground_m, (t.ElevationAt(p.x(), p.z()) - p.y()) * s.normal.y());
+      const double depth = (t.ElevationAt(p.x(), p.z()) - p.y()) * s.normal.y();
+      if (depth > 0.1 && std::getenv("DT_VEHICLE_TRACE")) {
+        std::printf(
+            "  tick %d point (%.2f, %.2f, %.2f) %.3f m in, normal y %.2f; %s pitch %.1f "
+            "roll %.1f\n",
+            i, p.x(), p.y(), p.z(), depth, s.normal.y(),
+            std::string(DamageName(v.damage())).c_str(), Deg(v.pitch_rad()), Deg(v.roll_rad()));
+      }
+      worst.ground_m = std::max(worst.ground_m, depth);
     }
     const std::vector<Solid> solids =
         SolidsNear(t, Rect{v.x_m(), v.z_m(), v.x_m(), v.z_m()}.Expanded(15));
-    const std::vector<Eigen::Vector3d> bottom = v.HullBottomPoints(0.5);
-    const HullPenetration in = DeepestPenetration(bottom, solids, INFINITY);
+    // No pose inside a drawn solid: the renderer draws a bridge as these solids
+    // (render/bridge_mesh.h), so the hull's box (a wreck's from the gear's bottom) is checked.
+    const std::vector<Eigen::Vector3d> box = BoxPoints(v, 0.5, !was_wreck);
+    const HullPenetration in = DeepestPenetration(box, solids, INFINITY);
+    if (in.depth_m > 0.1 && std::getenv("DT_VEHICLE_TRACE")) {
+      std::printf(
+          "  tick %d solid: point (%.2f, %.2f, %.2f) %.3f m in, normal (%.2f, %.2f, %.2f); "
+          "%s pitch %.1f roll %.1f\n",
+          i, in.point_m.x(), in.point_m.y(), in.point_m.z(), in.depth_m, in.normal.x(),
+          in.normal.y(), in.normal.z(), std::string(DamageName(v.damage())).c_str(),
+          Deg(v.pitch_rad()), Deg(v.roll_rad()));
+    }
     worst.solid_m = std::max(worst.solid_m, in.depth_m);
     // Free fall from the last tick's vertical speed bounds how far the centre of mass can drop.
     const double y = v.position_m().y();
@@ -121,6 +146,22 @@ Worst RandomDrive(const Terrain& t, uint64_t seed, double seconds) {
     vy_prev = v.velocity_mps().y();
   }
   worst.damage = std::string(DamageName(v.damage()));
+  if (!v.alive()) {
+    // A wreck is a body under gravity: left alone, it comes to rest on a support.
+    worst.wreck = true;
+    for (int i = 0; i < 30 * 30 && !v.asleep(); ++i) {
+      v.Advance(t, kTick).value();
+      if (i % 30 == 0 && std::getenv("DT_VEHICLE_TRACE")) {
+        std::printf(
+            "  wreck %d s: (%.3f, %.3f, %.3f) speed %.3f m/s, turning %.3f rad/s, pitch "
+            "%.1f roll %.1f\n",
+            i / 30, v.x_m(), v.position_m().y(), v.z_m(), v.velocity_mps().norm(),
+            v.angular_velocity_rad_s().norm(), Deg(v.pitch_rad()), Deg(v.roll_rad()));
+      }
+    }
+    worst.wreck_at_rest = v.asleep();
+    worst.wreck_gap_m = SupportGap(t, v);
+  }
   return worst;
 }
 
@@ -135,6 +176,12 @@ void CheckSeed(int s) {
   EXPECT_LE(worst.ground_m, 0.1) << "seed " << s;
   EXPECT_LE(worst.solid_m, 0.1) << "seed " << s;
   EXPECT_LE(worst.drop_excess_m, 1e-3) << "seed " << s;
+  if (worst.wreck) {
+    std::printf("  wreck: at rest %d, support gap %.3f m\n", worst.wreck_at_rest,
+                worst.wreck_gap_m);
+    EXPECT_TRUE(worst.wreck_at_rest) << "seed " << s;
+    EXPECT_LE(std::abs(worst.wreck_gap_m), 0.1) << "seed " << s;
+  }
 }
 
 TEST(VehicleProperty, HullStaysOutOfGroundAndFeaturesAndNoTickOutfallsFreeFall) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/test/replica_test_config.h"
+#include "vehicle/bridge_solids.h"
 #include "view/view_model.h"
 
 namespace dt {
@@ -301,6 +302,38 @@ TEST_F(ViewModelTest, AChangeOnlyTheViewHeldLeavesThePageAndItsSlotIsNotedAgainW
   EXPECT_EQ(d["features"][0]["history"][0]["change_seq"], 2);
   EXPECT_EQ(model.feature_count(), 2u);
   EXPECT_EQ(View().Digest(), S().Digest());
+}
+
+// The page draws a bridge as the solids vehicles meet (vehicle/bridge_solids.h): the plan of
+// each deck slab, pier and a destroyed span's rubble, corner for corner.
+TEST(ViewModelBridge, ABridgeCarriesThePlanOfTheSolidsVehiclesMeet) {
+  for (const bool destroyed : {false, true}) {
+    Record r;
+    r.params = FeatureParams::Bridge(100, 200, 0.3, 10, 30, 40, 20, 6, 5);
+    if (destroyed) r.params.status = BridgeStatus::kDestroyed;
+    const nlohmann::json j = FeatureJson({1, 1, 1}, r);
+    const std::vector<Solid> plans = BridgeSolidPlans(r.params);
+    ASSERT_EQ(j["solids"].size(), plans.size());
+    ASSERT_EQ(plans.size(), 7u);  // 3 slabs, or 2 and the rubble; 4 piers
+    size_t piers = 0, rubble = 0;
+    for (size_t k = 0; k < plans.size(); ++k) {
+      const Solid& s = plans[k];
+      const auto& out = j["solids"][k];
+      piers += out["kind"] == "pier";
+      rubble += out["kind"] == "rubble";
+      EXPECT_EQ(out["kind"], s.deck ? "deck" : s.rubble ? "rubble" : "pier");
+      // The first corner is (a0, r0) in the bridge's frame.
+      double a = 0, right = 0;
+      s.ToLocal(out["corners"][0][0].get<double>(), out["corners"][0][1].get<double>(), a, right);
+      EXPECT_NEAR(a, s.a0_m, 1e-9);
+      EXPECT_NEAR(right, s.r0_m, 1e-9);
+      s.ToLocal(out["corners"][2][0].get<double>(), out["corners"][2][1].get<double>(), a, right);
+      EXPECT_NEAR(a, s.a1_m, 1e-9);
+      EXPECT_NEAR(right, s.r1_m, 1e-9);
+    }
+    EXPECT_EQ(piers, 4u);
+    EXPECT_EQ(rubble, destroyed ? 1u : 0u);
+  }
 }
 
 }  // namespace

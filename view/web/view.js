@@ -51,14 +51,25 @@ function drawFeature(f) {
                     stroke: piece ? "#ff60d0" : "#e8d080", "stroke-width": 1.5,
                     "stroke-dasharray": placed }, g);
   } else if (f.type === "bridge") {
+    // The solids vehicles meet (the server's plan of vehicle/bridge_solids.h): deck slabs, the
+    // span filled; piers; a destroyed span's rubble.
     const destroyed = f.status === "destroyed";
     const colour = destroyed ? "#ff3b2b" : "#80d0ff";
-    el("polygon", { points: strip(f, -f.ramp1, f.span + f.ramp2, f.width), fill: "none",
-                    stroke: colour, "stroke-width": 1, "stroke-dasharray": "3 2" }, g);
-    el("polygon", { points: strip(f, 0, f.span, f.width),
-                    fill: destroyed ? "rgba(255,60,40,0.25)" : "rgba(120,200,255,0.45)",
-                    stroke: colour, "stroke-width": 2,
-                    "stroke-dasharray": destroyed ? "6 3" : placed }, g);
+    const pts = (s) => s.corners.map(([x, z]) => `${x},${Y(z)}`).join(" ");
+    (f.solids || []).forEach((s, i) => {
+      const span = s.kind === "deck" && !destroyed && i === 1;
+      if (s.kind === "deck") {
+        el("polygon", { points: pts(s), "data-solid": "deck",
+                        fill: span ? "rgba(120,200,255,0.45)" : "none", stroke: colour,
+                        "stroke-width": span ? 2 : 1,
+                        "stroke-dasharray": span ? placed : "3 2" }, g);
+      } else if (s.kind === "rubble") {
+        el("polygon", { points: pts(s), "data-solid": "rubble", fill: "rgba(255,60,40,0.25)",
+                        stroke: colour, "stroke-width": 2, "stroke-dasharray": "6 3" }, g);
+      } else {
+        el("polygon", { points: pts(s), "data-solid": "pier", fill: colour, stroke: "none" }, g);
+      }
+    });
   } else if (f.type === "ditch" || f.type === "berm_line") {
     // The centre line, as wide as each segment's mean top width.
     const piece = (f.history || []).some((e) => e.kind === "breach" && e.feature === f.id);

@@ -7,6 +7,7 @@
 #include "log/log.h"
 #include "pdu/conversion.h"
 #include "pdu/vehicle_state.h"
+#include "runtime/vehicle_listing.h"
 
 namespace dt::dis {
 namespace {
@@ -100,7 +101,8 @@ void GatewayApp::DrainDis(int64_t now_ms) {
 
 std::optional<ControlReply> GatewayApp::HandleOwn(const ControlCommand& command) {
   if (command.verb != ControlVerb::kVehicles) return std::nullopt;
-  return ControlReply::Ok(core_->VehiclesText(Seconds(MonotonicMs())));
+  return ControlReply::Ok(
+      PageVehicleListing(core_->VehiclesText(Seconds(MonotonicMs())), command.vehicle_page));
 }
 
 std::string GatewayApp::RefusalText() const {

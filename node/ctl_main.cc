@@ -1,5 +1,6 @@
 // dt_ctl: sends one command to a running node or server over its control socket, e.g.
 //   dt_ctl --config configs/exercises/demo.toml --name node-2 crater 100 200 5
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -9,6 +10,7 @@
 #include "runtime/control_client.h"
 #include "runtime/control_command.h"
 #include "runtime/exercise_config.h"
+#include "runtime/vehicle_listing.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Send a command to a running dynterrain process.\nCommands:\n" + dt::ControlUsage()};
@@ -33,6 +35,13 @@ int main(int argc, char** argv) {
   app.positionals_at_end(true);
   CLI11_PARSE(app, argc, argv);
 
+  // `vehicles` from dt_ctl is a page unless asked for more: a node of 30 000 vehicles would
+  // answer 6 MB (docs/node.md "Control socket").
+  if (words[0] == "vehicles" && std::find(words.begin(), words.end(), "--limit") == words.end() &&
+      std::find(words.begin(), words.end(), "--all") == words.end()) {
+    words.push_back("--limit");
+    words.push_back(std::to_string(dt::kDefaultVehicleLimit));
+  }
   std::string line;
   for (const std::string& w : words) line += (line.empty() ? "" : " ") + w;
   try {

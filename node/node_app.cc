@@ -8,6 +8,7 @@
 #include "log/log.h"
 #include "runtime/control_command.h"
 #include "runtime/exercise_ground.h"
+#include "runtime/vehicle_listing.h"
 #include "terrain/slump.h"
 #include "vehicle/physical_type.h"
 
@@ -195,7 +196,8 @@ ControlReply NodeApp::Handle(std::string_view line) {
   }
   switch (c.value().verb) {
     case ControlVerb::kVehicles:
-      return ControlReply::Ok(sharing_->VehiclesText(vehicles_));
+      return ControlReply::Ok(
+          PageVehicleListing(sharing_->VehiclesText(vehicles_), c.value().vehicle_page));
     case ControlVerb::kRender:  // remote vehicles too, in their owners' colours
       if (Status s =
               RenderMapPng(replica_->terrain(), sharing_->Sprites(vehicles_), c.value().path);

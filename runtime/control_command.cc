@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <numbers>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -323,6 +324,47 @@ Result<ControlCommand> ParseNoArguments(const ControlVerbSpec&, const Words& w) 
   return ControlCommand{};
 }
 
+// vehicles [--owner <site:host>] [--offset <n>] [--limit <n> | --all]: each option once.
+Result<ControlCommand> ParseVehicles(const ControlVerbSpec& spec, const Words& w) {
+  ControlCommand c;
+  std::set<std::string_view> seen;
+  for (size_t i = 1; i < w.size(); ++i) {
+    const std::string_view option = w[i];
+    if (!seen.insert(option).second) return Error{fmt::format("vehicles: {} given twice", option)};
+    if (option == "--all") {
+      if (seen.count("--limit") != 0)
+        return Error{"vehicles: --all and --limit exclude each other"};
+      continue;
+    }
+    if (option != "--owner" && option != "--offset" && option != "--limit") {
+      return Error{fmt::format("vehicles: unknown option \"{}\"; usage: vehicles {}", option,
+                               spec.synopsis)};
+    }
+    if (i + 1 >= w.size()) return Error{fmt::format("vehicles: {} needs a value", option)};
+    const std::string_view value = w[++i];
+    if (option == "--owner") {
+      if (!ParseNodeAddress(value)) {
+        return Error{fmt::format("vehicles: --owner \"{}\" is not a site:host address", value)};
+      }
+      c.vehicle_page.owner = std::string(value);
+      continue;
+    }
+    if (option == "--limit" && seen.count("--all") != 0) {
+      return Error{"vehicles: --all and --limit exclude each other"};
+    }
+    size_t n = 0;
+    const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), n);
+    if (ec != std::errc() || ptr != value.data() + value.size() ||
+        (option == "--limit" && n == 0)) {
+      return Error{fmt::format("vehicles: {} \"{}\" is not a whole number{}", option, value,
+                               option == "--limit" ? " of at least 1" : "")};
+    }
+    if (option == "--offset") c.vehicle_page.offset = n;
+    if (option == "--limit") c.vehicle_page.limit = n;
+  }
+  return c;
+}
+
 // Every command word, in the usage's order (the usage text and the dispatch both come from it).
 constexpr bool kOwnLine = false;  // starts a usage line
 constexpr bool kJoins = true;     // on the previous row's usage line
@@ -354,8 +396,10 @@ constexpr ControlVerbSpec kVerbTable[] = {
     {"spawn", ControlVerb::kSpawn, "<type> <x_m> <z_m> <heading_deg> [physical|light]",
      "adds a vehicle to a node", kOwnLine, ParseSpawn},
     {"remove", ControlVerb::kRemove, "<vehicle>", "removes a node's vehicle", kJoins, ParseRemove},
-    {"vehicles", ControlVerb::kVehicles, "", "a node's local and remote vehicles, one a line",
-     kJoins, ParseNoArguments},
+    {"vehicles", ControlVerb::kVehicles,
+     "[--owner <site:host>] [--offset <n>] [--limit <n> | --all]",
+     "a node's local and remote vehicles, one a line: all, or a page of them", kOwnLine,
+     ParseVehicles},
     // Two forms, shown as the usage has always shown them.
     {"blade", ControlVerb::kBlade, "<vehicle> down <depth_m> | blade <vehicle> up",
      "lowers a bulldozer's blade to cut and carry, or raises it to set its load down", kOwnLine,

@@ -12,6 +12,7 @@
 #include "runtime/control_protocol.h"
 #include "runtime/feature_edit.h"
 #include "runtime/node_actions.h"
+#include "runtime/vehicle_listing.h"
 #include "terrain/feature_params.h"
 
 namespace dt {
@@ -57,6 +58,7 @@ struct ControlCommand {
   std::vector<NodeAddress> nodes;       // partition
   SpawnRequest spawn;                   // spawn
   std::optional<double> blade_depth_m;  // blade: the depth when lowered, nullopt when raised
+  VehiclePage vehicle_page;             // vehicles: which lines the reply holds
 };
 
 // One command word of the control socket: a row of the verb table.

@@ -17,13 +17,57 @@ bool ParseNumber(std::string_view text, double& out) {
   return ec == std::errc() && ptr == end && std::isfinite(out);
 }
 
+// "<n> more (--offset <next>)", the line a page ends with when it left lines out.
+bool IsMoreLine(std::string_view line) {
+  const size_t space = line.find(' ');
+  if (space == 0 || space == std::string_view::npos) return false;
+  for (size_t i = 0; i < space; ++i) {
+    if (line[i] < '0' || line[i] > '9') return false;
+  }
+  return line.substr(space).starts_with(" more");
+}
+
+// The owner= value of a vehicle line; empty if none.
+std::string_view OwnerOf(std::string_view line) {
+  const size_t at = line.find(" owner=");
+  if (at == std::string_view::npos) return {};
+  const size_t from = at + 7;
+  const size_t end = line.find(' ', from);
+  return line.substr(from, end == std::string_view::npos ? std::string_view::npos : end - from);
+}
+
 }  // namespace
+
+std::string PageVehicleListing(std::string_view listing, const VehiclePage& page) {
+  if (page == VehiclePage{}) return std::string(listing);
+  std::string out;
+  size_t selected = 0, shown = 0;
+  for (size_t from = 0; from < listing.size();) {
+    size_t end = listing.find('\n', from);
+    if (end == std::string_view::npos) end = listing.size();
+    const std::string_view line = listing.substr(from, end - from);
+    from = end + 1;
+    if (line.empty() || IsMoreLine(line)) continue;
+    if (!page.owner.empty() && OwnerOf(line) != page.owner) continue;
+    const size_t index = selected++;
+    if (index < page.offset || (page.limit && shown >= *page.limit)) continue;
+    if (!out.empty()) out += '\n';
+    out += line;
+    ++shown;
+  }
+  const size_t after = selected - std::min(selected, page.offset) - shown;
+  if (after > 0) {
+    if (!out.empty()) out += '\n';
+    out += fmt::format("{} more (--offset {})", after, page.offset + shown);
+  }
+  return out;
+}
 
 Result<std::vector<ListedVehicle>> ParseVehicleListing(std::string_view body) {
   std::vector<ListedVehicle> out;
   std::istringstream in{std::string(body)};
   for (std::string line; std::getline(in, line);) {
-    if (line.empty()) continue;
+    if (line.empty() || IsMoreLine(line)) continue;
     std::istringstream words(line);
     std::vector<std::string> positional;
     std::map<std::string, std::string, std::less<>> keys;

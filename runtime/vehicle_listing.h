@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -37,8 +38,26 @@ struct ListedVehicle {
 std::string VehicleLine(const ListedVehicle& v);
 
 // One entry per line; an error naming the line for anything that is not a vehicle line with
-// every key above (an empty reply is no vehicles).
+// every key above (an empty reply is no vehicles). A page's "<n> more" line is skipped: the
+// entries are the page's.
 Result<std::vector<ListedVehicle>> ParseVehicleListing(std::string_view body);
+
+// A page of a listing (`vehicles [--owner <site:host>] [--offset <n>] [--limit <n> | --all]`): the
+// lines of one owner, or all, from `offset` on, at most `limit` of them. The control socket's
+// default is everything (the drills read whole listings); dt_ctl asks for kDefaultVehicleLimit
+// unless told otherwise, since 30 000 vehicles are 6 MB of lines.
+struct VehiclePage {
+  std::string owner;  // site:host; empty: every owner
+  size_t offset = 0;
+  std::optional<size_t> limit;  // nullopt: every line from offset on
+  bool operator==(const VehiclePage&) const = default;
+};
+inline constexpr size_t kDefaultVehicleLimit = 1000;
+
+// The page of a listing written by VehicleLine: the chosen lines, then, when lines of the
+// selection were left out after the page, "<n> more (--offset <next>)". The whole listing,
+// unchanged, for the default page.
+std::string PageVehicleListing(std::string_view listing, const VehiclePage& page);
 
 // The larger of |pitch| and |roll|, degrees.
 double TiltDeg(const ListedVehicle& v);

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
@@ -55,15 +56,18 @@ ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOp
   poller_ = std::make_unique<ProcessPoller>(polled, options_.poll_period_ms, 1000);
   WebServer::Handlers handlers;
   handlers.snapshot = [this] {
-    nlohmann::json s = model_->Snapshot(WallMs());
-    s["exercise"] = {{"name", exercise_.name},
-                     {"size_x_m", exercise_.terrain_size_x_m()},
-                     {"size_z_m", exercise_.terrain_size_z_m()},
-                     {"silence_ms", exercise_.protocol.silence_ms},
-                     {"view", view_.process.name},
-                     {"commands", options_.allow_commands},
-                     {"nodes", nodes_}};
-    return s.dump();
+    // Under the publish lock: the copy only (docs/view.md "Messages").
+    auto copy = std::make_shared<const SnapshotCopy>(model_->Copy());
+    nlohmann::json extra = {{"exercise",
+                             {{"name", exercise_.name},
+                              {"size_x_m", exercise_.terrain_size_x_m()},
+                              {"size_z_m", exercise_.terrain_size_z_m()},
+                              {"silence_ms", exercise_.protocol.silence_ms},
+                              {"view", view_.process.name},
+                              {"commands", options_.allow_commands},
+                              {"nodes", nodes_}}}};
+    return std::function<std::string()>(
+        [copy, extra = std::move(extra)] { return copy->Text(WallMs(), extra); });
   };
   handlers.message = [this](const std::string& text) { return OnMessage(text); };
   web_ = std::make_unique<WebServer>(view_.http_address, view_.http_port, options_.web_dir,

@@ -123,9 +123,11 @@ void ViewModel::Note(const Change& c, int64_t now_ms, std::vector<Event>& events
       Event parent = e;
       parent.feature = it->second.second.ToString();
       history_[it->second.second].push_back(parent);
+      history_changed_.insert(it->second.second);
     }
   }
   history_[c.id].push_back(e);
+  history_changed_.insert(c.id);
   events.push_back(e);
 }
 
@@ -141,13 +143,16 @@ void ViewModel::Refresh(const std::set<FeatureId>& ids, nlohmann::json& changed,
     }
     nlohmann::json j = FeatureJson(id, it->second);
     if (it->second.params.type == FeatureType::kBridge) bridges_.insert(id);
-    auto& held = features_[id];
-    if (held != j) {
-      held = j;
-      nlohmann::json out = j;
-      nlohmann::json history = nlohmann::json::array();
-      for (const Event& e : history_[id]) history.push_back(e.ToJson());
-      out["history"] = std::move(history);
+    HeldFeature& held = features_[id];
+    const bool fields_changed = held.fields != j;
+    if (!fields_changed && held.text && history_changed_.count(id) == 0) continue;
+    nlohmann::json out = j;
+    nlohmann::json history = nlohmann::json::array();
+    for (const Event& e : history_[id]) history.push_back(e.ToJson());
+    out["history"] = std::move(history);
+    held.text = std::make_shared<const std::string>(out.dump());
+    if (fields_changed) {
+      held.fields = std::move(j);
       changed.push_back(std::move(out));
     }
   }
@@ -175,7 +180,10 @@ void ViewModel::ForgetDropped() {
   }
   if (gone.empty()) return;
   for (auto& [id, history] : history_) {
-    std::erase_if(history, [&](const Event& e) { return gone.count({e.by, e.change_seq}) != 0; });
+    if (std::erase_if(history, [&](const Event& e) {
+          return gone.count({e.by, e.change_seq}) != 0;
+        }) != 0)
+      history_changed_.insert(id);
   }
 }
 
@@ -275,11 +283,15 @@ nlohmann::json ViewModel::Update(int64_t now_ms, const std::vector<ProcessRow>& 
     // records hold is noted (so held) or repaired (everything, above).
     touched.insert(bridges_.begin(), bridges_.end());
   }
+  // A history that changed without its feature's fields (a breach's parent, a dropped change)
+  // still changes the snapshot's text.
+  touched.insert(history_changed_.begin(), history_changed_.end());
   NoteProcesses(now_ms, processes, events);
 
   nlohmann::json delta = {{"type", "delta"}, {"t_ms", now_ms}};
   nlohmann::json changed = nlohmann::json::array(), removed = nlohmann::json::array();
   Refresh(touched, changed, removed);
+  history_changed_.clear();
   if (!changed.empty()) delta["features"] = std::move(changed);
   if (!removed.empty()) delta["removed"] = std::move(removed);
   if (!events.empty()) {
@@ -328,26 +340,49 @@ nlohmann::json ViewModel::Update(int64_t now_ms, const std::vector<ProcessRow>& 
   return delta;
 }
 
-nlohmann::json ViewModel::Snapshot(int64_t now_ms) const {
-  nlohmann::json features = nlohmann::json::array();
-  for (const auto& [id, j] : features_) {
-    nlohmann::json out = j;
-    nlohmann::json history = nlohmann::json::array();
-    auto h = history_.find(id);
-    if (h != history_.end()) {
-      for (const Event& e : h->second) history.push_back(e.ToJson());
-    }
-    out["history"] = std::move(history);
-    features.push_back(std::move(out));
-  }
+SnapshotCopy ViewModel::Copy() const {
+  SnapshotCopy c;
+  c.seq = seq_;
+  c.relief_version = relief_version_;
+  c.features.reserve(features_.size());
+  for (const auto& [id, held] : features_) c.features.push_back(held.text);
   nlohmann::json events = nlohmann::json::array();
   for (const Event& e : events_) events.push_back(e.ToJson());
+  c.events = events.dump();
   nlohmann::json rows = nlohmann::json::array();
   for (const ProcessRow& r : processes_) rows.push_back(r.ToJson());
-  nlohmann::json vs = nlohmann::json::array();
-  for (const auto& [id, v] : vehicles_) vs.push_back(v.view.ToJson());
-  return {{"type", "snapshot"}, {"seq", seq_},       {"t_ms", now_ms}, {"features", features},
-          {"events", events},   {"processes", rows}, {"vehicles", vs}, {"relief", relief_version_}};
+  c.processes = rows.dump();
+  c.vehicles.reserve(vehicles_.size());
+  for (const auto& [id, v] : vehicles_) c.vehicles.push_back(v.view);
+  return c;
+}
+
+std::string SnapshotCopy::Text(int64_t now_ms, const nlohmann::json& extra) const {
+  size_t size = 256 + events.size() + processes.size() + 80 * vehicles.size();
+  for (const auto& f : features) size += f->size() + 1;
+  std::string out;
+  out.reserve(size);
+  out +=
+      R"({"type":"snapshot","seq":)" + std::to_string(seq) + R"(,"t_ms":)" + std::to_string(now_ms);
+  for (const auto& [key, value] : extra.items()) {
+    out += ',' + nlohmann::json(key).dump() + ':' + value.dump();
+  }
+  out += R"(,"features":[)";
+  for (size_t i = 0; i < features.size(); ++i) {
+    if (i != 0) out += ',';
+    out += *features[i];
+  }
+  out += R"(],"events":)" + events + R"(,"processes":)" + processes + R"(,"vehicles":[)";
+  for (size_t i = 0; i < vehicles.size(); ++i) {
+    if (i != 0) out += ',';
+    out += vehicles[i].ToJson().dump();
+  }
+  out += R"(],"relief":)" + std::to_string(relief_version) + '}';
+  return out;
+}
+
+nlohmann::json ViewModel::Snapshot(int64_t now_ms) const {
+  return nlohmann::json::parse(Copy().Text(now_ms, nlohmann::json::object()));
 }
 
 }  // namespace dt

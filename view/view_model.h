@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <unordered_map>
@@ -24,6 +25,21 @@ using MemberNames = std::map<NodeAddress, std::string>;
 // overlapping a lower-ID bridge is kept but not placed), and its history.
 nlohmann::json FeatureJson(FeatureId id, const Record& record);
 
+// What a page opened now needs, copied from the model in a few milliseconds (each feature's text
+// is shared, not copied) so that the view's loop waits only for the copy; the text (tens of
+// megabytes at 10^5 features and 30 000 vehicles) is written from it after the lock is released
+// (docs/view.md "Messages").
+struct SnapshotCopy {
+  uint64_t seq = 0;
+  int relief_version = -1;
+  std::vector<std::shared_ptr<const std::string>> features;  // each feature's JSON with history
+  std::string events;                                        // a JSON array
+  std::string processes;                                     // a JSON array
+  std::vector<VehicleView> vehicles;
+  // The snapshot message: `extra`'s members (the exercise) first, then the copy's.
+  std::string Text(int64_t now_ms, const nlohmann::json& extra) const;
+};
+
 class ViewModel {
  public:
   // `replica` must outlive the model. `events_kept` bounds the event log a late page receives.
@@ -41,7 +57,9 @@ class ViewModel {
   nlohmann::json Update(int64_t now_ms, const std::vector<ProcessRow>& processes,
                         const std::vector<VehicleView>& vehicles, int relief_version);
   // Everything a page opened now needs: every live feature with its history, the event log, the
-  // latest process rows and vehicles.
+  // latest process rows and vehicles. Copy() is what the lock that orders snapshots with the
+  // deltas must cover; Snapshot() is Copy().Text() read back (for tests).
+  SnapshotCopy Copy() const;
   nlohmann::json Snapshot(int64_t now_ms) const;
 
   uint64_t seq() const { return seq_; }
@@ -81,7 +99,14 @@ class ViewModel {
   std::map<NodeAddress, std::set<int64_t>> noted_beyond_;
   uint64_t repairs_seen_ = 0;
   uint64_t drops_seen_ = 0;
-  std::map<FeatureId, nlohmann::json> features_;  // live records as last sent
+  // Live records as last sent: their fields (to tell a change), and their text with history as a
+  // snapshot sends it, rebuilt when either changes so that a snapshot only shares it.
+  struct HeldFeature {
+    nlohmann::json fields;
+    std::shared_ptr<const std::string> text;
+  };
+  std::map<FeatureId, HeldFeature> features_;
+  std::set<FeatureId> history_changed_;  // since the last Update: their text is rebuilt
   std::map<FeatureId, std::vector<Event>> history_;
   std::vector<Event> events_;  // the last events_kept_
   std::vector<ProcessRow> processes_;

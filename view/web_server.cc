@@ -86,9 +86,21 @@ int WebServer::WsConnect(const mg_connection*, void*) { return 0; }  // every pa
 
 void WebServer::WsReady(mg_connection* conn, void* self_ptr) {
   auto* self = static_cast<WebServer*>(self_ptr);
-  std::lock_guard lock(self->mu_);
-  const std::string snapshot = self->handlers_.snapshot();
+  std::function<std::string()> write;
+  {
+    std::lock_guard lock(self->mu_);
+    write = self->handlers_.snapshot();
+    self->opening_[conn];
+  }
+  // civetweb calls this page's close handler on this thread, after this returns: the connection
+  // stays valid while the snapshot is written.
+  const std::string snapshot = write();
   mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_TEXT, snapshot.data(), snapshot.size());
+  std::lock_guard lock(self->mu_);
+  for (const std::string& delta : self->opening_[conn]) {
+    mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_TEXT, delta.data(), delta.size());
+  }
+  self->opening_.erase(conn);
   self->pages_.insert(conn);
 }
 
@@ -107,6 +119,7 @@ void WebServer::WsClose(const mg_connection* conn, void* self_ptr) {
   auto* self = static_cast<WebServer*>(self_ptr);
   std::lock_guard lock(self->mu_);
   self->pages_.erase(const_cast<mg_connection*>(conn));
+  self->opening_.erase(const_cast<mg_connection*>(conn));
 }
 
 void WebServer::Publish(const std::function<std::string()>& make) {
@@ -116,6 +129,7 @@ void WebServer::Publish(const std::function<std::string()>& make) {
   for (mg_connection* c : pages_) {
     mg_websocket_write(c, MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
   }
+  for (auto& [c, waiting] : opening_) waiting.push_back(text);
 }
 
 void WebServer::SetRelief(std::string png_bytes) {

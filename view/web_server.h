@@ -5,9 +5,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <set>
 #include <string>
+#include <vector>
 
 struct mg_context;
 struct mg_connection;
@@ -17,9 +19,12 @@ namespace dt {
 class WebServer {
  public:
   struct Handlers {
-    // The snapshot a page that just connected receives (called under the publish lock, so no
-    // delta is sent between it and the page's registration).
-    std::function<std::string()> snapshot;
+    // The snapshot a page that just connected receives, in two steps: `snapshot` is called under
+    // the publish lock and copies what the page needs (quickly: the view's loop waits for it);
+    // the function it returns writes the message from that copy on the page's own thread, the
+    // lock released. Deltas published meanwhile wait for the page and follow its snapshot, so a
+    // page misses none and sees none twice.
+    std::function<std::function<std::string()>()> snapshot;
     // A message from a page (an operator command); the reply sent back to that page alone.
     // Called on a civetweb thread.
     std::function<std::string(const std::string& message)> message;
@@ -51,6 +56,8 @@ class WebServer {
   Handlers handlers_;
   mutable std::mutex mu_;  // pages_ and everything Publish's and snapshot's callbacks touch
   std::set<mg_connection*> pages_;
+  // Pages whose snapshot is being written, and the deltas published since their copy.
+  std::map<mg_connection*, std::vector<std::string>> opening_;
   std::mutex relief_mu_;
   std::string relief_;
   mg_context* ctx_ = nullptr;

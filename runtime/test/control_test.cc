@@ -85,6 +85,18 @@ TEST(ControlCommandTest, ParsesEveryVerb) {
   for (const char* v : {"status", "digest", "features", "heal", "ping", "quit", "vehicles"}) {
     EXPECT_TRUE(ParseControlCommand(v)) << v;
   }
+  c = ParseControlCommand("vehicles --owner 1:2 --offset 30 --limit 5");
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_EQ(c.value().vehicle_page, (VehiclePage{"1:2", 30, 5}));
+  EXPECT_EQ(ParseControlCommand("vehicles --all").value().vehicle_page, VehiclePage{});
+  EXPECT_EQ(ParseControlCommand("vehicles").value().vehicle_page, VehiclePage{});
+  for (const char* bad :
+       {"vehicles --limit 0", "vehicles --limit", "vehicles --offset -1", "vehicles --owner node-1",
+        "vehicles --limit 5 --all", "vehicles --offset 1 --offset 2", "vehicles everything"}) {
+    EXPECT_FALSE(ParseControlCommand(bad)) << bad;
+  }
+  EXPECT_NE(ParseControlCommand("vehicles --limit x").error().message.find("\"x\""),
+            std::string::npos);
   c = ParseControlCommand("spawn jeep 10 20 90 light");
   ASSERT_TRUE(c) << c.error().message;
   EXPECT_EQ(c.value().verb, ControlVerb::kSpawn);
@@ -186,8 +198,8 @@ TEST(ControlVerbTableTest, UsageIsTheTextItHasAlwaysBeen) {
             "destroy <site:host:number>\n"
             "breach <site:host:number> <gap_start_m> <gap_width_m>\n"
             "drive <vehicle> <speed_mps> <heading_rate_deg_s>\n"
-            "spawn <type> <x_m> <z_m> <heading_deg> [physical|light] | remove <vehicle> | "
-            "vehicles\n"
+            "spawn <type> <x_m> <z_m> <heading_deg> [physical|light] | remove <vehicle>\n"
+            "vehicles [--owner <site:host>] [--offset <n>] [--limit <n> | --all]\n"
             "blade <vehicle> down <depth_m> | blade <vehicle> up\n"
             "status | digest | features | ping | quit\n"
             "render <file.png>\n"

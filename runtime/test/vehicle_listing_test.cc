@@ -1,5 +1,6 @@
 #include "runtime/vehicle_listing.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 namespace dt {
@@ -116,6 +117,64 @@ TEST(VehicleListingTest, RefusesWhatIsNotAVehicleLine) {
             std::string::npos);
   EXPECT_NE(ParseVehicleListing("remote 1:1:1 tank x_m=1").error().message.find("owner"),
             std::string::npos);
+}
+
+// A listing of `n` vehicles whose owners alternate 1:1, 1:2, as a node writes it.
+std::string Listing(int n) {
+  std::string text;
+  for (int i = 0; i < n; ++i) {
+    ListedVehicle v;
+    v.local = i % 2 == 0;
+    v.index = static_cast<size_t>(i);
+    v.entity = fmt::format("1:{}:{}", 1 + i % 2, i);
+    v.type = "truck";
+    v.owner = fmt::format("1:{}", 1 + i % 2);
+    v.x_m = i;
+    text += (text.empty() ? "" : "\n") + VehicleLine(v);
+  }
+  return text;
+}
+
+TEST(VehiclePageTest, TheDefaultPageIsTheWholeListing) {
+  const std::string all = Listing(7);
+  EXPECT_EQ(PageVehicleListing(all, VehiclePage{}), all);
+}
+
+TEST(VehiclePageTest, APageHoldsItsLinesThenHowManyMore) {
+  const std::string all = Listing(10);
+  const std::string page = PageVehicleListing(all, VehiclePage{"", 3, 4});
+  const auto v = ParseVehicleListing(page);
+  ASSERT_TRUE(v) << v.error().message;
+  ASSERT_EQ(v.value().size(), 4u);
+  EXPECT_EQ(v.value()[0].entity, "1:2:3");
+  EXPECT_EQ(v.value()[3].entity, "1:1:6");
+  EXPECT_TRUE(page.ends_with("\n3 more (--offset 7)")) << page;
+  // The last page says nothing more; a page past the end is empty.
+  const std::string last = PageVehicleListing(all, VehiclePage{"", 7, 4});
+  EXPECT_EQ(ParseVehicleListing(last).value().size(), 3u);
+  EXPECT_EQ(last.find("more"), std::string::npos) << last;
+  EXPECT_EQ(PageVehicleListing(all, VehiclePage{"", 12, 4}), "");
+}
+
+TEST(VehiclePageTest, AnOwnerSelectsItsLinesBeforeThePage) {
+  const std::string all = Listing(10);
+  const std::string page = PageVehicleListing(all, VehiclePage{"1:2", 1, 2});
+  const auto v = ParseVehicleListing(page);
+  ASSERT_TRUE(v) << v.error().message;
+  ASSERT_EQ(v.value().size(), 2u);
+  EXPECT_EQ(v.value()[0].entity, "1:2:3");
+  EXPECT_EQ(v.value()[1].entity, "1:2:5");
+  EXPECT_TRUE(page.ends_with("\n2 more (--offset 3)")) << page;
+  EXPECT_EQ(PageVehicleListing(all, VehiclePage{"9:9", 0, std::nullopt}), "");
+}
+
+TEST(VehiclePageTest, ThirtyThousandVehiclesAnswerOnePage) {
+  const std::string all = Listing(30000);
+  const std::string page = PageVehicleListing(all, VehiclePage{"", 0, kDefaultVehicleLimit});
+  EXPECT_EQ(ParseVehicleListing(page).value().size(), kDefaultVehicleLimit);
+  EXPECT_TRUE(page.ends_with(
+      fmt::format("\n{} more (--offset {})", 30000 - kDefaultVehicleLimit, kDefaultVehicleLimit)));
+  EXPECT_LT(page.size() * 20, all.size());
 }
 
 }  // namespace

@@ -1,14 +1,19 @@
 // Benchmarks of the live view's model (view/view_model.h) at exercise scale: the CPU dt_view spends
 // per second building and serialising the page's deltas, and the WebSocket bytes per second of
-// those deltas against sending the full state (a snapshot) with every update (docs/performance.md).
+// those deltas against sending the full state (a snapshot) with every update; and what a page
+// opening costs the view's loop (docs/performance.md).
 #include <time.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -103,6 +108,28 @@ struct Exercise {
   std::vector<FeatureId> ids;
 };
 
+// One exercise per size, kept for the benchmarks after (building 10^5 takes minutes).
+Exercise& ExerciseOf(int features) {
+  static std::map<int, std::unique_ptr<Exercise>> exercises;
+  std::unique_ptr<Exercise>& held = exercises[features];
+  if (!held) held = std::make_unique<Exercise>(features);
+  return *held;
+}
+
+std::vector<VehicleView> Vehicles(int n, double size_m, std::mt19937& rng) {
+  std::vector<VehicleView> vehicles;
+  std::uniform_real_distribution<double> place(0.0, size_m);
+  for (int i = 0; i < n; ++i) {
+    vehicles.push_back({fmt::format("node-{}/{}", 1 + i % 2, i / 2),
+                        fmt::format("node-{}", 1 + i % 2),
+                        i % 3 == 0   ? "tank"
+                        : i % 3 == 1 ? "truck"
+                                     : "jeep",
+                        place(rng), place(rng), 0.1 * (i % 60), 8.0, i % 50 != 0});
+  }
+  return vehicles;
+}
+
 std::vector<ProcessRow> Rows() {
   std::vector<ProcessRow> rows;
   for (const char* name : {"server", "node-1", "node-2"}) {
@@ -128,24 +155,11 @@ void BM_ViewModelSecond(benchmark::State& state) {
   log::Init("bench", "error");
   const int vehicles_n = static_cast<int>(state.range(0));
   const int features_n = static_cast<int>(state.range(1));
-  // One exercise per size, kept for the benchmarks after (building 10^5 takes minutes).
-  static std::map<int, std::unique_ptr<Exercise>> exercises;
-  std::unique_ptr<Exercise>& held = exercises[features_n];
-  if (!held) held = std::make_unique<Exercise>(features_n);
-  Exercise& ex = *held;
+  Exercise& ex = ExerciseOf(features_n);
   ViewModel model(ex.view(), {{kA, "node-1"}, {kB, "node-2"}, {kServer, "server"}});
   const std::vector<ProcessRow> rows = Rows();
-  std::vector<VehicleView> vehicles;
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> place(0.0, 10.0 * ex.per_side);
-  for (int i = 0; i < vehicles_n; ++i) {
-    vehicles.push_back({fmt::format("node-{}/{}", 1 + i % 2, i / 2),
-                        fmt::format("node-{}", 1 + i % 2),
-                        i % 3 == 0   ? "tank"
-                        : i % 3 == 1 ? "truck"
-                                     : "jeep",
-                        place(rng), place(rng), 0.1 * (i % 60), 8.0, i % 50 != 0});
-  }
+  std::vector<VehicleView> vehicles = Vehicles(vehicles_n, 10.0 * ex.per_side, rng);
   int64_t now_ms = 1'000'000;
   if (model.Update(now_ms, rows, vehicles, 1).is_null()) state.SkipWithError("nothing noted");
   if (model.feature_count() != static_cast<size_t>(features_n)) {
@@ -208,6 +222,84 @@ BENCHMARK(BM_ViewModelSecond)
     ->Args({0, 100000})
     ->Args({10000, 1000})
     ->Args({1000, 10000})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->Iterations(5);
+
+// A page opening while the view's loop runs: the loop (a thread of its own, as dt_view's) ticks
+// at kTickHz, each tick taking the publish lock for Update and dump (view/web_server.h Publish)
+// while a third of the vehicles move; each iteration opens one page as WebServer::WsReady does:
+// the model's Copy() under the lock, the snapshot's text after it (range(2) = 0), or, for
+// comparison, the text written under the lock as well (range(2) = 1). The time reported is the
+// snapshot's, from asking for the lock to the text; counters: the time under the lock
+// (locked_ms), the text's size, and the loop's longest wait for the lock and longest tick while
+// pages opened (loop_max_wait_ms, loop_max_tick_ms).
+void BM_PageOpening(benchmark::State& state) {
+  using Clock = std::chrono::steady_clock;
+  const auto ms = [](Clock::duration d) {
+    return std::chrono::duration<double, std::milli>(d).count();
+  };
+  log::Init("bench", "error");
+  const int vehicles_n = static_cast<int>(state.range(0));
+  Exercise& ex = ExerciseOf(static_cast<int>(state.range(1)));
+  const bool text_under_lock = state.range(2) != 0;
+  ViewModel model(ex.view(), {{kA, "node-1"}, {kB, "node-2"}, {kServer, "server"}});
+  const std::vector<ProcessRow> rows = Rows();
+  std::mt19937 rng(5);
+  std::vector<VehicleView> vehicles = Vehicles(vehicles_n, 10.0 * ex.per_side, rng);
+  int64_t now_ms = 1'000'000;
+  model.Update(now_ms, rows, vehicles, 1);
+  std::mutex publish;
+  std::atomic<bool> stop{false};
+  double max_wait_ms = 0, max_tick_ms = 0;
+  std::thread loop([&] {
+    auto next = Clock::now();
+    for (int tick = 0; !stop; ++tick) {
+      next += std::chrono::milliseconds(1000 / kTickHz);
+      for (int i = tick % 3; i < vehicles_n; i += 3) {
+        vehicles[static_cast<size_t>(i)].x_m += 0.1;
+      }
+      const auto asked = Clock::now();
+      {
+        std::lock_guard lock(publish);
+        const auto got = Clock::now();
+        now_ms += 1000 / kTickHz;
+        const nlohmann::json delta = model.Update(now_ms, rows, vehicles, 1);
+        const std::string text = delta.is_null() ? std::string() : delta.dump();
+        benchmark::DoNotOptimize(text.data());
+        max_wait_ms = std::max(max_wait_ms, ms(got - asked));
+      }
+      max_tick_ms = std::max(max_tick_ms, ms(Clock::now() - asked));
+      std::this_thread::sleep_until(next);
+    }
+  });
+  double locked_ms = 0, bytes = 0, n = 0;
+  for (auto _ : state) {
+    const auto asked = Clock::now();
+    std::string text;
+    std::unique_lock lock(publish);
+    const int64_t at_ms = now_ms;
+    const SnapshotCopy copy = model.Copy();
+    if (text_under_lock) text = copy.Text(at_ms, nlohmann::json::object());
+    const auto released = Clock::now();
+    lock.unlock();
+    if (!text_under_lock) text = copy.Text(at_ms, nlohmann::json::object());
+    state.SetIterationTime(std::chrono::duration<double>(Clock::now() - asked).count());
+    locked_ms += ms(released - asked);
+    bytes += static_cast<double>(text.size());
+    ++n;
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the loop ticks between pages
+  }
+  stop = true;
+  loop.join();
+  state.counters["locked_ms"] = locked_ms / n;
+  state.counters["snapshot_MB"] = bytes / n / 1e6;
+  state.counters["loop_max_wait_ms"] = max_wait_ms;
+  state.counters["loop_max_tick_ms"] = max_tick_ms;
+}
+BENCHMARK(BM_PageOpening)
+    ->Args({30000, 100000, 0})
+    ->Args({30000, 100000, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->Iterations(5);

@@ -119,18 +119,19 @@ with sync_playwright() as pw:
           f"{latencies_ms[0]:.0f} ms, median {latencies_ms[len(latencies_ms) // 2]:.0f} ms, max "
           f"{latencies_ms[-1]:.0f} ms")
 
-    # A vehicle marker is drawn in its owner's colour.
-    page.wait_for_function("document.querySelectorAll('#vehicles .vehicle').length >= 1",
-                           timeout=5000)
-    # ... and moves when driven: the delta carries it, and the page moves its marker.
-    mark = "document.querySelector('#vehicles .vehicle')"
-    parked = page.evaluate(f"{mark}.getAttribute('transform')")
+    # A vehicle is drawn (on the map's canvas, in its owner's colour: view_scale_test.py checks
+    # the pixels) ...
+    page.wait_for_function("window.dtView.state.vehicles.size >= 1 && window.dtView.drawn"
+                           " && window.dtView.drawn.vehicles >= 1", timeout=5000)
+    # ... and moves when driven: the delta carries it, and the page's model and drawing follow.
+    first = "[...window.dtView.state.vehicles.values()].find(v => v[1] === 'node-1')"
+    vid, x0, z0 = page.evaluate(f"(() => {{ const v = {first}; return [v[0], v[3], v[4]]; }})()")
+    where = f"window.dtView.state.vehicles.get({json.dumps(vid)})"
     ctl("node-1", "drive", "0", "5", "0")
-    page.wait_for_function(f"{mark}.getAttribute('transform') !== {json.dumps(parked)}",
-                           timeout=10000)
+    page.wait_for_function(f"{where}[3] !== {x0} || {where}[4] !== {z0}", timeout=10000)
     ctl("node-1", "drive", "0", "0", "0")
-    moved = page.evaluate(f"{mark}.getAttribute('transform')")
-    print(f"the vehicle marker moved from {parked} to {moved}")
+    moved = page.evaluate(f"[{where}[3], {where}[4]]")
+    print(f"the vehicle {vid} moved from {x0:.1f}, {z0:.1f} to {moved[0]:.1f}, {moved[1]:.1f}")
 
     # Operator actions (--allow-commands): a crater placed by clicking, as node-1's command, then
     # destroyed from the page; both go through the node, so the server holds the result.

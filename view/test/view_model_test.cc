@@ -57,6 +57,41 @@ TEST_F(ViewModelTest, ALateSnapshotHoldsEveryLiveFeatureWithItsHistory) {
   EXPECT_EQ(s["relief"], 1);
 }
 
+// A page opening takes the copy under the publish lock and writes the text after it: the copy is
+// the model as it was, whatever the loop's ticks change meanwhile, and the text is the snapshot.
+TEST_F(ViewModelTest, ASnapshotCopyIsTheModelWhenItWasTaken) {
+  auto crater = A().Create(FeatureParams::Crater(30, 30, 3));
+  ASSERT_TRUE(crater.ok());
+  cluster_.Start(kView, NodeRole::kObserver);
+  cluster_.Run(1500);
+  ViewModel model(View(), Names());
+  ASSERT_FALSE(
+      model.Update(1000, {}, {{"node-a/0", "node-a", "tank", 1, 2, 0, 0, true}}, 1).is_null());
+  const SnapshotCopy copy = model.Copy();
+  ASSERT_TRUE(A().Modify(crater.value(), FeatureParams::Crater(30, 30, 6)).ok());
+  cluster_.Run(300);
+  ASSERT_FALSE(model.Update(1300, {}, {}, 2).is_null());
+
+  const nlohmann::json then =
+      nlohmann::json::parse(copy.Text(1400, {{"exercise", {{"name", "x"}}}}));
+  EXPECT_EQ(then["type"], "snapshot");
+  EXPECT_EQ(then["t_ms"], 1400);
+  EXPECT_EQ(then["exercise"]["name"], "x");
+  ASSERT_EQ(then["features"].size(), 1u);
+  EXPECT_DOUBLE_EQ(then["features"][0]["radius"].get<double>(), 3.0);
+  EXPECT_EQ(then["features"][0]["history"].size(), 1u);
+  EXPECT_EQ(then["vehicles"].size(), 1u);
+  EXPECT_EQ(then["relief"], 1);
+  EXPECT_LT(then["seq"].get<uint64_t>(), model.seq());
+
+  const nlohmann::json now = model.Snapshot(1500);
+  EXPECT_DOUBLE_EQ(now["features"][0]["radius"].get<double>(), 6.0);
+  EXPECT_EQ(now["features"][0]["history"].size(), 2u);
+  EXPECT_EQ(now["vehicles"].size(), 0u);
+  EXPECT_EQ(now["relief"], 2);
+  EXPECT_EQ(now["seq"], model.seq());
+}
+
 TEST_F(ViewModelTest, ADeltaHoldsWhatChangedAndNothingWhenNothingDid) {
   cluster_.Start(kView, NodeRole::kObserver);
   cluster_.Run(500);

@@ -7,13 +7,18 @@ const state = {
 };
 // For tests and for the curious: when each feature was first drawn (Date.now()), and the
 // sequence of the last message applied.
-window.dtView = { state, drawnAt: {}, appliedSeq: 0, snapshotAt: 0, deltas: 0 };
+window.dtView = { state, drawnAt: {}, appliedSeq: 0, snapshotAt: 0, deltas: 0, frames: 0,
+                  lagMs: 0, maxLagMs: 0, drawn: null,
+                  // The page's own time: applying messages (parse included) and drawing.
+                  cost: { messages: 0, applyMs: 0, draws: 0, drawMs: 0 }, ownerRgb: (n) => ownerRgb(n), vehicleOf };
 
 const $ = (id) => document.getElementById(id);
 function hue(text) {
   let h = 0;
   for (const c of text) h = (h * 31 + c.charCodeAt(0)) >>> 0;
-  return h % 360;
+  // Names that differ in their last letter only (node-1, node-2) would be 1 degree apart: spread
+  // consecutive hashes by the golden angle.
+  return Math.round((h % 360) * 137.508) % 360;
 }
 const ownerColour = (name) => `hsl(${hue(name)}, 80%, 60%)`;
 const digestColour = (d) => (d ? `hsl(${hue(d)}, 70%, 55%)` : "#555");
@@ -37,6 +42,8 @@ function strip(f, from, to, width) {  // a rectangle from..to along the directio
 }
 
 function drawFeature(f) {
+  if (!(f.id in window.dtView.drawnAt)) window.dtView.drawnAt[f.id] = Date.now();
+  if (featuresOnCanvas()) { if (state.selected === f.id) showFeature(); return; }
   const layer = $("features");
   let g = layer.querySelector(`[data-id="${f.id}"]`);
   if (g) g.remove();
@@ -91,42 +98,267 @@ function drawFeature(f) {
                     "stroke-width": 1, "stroke-dasharray": placed }, g);
   }
   g.addEventListener("click", (ev) => { ev.stopPropagation(); select(f.id); });
-  if (!(f.id in window.dtView.drawnAt)) window.dtView.drawnAt[f.id] = Date.now();
   if (state.selected === f.id) { g.classList.add("selected"); showFeature(); }
 }
 function removeFeature(id) {
   const g = $("features").querySelector(`[data-id="${id}"]`);
   if (g) g.remove();
   state.features.delete(id);
+  ++frame.featuresVersion; frame.dirty = true;
   if (state.selected === id) { state.selected = null; showFeature(); }
 }
 
-const vehicleMarks = new Map();  // vehicle ID -> its marker
-// One vehicle's marker, replaced in place when it moves (a delta carries only those that did).
-// A vehicle arrives as [id, owner, type, x, z, heading, speed, alive] (docs/view.md "Messages").
+// ---- vehicles (and features when there are many) on a canvas over the map ----
+// One SVG element per vehicle stalls the page at thousands; the canvas is redrawn at most once
+// per animation frame, from the page's model (docs/view.md "Drawing at scale").
+// A vehicle is kept as its message row, [id, owner, type, x, z, heading, speed, alive].
 function vehicleOf([id, owner, type, x, z, heading, speed, alive]) {
   return { id, owner, type, x, z, heading, speed, alive };
 }
-function drawVehicle(row) {
-  const v = vehicleOf(row);
-  const layer = $("vehicles");
-  const old = vehicleMarks.get(v.id);
-  const s = 12;  // metres: a marker, not the vehicle's size
-  const g = el("g", { class: "vehicle", "data-id": v.id, "data-alive": v.alive ? 1 : 0,
-    transform: `translate(${v.x},${Y(v.z)}) rotate(${-v.heading * 180 / Math.PI})` });
-  el("polygon", { points: `${s},0 ${-s * 0.7},${s * 0.6} ${-s * 0.7},${-s * 0.6}`,
-                  fill: v.alive ? ownerColour(v.owner) : "#666", stroke: "#000" }, g);
-  if (!v.alive) el("path", { d: `M${-s},${-s} L${s},${s} M${-s},${s} L${s},${-s}`,
-                             stroke: "#ff3b2b", "stroke-width": 3 }, g);
-  if (old) old.replaceWith(g); else layer.appendChild(g);
-  vehicleMarks.set(v.id, g);
-  state.vehicles.set(v.id, v);
+const MARKER_PX = 7;          // a marker's half length on the screen, whatever the zoom
+const CELL_PX = 14;           // an aggregate cell's side
+const MARKERS_MAX = 3000;     // more visible than this: per-cell counts
+const MARKER_COVER_MAX = 0.12;  // nor when markers would cover more of the map than this
+const FEATURE_SVG_MAX = 2000;   // more features than this: drawn on the canvas too
+const FEATURE_SHAPES_MAX = 6000;  // more in view than this: a density picture
+function hslRgb(h, s, l) {  // CSS hsl() as [r, g, b], so pixels can be matched exactly
+  const a = s * Math.min(l, 1 - l);
+  const f = (n) => { const k = (n + h / 30) % 12;
+    return Math.round(255 * (l - a * Math.max(-1, Math.min(k - 3, 9 - k, 1)))); };
+  return [f(0), f(8), f(4)];
 }
-function removeVehicle(id) {
-  const g = vehicleMarks.get(id);
-  if (g) g.remove();
-  vehicleMarks.delete(id);
-  state.vehicles.delete(id);
+const rgbCache = new Map();
+function ownerRgb(name) {
+  let c = rgbCache.get(name);
+  if (!c) { c = hslRgb(hue(name), 0.8, 0.6); rgbCache.set(name, c); }
+  return c;
+}
+const css = ([r, g, b]) => `rgb(${r},${g},${b})`;
+const overlay = $("overlay");
+const ctx = overlay.getContext("2d");
+const frame = { dirty: true, viewChangedAt: 0, featuresVersion: 0 };
+const featureCache = { canvas: document.createElement("canvas"), version: -1, t: null,
+                       renderedAt: 0 };
+
+// The map's transform, as the SVG's viewBox (xMidYMid meet) has it: metres per pixel and the
+// map point at the canvas's top left.
+function transform() {
+  const W = overlay.clientWidth, H = overlay.clientHeight, v = state.view;
+  const s = Math.max(v.w / W, v.h / H);
+  return { W, H, s, ox: v.x + (v.w - W * s) / 2, oy: v.y + (v.h - H * s) / 2 };
+}
+function featuresOnCanvas() { return state.features.size > FEATURE_SVG_MAX; }
+function setVehicle(row) { state.vehicles.set(row[0], row); frame.dirty = true; }
+function removeVehicle(id) { state.vehicles.delete(id); frame.dirty = true; }
+
+// Features as a few batched paths, culled to the rectangle [x0, x1] x [y0, y1] (map y).
+function paintFeatures(c, t, x0, y0, x1, y1) {
+  const px = (x) => (x - t.ox) / t.s, py = (y) => (y - t.oy) / t.s;
+  const craters = new Path2D(), dashed = new Path2D(), strips = new Path2D(),
+        bridges = new Path2D(), broken = new Path2D(), others = new Path2D();
+  const poly = (path, pts) => {
+    pts.forEach(([x, z], i) => (i ? path.lineTo(px(x), py(Y(z))) : path.moveTo(px(x), py(Y(z)))));
+    path.closePath();
+  };
+  const stripPts = (f, from, to, width) => {
+    const nx = -Math.sin(f.dir) * width / 2, nz = Math.cos(f.dir) * width / 2;
+    const [ax, az] = along(f, from), [bx, bz] = along(f, to);
+    return [[ax + nx, az + nz], [bx + nx, bz + nz], [bx - nx, bz - nz], [ax - nx, az - nz]];
+  };
+  const inView = [];
+  for (const f of state.features.values()) {
+    const reach = f.radius || f.length || f.span || 50;
+    const y = Y(f.z);
+    if (f.x + reach < x0 || f.x - reach > x1 || y + reach < y0 || y - reach > y1) continue;
+    inView.push(f);
+  }
+  // Too many outlines to draw, or to read: a density picture of all but the bridges.
+  featureCache.mode = inView.length > FEATURE_SHAPES_MAX ? "density" : "shapes";
+  if (featureCache.mode === "density") paintDensity(c, t, inView);
+  for (const f of inView) {
+    const y = Y(f.z);
+    if (featureCache.mode === "density" && f.type !== "bridge") continue;
+    if (f.type === "crater") {
+      const r = Math.max(f.radius / t.s, 1.5), path = f.placed ? craters : dashed;
+      path.moveTo(px(f.x) + r, py(y));
+      path.arc(px(f.x), py(y), r, 0, 2 * Math.PI);
+    } else if (f.type === "berm") {
+      poly(f.placed ? strips : dashed, stripPts(f, 0, f.length, Math.max(f.width, 2 * t.s)));
+    } else if (f.type === "bridge") {
+      poly(f.status === "destroyed" ? broken : bridges, stripPts(f, 0, f.span, f.width));
+    } else if (f.points) {
+      const pts = f.points.map(([x, z]) => [x, z]);
+      if (f.type === "area") poly(others, pts);
+      else pts.forEach(([x, z], i) => (i ? others.lineTo(px(x), py(Y(z)))
+                                         : others.moveTo(px(x), py(Y(z)))));
+    }
+  }
+  c.lineWidth = 1;
+  c.fillStyle = "rgba(90,60,30,0.35)"; c.strokeStyle = "#ffb060";
+  c.fill(craters); c.stroke(craters);
+  c.fillStyle = "rgba(200,170,90,0.4)"; c.strokeStyle = "#e8d080";
+  c.fill(strips); c.stroke(strips);
+  c.fillStyle = "rgba(120,200,255,0.45)"; c.strokeStyle = "#80d0ff";
+  c.fill(bridges); c.stroke(bridges);
+  c.fillStyle = "rgba(255,60,40,0.25)"; c.strokeStyle = "#ff3b2b";
+  c.fill(broken); c.stroke(broken);
+  c.strokeStyle = "#a0c0ff"; c.stroke(others);
+  c.setLineDash([4, 3]); c.strokeStyle = "#ffb060"; c.stroke(dashed); c.setLineDash([]);
+}
+
+// Features as 3-pixel bins, each in the colour of the kind with most features there (craters
+// orange, berms sand, the rest blue-grey), more opaque the more it holds.
+function paintDensity(c, t, list) {
+  const B = 3, w = Math.ceil(c.canvas.width / B), h = Math.ceil(c.canvas.height / B);
+  const kinds = new Uint16Array(w * h * 3);
+  for (const f of list) {
+    const i = Math.floor((f.x - t.ox) / t.s / B), j = Math.floor((Y(f.z) - t.oy) / t.s / B);
+    if (i < 0 || j < 0 || i >= w || j >= h) continue;
+    const k = f.type === "crater" ? 0 : f.type === "berm" || f.type === "berm_line" ? 1 : 2;
+    ++kinds[(j * w + i) * 3 + k];
+  }
+  const colours = [[255, 176, 96], [232, 208, 128], [160, 192, 255]];
+  const img = new ImageData(w, h);
+  for (let b = 0; b < w * h; ++b) {
+    const n = kinds[b * 3] + kinds[b * 3 + 1] + kinds[b * 3 + 2];
+    if (!n) continue;
+    const k = kinds[b * 3] >= kinds[b * 3 + 1] && kinds[b * 3] >= kinds[b * 3 + 2] ? 0
+      : kinds[b * 3 + 1] >= kinds[b * 3 + 2] ? 1 : 2;
+    img.data.set([...colours[k], Math.min(230, 70 + 40 * n)], b * 4);
+  }
+  const small = document.createElement("canvas");
+  small.width = w; small.height = h;
+  small.getContext("2d").putImageData(img, 0, 0);
+  c.imageSmoothingEnabled = false;
+  c.drawImage(small, 0, 0, w * B, h * B);
+}
+
+// The features layer is rendered into a cache 1.5 times the map's size when the view rests or
+// the features changed (at most twice a second), and only moved and scaled while the operator
+// pans and zooms: re-drawing 10^5 outlines every frame would not hold the frame rate.
+function drawFeatureCache(now, t) {
+  const restful = now - frame.viewChangedAt > 150;
+  const stale = featureCache.version !== frame.featuresVersion && now - featureCache.renderedAt > 500;
+  const was = featureCache.tView;
+  const moved = !was || was.s !== t.s || was.ox !== t.ox || was.oy !== t.oy || was.W !== t.W ||
+    was.H !== t.H;
+  if ((restful && moved) || stale || !featureCache.t) {
+    const c = featureCache.canvas;
+    c.width = Math.ceil(t.W * 1.5); c.height = Math.ceil(t.H * 1.5);
+    // The cache's own transform: the map's, shifted by a quarter of the map either way.
+    const ct = { ...t, ox: t.ox - t.W * 0.25 * t.s, oy: t.oy - t.H * 0.25 * t.s };
+    const g = c.getContext("2d");
+    g.clearRect(0, 0, c.width, c.height);
+    paintFeatures(g, ct, ct.ox, ct.oy, ct.ox + c.width * t.s, ct.oy + c.height * t.s);
+    featureCache.t = ct; featureCache.tView = t; featureCache.version = frame.featuresVersion;
+    featureCache.renderedAt = now;
+  }
+  const ct = featureCache.t, k = ct.s / t.s;
+  ctx.drawImage(featureCache.canvas, (ct.ox - t.ox) / t.s, (ct.oy - t.oy) / t.s,
+                featureCache.canvas.width * k, featureCache.canvas.height * k);
+}
+
+// The vehicles in view: each as an oriented marker in its owner's colour (dead: grey with a red
+// cross) while they are few enough to leave the ground readable; otherwise one square per cell
+// of the screen in the colour of the owner with most vehicles there, sized by the count, with a
+// red corner when any of them is dead.
+function drawVehicles(t) {
+  const visible = [];
+  const x0 = t.ox, y0 = t.oy, x1 = t.ox + t.W * t.s, y1 = t.oy + t.H * t.s;
+  for (const v of state.vehicles.values()) {
+    const y = state.size_z - v[4];
+    if (v[3] >= x0 && v[3] <= x1 && y >= y0 && y <= y1) visible.push(v);
+  }
+  const cover = visible.length * MARKER_PX * MARKER_PX * 1.4 / (t.W * t.H);
+  const drawn = { mode: "markers", vehicles: visible.length, marks: 0, dead: 0 };
+  if (visible.length <= MARKERS_MAX && cover <= MARKER_COVER_MAX) {
+    const byOwner = new Map(), dead = new Path2D(), crosses = new Path2D();
+    const s = MARKER_PX;
+    for (const v of visible) {
+      const x = (v[3] - t.ox) / t.s, y = (state.size_z - v[4] - t.oy) / t.s;
+      const c = Math.cos(-v[5]), n = Math.sin(-v[5]);
+      const pt = (a, b) => [x + a * c - b * n, y + a * n + b * c];
+      let path = dead;
+      if (v[7]) {
+        path = byOwner.get(v[1]);
+        if (!path) { path = new Path2D(); byOwner.set(v[1], path); }
+      } else {
+        crosses.moveTo(x - s, y - s); crosses.lineTo(x + s, y + s);
+        crosses.moveTo(x - s, y + s); crosses.lineTo(x + s, y - s);
+        ++drawn.dead;
+      }
+      const [ax, ay] = pt(s, 0), [bx, by] = pt(-s * 0.7, s * 0.6), [cx, cy] = pt(-s * 0.7, -s * 0.6);
+      path.moveTo(ax, ay); path.lineTo(bx, by); path.lineTo(cx, cy); path.closePath();
+    }
+    ctx.lineWidth = 1; ctx.strokeStyle = "#000";
+    for (const [owner, path] of byOwner) {
+      ctx.fillStyle = css(ownerRgb(owner)); ctx.fill(path); ctx.stroke(path);
+    }
+    ctx.fillStyle = "#666"; ctx.fill(dead); ctx.stroke(dead);
+    ctx.strokeStyle = "#ff3b2b"; ctx.lineWidth = 2; ctx.stroke(crosses);
+    drawn.marks = visible.length;
+  } else {
+    drawn.mode = "cells";
+    // Counts per cell and owner in typed arrays: no allocation per vehicle at 30 000 a frame.
+    const cols = Math.ceil(t.W / CELL_PX), rows = Math.ceil(t.H / CELL_PX);
+    const owners = [], ownerIndex = new Map();
+    for (const v of visible) {
+      if (!ownerIndex.has(v[1])) { ownerIndex.set(v[1], owners.length); owners.push(v[1]); }
+    }
+    const k = owners.length, counts = new Uint32Array(cols * rows * k);
+    const totals = new Uint32Array(cols * rows), dead = new Uint32Array(cols * rows);
+    for (const v of visible) {
+      const i = Math.min(cols - 1, Math.floor((v[3] - t.ox) / t.s / CELL_PX)),
+            j = Math.min(rows - 1, Math.floor((state.size_z - v[4] - t.oy) / t.s / CELL_PX));
+      const cell = j * cols + i;
+      ++totals[cell];
+      ++counts[cell * k + ownerIndex.get(v[1])];
+      if (!v[7]) ++dead[cell];
+    }
+    let most = 1;
+    for (let c = 0; c < totals.length; ++c) most = Math.max(most, totals[c]);
+    const byOwner = owners.map(() => new Path2D()), deadMarks = new Path2D();
+    let cells = 0;
+    for (let c = 0; c < totals.length; ++c) {
+      if (!totals[c]) continue;
+      ++cells;
+      let owner = 0;
+      for (let o = 1; o < k; ++o) if (counts[c * k + o] > counts[c * k + owner]) owner = o;
+      // Between 4 px and the cell less a 4 px gap, by the square root of the count: the ground
+      // shows between cells however dense they are.
+      const side = Math.round(4 + (CELL_PX - 8) * Math.sqrt(totals[c] / most));
+      const x = (c % cols) * CELL_PX + Math.round((CELL_PX - side) / 2),
+            y = Math.floor(c / cols) * CELL_PX + Math.round((CELL_PX - side) / 2);
+      byOwner[owner].rect(x, y, side, side);
+      if (dead[c]) { deadMarks.rect(x + side - 3, y, 3, 3); drawn.dead += dead[c]; }
+    }
+    owners.forEach((o, i) => { ctx.fillStyle = css(ownerRgb(o)); ctx.fill(byOwner[i]); });
+    ctx.fillStyle = "#ff3b2b"; ctx.fill(deadMarks);
+    drawn.marks = cells;
+  }
+  return drawn;
+}
+function drawSelected(t) {
+  const f = state.selected && state.features.get(state.selected);
+  if (!f || !featuresOnCanvas()) return;
+  const r = Math.max((f.radius || f.length || f.span || 10) / t.s, 6);
+  ctx.strokeStyle = "#ffff00"; ctx.lineWidth = 3;
+  ctx.beginPath(); ctx.arc((f.x - t.ox) / t.s, (Y(f.z) - t.oy) / t.s, r, 0, 2 * Math.PI); ctx.stroke();
+}
+function drawFrame(now) {
+  const W = overlay.clientWidth, H = overlay.clientHeight;
+  if (overlay.width !== W || overlay.height !== H) { overlay.width = W; overlay.height = H; }
+  const t = transform();
+  ctx.clearRect(0, 0, W, H);
+  if (featuresOnCanvas()) drawFeatureCache(now, t);
+  drawSelected(t);
+  const drawn = drawVehicles(t);
+  drawn.features = state.features.size;
+  drawn.featureMode = featuresOnCanvas() ? featureCache.mode : "svg";
+  window.dtView.drawn = drawn;
+  $("vehiclemode").textContent = drawn.mode === "cells"
+    ? `${drawn.vehicles} in view, per ${CELL_PX}-pixel cell (zoom in for markers)`
+    : `${drawn.vehicles} in view`;
 }
 
 function ago(ms) { return ms < 0 ? "never" : `${(ms / 1000).toFixed(1)} s`; }
@@ -184,12 +416,25 @@ function addEvents(events) {
   while (list.children.length > 500) list.lastChild.remove();
 }
 
+// The feature under a click when features are on the canvas: the nearest whose extent (a
+// crater's radius, a berm's or bridge's length) holds the point, or within 8 pixels of it.
+function featureAt(ev) {
+  const [x, y, scale] = toMap(ev);
+  let best = null, bestD = Infinity;
+  for (const f of state.features.values()) {
+    const d = Math.hypot(f.x - x, Y(f.z) - y);
+    const reach = Math.max(f.radius || f.length || f.span || 0, 8 * scale);
+    if (d <= reach && d < bestD) { best = f.id; bestD = d; }
+  }
+  return best;
+}
 function select(id) {
   const old = $("features").querySelector(".selected");
   if (old) old.classList.remove("selected");
   state.selected = id;
   const g = id && $("features").querySelector(`[data-id="${id}"]`);
   if (g) g.classList.add("selected");
+  frame.dirty = true;
   showFeature();
 }
 function showFeature() {
@@ -207,8 +452,19 @@ function showFeature() {
   $("feature").appendChild(pre);
 }
 
+// Features go to the SVG while they are few (each clickable, styled by CSS) and to the canvas
+// when there are more than FEATURE_SVG_MAX; crossing that number moves them all.
+let svgFeatures = true;
 function applyFeatures(list) {
-  for (const f of list) { state.features.set(f.id, f); drawFeature(f); }
+  for (const f of list) state.features.set(f.id, f);
+  if (svgFeatures !== !featuresOnCanvas()) {
+    svgFeatures = !featuresOnCanvas();
+    $("features").replaceChildren();
+    for (const f of state.features.values()) drawFeature(f);
+  } else {
+    for (const f of list) drawFeature(f);
+  }
+  ++frame.featuresVersion; frame.dirty = true;
 }
 function setRelief(version) {
   if (version < 0) return;
@@ -228,15 +484,14 @@ function onSnapshot(s) {
   applyView();
   $("features").replaceChildren();
   state.features.clear();
+  svgFeatures = true;
   applyFeatures(s.features);
   $("events").replaceChildren();
   addEvents(s.events);
   state.processes = s.processes;
-  drawProcesses();
-  $("vehicles").replaceChildren();
-  vehicleMarks.clear();
+  processesDirty = true;
   state.vehicles.clear();
-  s.vehicles.forEach(drawVehicle);
+  s.vehicles.forEach(setVehicle);
   setRelief(s.relief);
   if (s.exercise.commands) setUpOperator(s.exercise.nodes);
   window.dtView.snapshotAt = Date.now();
@@ -245,14 +500,19 @@ function onDelta(d) {
   if (d.removed) d.removed.forEach(removeFeature);
   if (d.features) applyFeatures(d.features);
   if (d.events) addEvents(d.events);
-  if (d.processes) { state.processes = d.processes; drawProcesses(); }
+  if (d.processes) { state.processes = d.processes; processesDirty = true; }
   if (d.vehicles_removed) d.vehicles_removed.forEach(removeVehicle);
-  if (d.vehicles) d.vehicles.forEach(drawVehicle);
+  if (d.vehicles) d.vehicles.forEach(setVehicle);
   if (d.relief !== undefined) setRelief(d.relief);
   window.dtView.deltas++;
 }
-function onMessage(ev) {
-  const m = JSON.parse(ev.data);
+// Messages are queued as they arrive and applied once per animation frame, all of them at once:
+// a vehicle moved by several queued deltas is drawn once, at its latest place, and the page's
+// work per frame does not grow with the message rate (docs/view.md "Drawing at scale").
+const inbox = [];
+let processesDirty = false;
+function onMessage(ev) { inbox.push(ev.data); }
+function applyMessage(m) {
   if (m.type === "snapshot") onSnapshot(m);
   else if (m.type === "delta") onDelta(m);
   else if (m.type === "reply") {
@@ -260,9 +520,39 @@ function onMessage(ev) {
     window.dtView.lastReply = m;
   }
   if (m.seq !== undefined) window.dtView.appliedSeq = m.seq;
-  $("stats").textContent = `${state.features.size} features, ${state.vehicles.size} vehicles,` +
-    ` message ${window.dtView.appliedSeq}, ${Date.now() - m.t_ms} ms after it was sent`;
+  if (m.t_ms !== undefined) {
+    const lag = Date.now() - m.t_ms;
+    window.dtView.lagMs = lag;
+    window.dtView.maxLagMs = Math.max(window.dtView.maxLagMs || 0, lag);
+  }
 }
+function tick(now) {
+  const cost = window.dtView.cost;
+  const t0 = performance.now();
+  if (inbox.length) {
+    const batch = inbox.splice(0, inbox.length);
+    for (const text of batch) applyMessage(JSON.parse(text));
+    cost.messages += batch.length;
+    if (processesDirty) { drawProcesses(); processesDirty = false; }
+    $("stats").textContent = `${state.features.size} features, ${state.vehicles.size} vehicles,` +
+      ` message ${window.dtView.appliedSeq}, ${window.dtView.lagMs} ms after it was sent`;
+  }
+  // A resting view whose feature cache is older than the view is drawn once more.
+  const cacheBehind = featuresOnCanvas() && (featureCache.version !== frame.featuresVersion ||
+    featureCache.tView !== undefined && now - frame.viewChangedAt > 150 &&
+    featureCache.renderedAt < frame.viewChangedAt);
+  const t1 = performance.now();
+  if ((frame.dirty || cacheBehind) && state.view) {
+    frame.dirty = false;
+    drawFrame(now);
+    ++cost.draws;
+  }
+  cost.applyMs += t1 - t0;
+  cost.drawMs += performance.now() - t1;
+  ++window.dtView.frames;
+  requestAnimationFrame(tick);
+}
+requestAnimationFrame(tick);
 function connect() {
   const ws = new WebSocket(`ws://${location.host}/ws`);
   state.ws = ws;
@@ -279,7 +569,10 @@ function connect() {
 function applyView() {
   const v = state.view;
   $("map").setAttribute("viewBox", `${v.x} ${v.y} ${v.w} ${v.h}`);
+  frame.dirty = true;
+  frame.viewChangedAt = performance.now();
 }
+window.addEventListener("resize", () => { frame.dirty = true; });
 function toMap(ev) {
   const r = $("map").getBoundingClientRect(), v = state.view;
   const scale = Math.max(v.w / r.width, v.h / r.height);
@@ -323,7 +616,10 @@ function setUpOperator(nodes) {
 $("map").addEventListener("click", (ev) => {
   if (drag && drag.moved) return;
   const tool = $("op-tool").value;
-  if (!tool || !state.exercise || !state.exercise.commands) { select(null); return; }
+  if (!tool || !state.exercise || !state.exercise.commands) {
+    select(featuresOnCanvas() ? featureAt(ev) : null);
+    return;
+  }
   const [x, y] = toMap(ev), z = state.size_z - y;
   const size = +$("op-size").value, dir = +$("op-dir").value, node = $("op-node").value;
   if (tool === "crater") send({ op: "crater", node, x, z, radius: size });

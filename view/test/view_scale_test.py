@@ -1,0 +1,170 @@
+#!/usr/bin/env python3
+"""The live view's page at exercise scale, in headless chromium (Playwright).
+
+A synthetic feed (synthetic_feed.py: dt_view's messages, without the nodes that would drive so
+many vehicles) sends a snapshot and 30 deltas a second for N vehicles of three owners and M
+features. Asserted: the page's model holds all N; at the whole terrain every one is drawn (the
+page's count of what it drew) and the canvas holds owner-colour pixels for every mark it drew and
+for every owner; zoomed in, the vehicles in view (counted here from the page's model and view) are
+drawn one marker each, and the pixels hold them. Printed, not asserted (speed is a benchmark's to
+measure): frames per second, the worst frame and the page's lag behind its messages over 10 s of
+panning and zooming, and the feed's bytes per second. Exits 77 (skipped) when playwright or
+chromium is not installed. Run inside tests/run_in_netns.sh.
+
+  view_scale_test.py <vehicles> <features> <run_dir> [<seconds of panning>]
+"""
+import os
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import synthetic_feed  # noqa: E402
+
+CHROMIUM = "/usr/bin/chromium"
+PORT = 8482
+
+
+def skip(why):
+    print(f"SKIP: {why}")
+    sys.exit(77)
+
+
+def fail(why):
+    print(f"FAIL: {why}")
+    sys.exit(1)
+
+
+try:
+    from playwright.sync_api import sync_playwright
+except ImportError:
+    skip("the playwright Python module is not installed (scripts/setup.sh installs it)")
+if not os.access(CHROMIUM, os.X_OK):
+    skip(f"{CHROMIUM} is not installed (Debian package chromium; scripts/setup.sh installs it)")
+
+vehicles, features, run_dir = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
+pan_s = float(sys.argv[4]) if len(sys.argv) > 4 else 10.0
+os.makedirs(run_dir, exist_ok=True)
+built = time.monotonic()
+server = synthetic_feed.serve(PORT, os.path.join(HERE, "../web"), vehicles, features)
+
+# Owner-colour pixels of the overlay canvas: exact matches (fills are opaque, edges blend), per
+# owner, with the page's own colours.
+COUNT_PIXELS = """() => {
+  const c = document.getElementById('overlay');
+  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+  const owners = ['node-1', 'node-2', 'node-3'];
+  const rgb = owners.map(o => window.dtView.ownerRgb(o));
+  const counts = Object.fromEntries(owners.map(o => [o, 0]));
+  for (let i = 0; i < d.length; i += 4) {
+    for (let k = 0; k < rgb.length; ++k) {
+      const [r, g, b] = rgb[k];
+      if (Math.abs(d[i] - r) <= 2 && Math.abs(d[i + 1] - g) <= 2 && Math.abs(d[i + 2] - b) <= 2) {
+        ++counts[owners[k]]; break;
+      }
+    }
+  }
+  return counts;
+}"""
+
+# The vehicles in the page's view, counted from its model and view box here (as the SVG's
+# viewBox places them), not by the page's drawing code.
+IN_VIEW = """() => {
+  const st = window.dtView.state, v = st.view, c = document.getElementById('overlay');
+  const s = Math.max(v.w / c.clientWidth, v.h / c.clientHeight);
+  const x0 = v.x + (v.w - c.clientWidth * s) / 2, y0 = v.y + (v.h - c.clientHeight * s) / 2;
+  let n = 0;
+  for (const r of st.vehicles.values()) {
+    const y = st.size_z - r[4];
+    if (r[3] >= x0 && r[3] <= x0 + c.clientWidth * s && y >= y0 && y <= y0 + c.clientHeight * s) ++n;
+  }
+  return n;
+}"""
+
+with sync_playwright() as pw:
+    browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True, args=["--no-sandbox"])
+    try:
+        page = browser.new_page(viewport={"width": 1600, "height": 1000})
+        page.goto(f"http://127.0.0.1:{PORT}/")
+        page.wait_for_function("window.dtView.snapshotAt > 0", timeout=120000)
+        print(f"the page received its snapshot {time.monotonic() - built:.1f} s after start")
+        held = page.evaluate("window.dtView.state.vehicles.size")
+        if held != vehicles:
+            fail(f"the page's model holds {held} vehicles, not {vehicles}")
+        page.wait_for_function(f"window.dtView.drawn && window.dtView.drawn.vehicles === {vehicles}"
+                               f" && window.dtView.drawn.features === {features}", timeout=20000)
+        drawn = page.evaluate("window.dtView.drawn")
+        pixels = page.evaluate(COUNT_PIXELS)
+        page.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-whole.png"))
+        print(f"whole terrain: model {held} vehicles, drawn {drawn}, owner pixels {pixels}")
+        # Each mark (a marker, or a cell's square of at least 4 x 4 pixels) shows at least 4 pure
+        # pixels of its owner's colour; every owner shows.
+        if sum(pixels.values()) < 4 * drawn["marks"] or min(pixels.values()) == 0:
+            fail(f"{drawn['marks']} marks drawn but the canvas holds {pixels} owner pixels")
+
+        # Zoomed in until the vehicles in view are drawn one marker each.
+        box = page.locator("#map").bounding_box()
+        cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        page.mouse.move(cx, cy)
+        for _ in range(40):
+            if page.evaluate("window.dtView.drawn.mode") == "markers":
+                break
+            page.mouse.wheel(0, -120)
+            page.wait_for_timeout(30)
+        page.wait_for_function("window.dtView.drawn.mode === 'markers'", timeout=5000)
+        page.wait_for_timeout(200)
+        in_view = page.evaluate(IN_VIEW)
+        drawn = page.evaluate("window.dtView.drawn")
+        pixels = page.evaluate(COUNT_PIXELS)
+        page.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-markers.png"))
+        print(f"zoomed in: {in_view} vehicles in view, drawn {drawn}, owner pixels {pixels}")
+        # The view moves with the vehicles between the two reads: allow the few that crossed its
+        # edge meanwhile.
+        if in_view < 10 or abs(drawn["marks"] - in_view) > max(5, in_view // 20):
+            fail(f"{in_view} vehicles in view, {drawn['marks']} markers drawn")
+        live_marks = drawn["marks"] - drawn["dead"]
+        if sum(pixels.values()) < 3 * live_marks:
+            fail(f"{live_marks} live markers drawn but the canvas holds {pixels} owner pixels")
+
+        # Back to the whole terrain, then 10 s of panning and zooming, timed by the page's own
+        # animation frames.
+        for _ in range(60):
+            page.mouse.wheel(0, 120)
+            page.wait_for_timeout(10)
+        page.evaluate("""() => { const d = window.dtView; d.maxLagMs = 0; d.frameMs = [];
+            d.cost = {messages: 0, applyMs: 0, draws: 0, drawMs: 0};
+            d.lags = []; let last = performance.now();
+            const rec = (t) => { d.frameMs.push(t - last); last = t; d.lags.push(d.lagMs);
+                                 if (!d.stopRecording) requestAnimationFrame(rec); };
+            requestAnimationFrame(rec); }""")
+        feed = server.feeds["feed"]
+        sent0, t0 = feed.sent_bytes, time.monotonic()
+        step = 0
+        while time.monotonic() - t0 < pan_s:
+            page.mouse.move(cx, cy)
+            page.mouse.down()
+            page.mouse.move(cx + 200 * ((step % 4) - 1.5), cy + 120 * ((step % 3) - 1), steps=12)
+            page.mouse.up()
+            page.mouse.wheel(0, -240 if step % 6 < 3 else 240)
+            step += 1
+        rate = (feed.sent_bytes - sent0) / (time.monotonic() - t0)
+        stats = page.evaluate("""() => { const d = window.dtView; d.stopRecording = true;
+            const f = d.frameMs.slice(1), lags = d.lags.slice().sort((a, b) => a - b);
+            const total = f.reduce((a, b) => a + b, 0);
+            return {frames: f.length, fps: 1000 * f.length / total, worst: Math.max(...f),
+                    lag_median: lags[Math.floor(lags.length / 2)], lag_max: d.maxLagMs,
+                    mode: d.drawn.mode, cost: d.cost, ms: total}; }""")
+        load = os.getloadavg()
+        print(f"{vehicles} vehicles, {features} features, {pan_s:.0f} s of panning and zooming: "
+              f"{stats['fps']:.1f} fps over {stats['frames']} frames, worst frame "
+              f"{stats['worst']:.0f} ms, lag median {stats['lag_median']} ms max "
+              f"{stats['lag_max']} ms, feed {rate / 1e6:.2f} MB/s, load average "
+              f"{load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
+        c = stats["cost"]
+        print(f"the page's time over {stats['ms'] / 1000:.1f} s: {c['messages']} messages applied "
+              f"in {c['applyMs']:.0f} ms, {c['draws']} frames drawn in {c['drawMs']:.0f} ms")
+        page.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-after.png"))
+    finally:
+        browser.close()
+        server.shutdown()
+print("PASS")

@@ -220,6 +220,10 @@ void HostNetwork::RemoveStale() {
     }
     const pid_t pid = static_cast<pid_t>(std::stol(digits));
     if (pid == getpid() || kill(pid, 0) == 0 || errno != ESRCH) continue;
+    // Its launcher died without stopping them: what still runs on the host goes with it.
+    auto [rc, out] = Run({"ip", "netns", "pids", name});
+    std::stringstream pids(out);
+    for (pid_t p; rc == 0 && pids >> p;) kill(p, SIGKILL);
     (void)Run({"ip", "netns", "del", name});
   }
 }

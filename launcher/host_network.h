@@ -63,7 +63,8 @@ class HostNetwork {
   // std::invalid_argument for memq, which cannot span hosts.
   std::string CarrierUrl(const std::string& url, const std::filesystem::path& dir) const;
 
-  // Removes namespaces named dt<pid>-* whose launcher is no longer running.
+  // Removes namespaces named dt<pid>-* whose launcher is no longer running, SIGKILLing the
+  // processes left on them (a launcher killed by SIGKILL could not stop its children).
   static void RemoveStale();
 
  private:

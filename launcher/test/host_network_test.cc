@@ -2,7 +2,12 @@
 // a LAN and a WAN made, cut, healed and removed.
 #include "launcher/host_network.h"
 
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
 
 #include <filesystem>
 #include <stdexcept>
@@ -23,6 +28,17 @@ ExerciseConfig Exercise(const std::string& mode) {
   ExerciseConfig e = ParseExerciseConfig(kExercise, "e.toml", "/base");
   ApplyHostsOverride(e, mode);
   return e;
+}
+
+// What a shell command prints.
+std::string Output(const std::string& command) {
+  std::string out;
+  FILE* p = popen(command.c_str(), "r");
+  if (p == nullptr) return out;
+  char buf[512];
+  while (fgets(buf, sizeof buf, p) != nullptr) out += buf;
+  pclose(p);
+  return out;
 }
 
 bool NamespaceExists(const std::string& ns) {
@@ -72,9 +88,18 @@ TEST(HostNetworkTest, LanIsMadeCutHealedAndRemoved) {
     EXPECT_EQ(net.OnHost("node-1", {"dt_node", "--name", "node-1"}),
               (std::vector<std::string>{"ip", "netns", "exec", net.Namespace("node-1"), "dt_node",
                                         "--name", "node-1"}));
-    EXPECT_NO_THROW(net.Cut({"node-1"}, {"server", "node-2"}));
-    EXPECT_NO_THROW(net.Cut({"server", "node-2"}, {"node-1"}));  // a LAN splits its bridge
-    EXPECT_NO_THROW(net.Heal());
+    // Bridge ports are p<i>, i in the exercise's order: server p0, node-1 p1, node-2 p2.
+    const std::string lan = "dt" + std::to_string(getpid()) + "-lan";
+    auto port = [&](const std::string& p) { return Output("ip -n " + lan + " -o link show " + p); };
+    EXPECT_NE(port("p1").find("master br0 state UP"), std::string::npos) << port("p1");
+    net.Cut({"node-1"}, {"server", "node-2"});
+    EXPECT_NE(port("p1").find("state DOWN"), std::string::npos) << port("p1");
+    net.Cut({"server", "node-2"}, {"node-1"});  // a LAN splits its bridge
+    EXPECT_NE(port("p2").find("master br1"), std::string::npos) << port("p2");
+    net.Heal();
+    for (const char* p : {"p0", "p1", "p2"}) {
+      EXPECT_NE(port(p).find("master br0 state UP"), std::string::npos) << port(p);
+    }
     const std::filesystem::path dir =
         std::filesystem::temp_directory_path() / ("dt-hosts-test-" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);
@@ -98,6 +123,38 @@ TEST(HostNetworkTest, WanHasARouterAndCutsOneHostAtATime) {
     EXPECT_NO_THROW(net.Heal());
   }
   EXPECT_FALSE(NamespaceExists(router));
+}
+
+TEST(HostNetworkTest, RemovesWhatADeadLauncherLeftWithTheProcessesOnIt) {
+  if (geteuid() != 0) GTEST_SKIP() << "needs root to make network namespaces";
+  // A PID no process has: a child that has exited and been reaped.
+  const pid_t dead = fork();
+  if (dead == 0) _exit(0);
+  ASSERT_GT(dead, 0);
+  ASSERT_EQ(waitpid(dead, nullptr, 0), dead);
+  const std::string ns = "dt" + std::to_string(dead) + "-node-1";
+  ASSERT_EQ(std::system(("ip netns add " + ns).c_str()), 0);
+  // What its launcher left running on the host.
+  const pid_t orphan = fork();
+  if (orphan == 0) {
+    execlp("ip", "ip", "netns", "exec", ns.c_str(), "sleep", "60", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  ASSERT_GT(orphan, 0);
+  // It is on the host once `ip netns pids` lists it (exec may take a moment).
+  for (int i = 0; i < 500; ++i) {
+    FILE* p = popen(("ip netns pids " + ns).c_str(), "r");
+    char buf[64] = {};
+    const bool listed = p != nullptr && fgets(buf, sizeof buf, p) != nullptr;
+    if (p != nullptr) pclose(p);
+    if (listed) break;
+    usleep(10000);
+  }
+  HostNetwork::RemoveStale();
+  EXPECT_FALSE(NamespaceExists(ns));
+  int status = 0;
+  ASSERT_EQ(waitpid(orphan, &status, 0), orphan);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) << status;
 }
 
 TEST(HostNetworkTest, RefusesAnAddressThatDoesNotFit) {

@@ -11,6 +11,7 @@
 #include "launcher/drill_config.h"
 #include "launcher/drill_exercise_check.h"
 #include "launcher/drill_runner.h"
+#include "launcher/host_network.h"
 #include "launcher/stop_signal_pipe.h"
 #include "runtime/exercise_config.h"
 
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
   std::string server_bin = programs.server.string();
   bool verbose = false;
   std::optional<uint64_t> seed;
+  std::string hosts;
   app.add_option("--drill", drill_path, "drill TOML (configs/drills/*.toml)")->required();
   app.add_option("--transport", transport, "override the exercise's transport URL");
   app.add_option("--run-dir", run_dir, "override the exercise's run_dir (emptied first)");
@@ -31,6 +33,9 @@ int main(int argc, char** argv) {
   app.add_option("--server-bin", server_bin, "the dt_server program")->capture_default_str();
   app.add_option("--seed", seed,
                  "seed every random_ops and chaos action: the k-th (in time order) gets seed + k");
+  app.add_option("--hosts", hosts,
+                 "none, lan or wan: each process on a network namespace of its own (root; "
+                 "replaces the exercise's [hosts] mode, docs/deploy.md)");
   app.add_flag("--verbose", verbose, "show every line of every process");
   CLI11_PARSE(app, argc, argv);
 
@@ -39,6 +44,7 @@ int main(int argc, char** argv) {
     if (seed) dt::OverrideSeeds(drill, *seed);
     dt::ExerciseConfig exercise = dt::LoadExerciseConfig(drill.exercise);
     dt::ApplyOverrides(exercise, transport, run_dir);
+    dt::ApplyHostsOverride(exercise, hosts);
     dt::CheckDrillAgainstExercise(drill, exercise);
     const int wake_fd = dt::InstallStopSignalPipe();
     if (wake_fd < 0) return 2;

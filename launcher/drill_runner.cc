@@ -56,6 +56,15 @@ DrillRunner::DrillRunner(DrillConfig drill, ExerciseConfig exercise, DrillOption
   std::filesystem::remove_all(exercise_.run_dir, ec);
   std::filesystem::create_directories(exercise_.run_dir);
   sup_.set_wake_fd(options_.wake_fd);
+  carrier_url_ = options_.transport_override;
+  if (exercise_.hosts.mode != HostsMode::kNone) {
+    hosts_ = std::make_unique<HostNetwork>(exercise_);
+    carrier_url_ = hosts_->CarrierUrl(carrier_url_.empty() ? exercise_.transport_url : carrier_url_,
+                                      exercise_.run_dir);
+    std::printf("[drill] hosts mode %s: every process on a host of its own, carrier %s\n",
+                std::string(HostsModeName(exercise_.hosts.mode)).c_str(), carrier_url_.c_str());
+    std::fflush(stdout);
+  }
 }
 
 double DrillRunner::ElapsedS() const {
@@ -89,10 +98,10 @@ std::vector<std::string> DrillRunner::LiveNodes() const {
 
 std::vector<std::string> DrillRunner::Command(const std::string& name) const {
   std::vector<std::string> extra = {"--run-dir", exercise_.run_dir.string()};
-  if (!options_.transport_override.empty()) {
-    extra.insert(extra.end(), {"--transport", options_.transport_override});
-  }
-  return ProcessCommand(exercise_, *exercise_.FindProcess(name), options_.programs, extra);
+  if (!carrier_url_.empty()) extra.insert(extra.end(), {"--transport", carrier_url_});
+  std::vector<std::string> argv =
+      ProcessCommand(exercise_, *exercise_.FindProcess(name), options_.programs, extra);
+  return hosts_ ? hosts_->OnHost(name, std::move(argv)) : argv;
 }
 
 Result<ControlReply> DrillRunner::Call(const std::string& name, const std::string& line,
@@ -124,6 +133,7 @@ void DrillRunner::StartProcess(const std::string& name) {
 void DrillRunner::KillNow(const std::string& n) {
   const bool was_running = sup_.running(n);
   sup_.Signal(n, SIGKILL);
+  if (hosts_) hosts_->KillHost(n);  // a host's processes die with it, escaped ones too
   kills_ += was_running ? 1 : 0;
   if (!sup_.WaitExit(n, 10000)) {
     Check("kill " + n, false, "still running");
@@ -198,6 +208,14 @@ void DrillRunner::RunAction(const DrillAction& a) {
       }
       return;
     case DrillActionKind::kPartition: {
+      if (hosts_) {  // a real link cut (docs/deploy.md)
+        try {
+          hosts_->Cut(a.targets, a.from);
+        } catch (const std::exception& e) {
+          Check("partition", false, e.what());
+        }
+        return;
+      }
       auto addresses = [&](const std::vector<std::string>& names) {
         std::string out;
         for (const std::string& n : names) {
@@ -218,6 +236,7 @@ void DrillRunner::RunAction(const DrillAction& a) {
       return;
     }
     case DrillActionKind::kHeal:
+      HealLinks();
       for (const std::string& n : Live()) (void)Call(n, "heal");
       return;
     case DrillActionKind::kCommand: {
@@ -263,7 +282,17 @@ void DrillRunner::RunAction(const DrillAction& a) {
   }
 }
 
+void DrillRunner::HealLinks() {
+  if (!hosts_) return;
+  try {
+    hosts_->Heal();
+  } catch (const std::exception& e) {
+    Check("heal", false, e.what());
+  }
+}
+
 bool DrillRunner::Converge(std::string& detail) {
+  HealLinks();
   for (const std::string& n : Live()) {
     (void)Call(n, "loss 0");
     (void)Call(n, "heal");

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <random>
 #include <set>
 #include <string>
@@ -15,6 +16,7 @@
 #include "launcher/chaos_plan.h"
 #include "launcher/drill_config.h"
 #include "launcher/exercise_commands.h"
+#include "launcher/host_network.h"
 #include "launcher/supervisor.h"
 #include "runtime/control_protocol.h"
 #include "runtime/exercise_config.h"
@@ -87,6 +89,7 @@ class DrillRunner {
   std::vector<std::string> Live() const;
   std::vector<std::string> LiveNodes() const;
   std::vector<std::string> Command(const std::string& name) const;
+  void HealLinks();  // hosts mode: every link up again
 
   Result<ControlReply> Call(const std::string& name, const std::string& line,
                             int timeout_ms = 3000);
@@ -151,6 +154,10 @@ class DrillRunner {
   DrillConfig drill_;
   ExerciseConfig exercise_;
   DrillOptions options_;
+  // Hosts mode: the namespaces the processes run in. Declared before sup_ so that it outlives
+  // the children (destroyed after them). Null otherwise.
+  std::unique_ptr<HostNetwork> hosts_;
+  std::string carrier_url_;  // passed to every process as --transport; empty: the exercise's
   Supervisor sup_;
   std::map<std::string, std::FILE*> logs_;
   std::chrono::steady_clock::time_point start_;

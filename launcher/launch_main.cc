@@ -3,12 +3,15 @@
 #include <sys/wait.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <memory>
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
 #include "launcher/exercise_commands.h"
+#include "launcher/host_network.h"
 #include "launcher/stop_signal_pipe.h"
 #include "launcher/supervisor.h"
 #include "runtime/exercise_flags.h"
@@ -32,7 +35,11 @@ int main(int argc, char** argv) {
   std::string dis_bin = programs.dis.string();
   int ready_timeout_s = 120;
   int grace_ms = 10000;
+  std::string hosts_mode;
   flags.AddTo(app);
+  app.add_option("--hosts", hosts_mode,
+                 "none, lan or wan: each process on a network namespace of its own (root; "
+                 "replaces the exercise's [hosts] mode, docs/deploy.md)");
   app.add_option("--node-bin", node_bin, "the dt_node program")->capture_default_str();
   app.add_option("--server-bin", server_bin, "the dt_server program")->capture_default_str();
   app.add_option("--view-bin", view_bin, "the dt_view program (started when the file has a [view])")
@@ -51,6 +58,7 @@ int main(int argc, char** argv) {
   dt::ExerciseConfig exercise;
   try {
     exercise = flags.Load();
+    dt::ApplyHostsOverride(exercise, hosts_mode);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "dt_launch: %s\n", e.what());
     return kConfigErrorExit;
@@ -59,14 +67,32 @@ int main(int argc, char** argv) {
   const int wake_fd = dt::InstallStopSignalPipe();
   if (wake_fd < 0) return 1;
 
+  // Hosts mode: made before the supervisor, so it is removed after the children have stopped.
+  std::unique_ptr<dt::HostNetwork> hosts;
+  std::string carrier = flags.transport_override;
+  if (exercise.hosts.mode != dt::HostsMode::kNone) {
+    try {
+      std::filesystem::create_directories(exercise.run_dir);
+      hosts = std::make_unique<dt::HostNetwork>(exercise);
+      carrier =
+          hosts->CarrierUrl(carrier.empty() ? exercise.transport_url : carrier, exercise.run_dir);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "dt_launch: %s\n", e.what());
+      return kConfigErrorExit;
+    }
+    Say(fmt::format("hosts mode {}: every process on a host of its own, carrier {}",
+                    dt::HostsModeName(exercise.hosts.mode), carrier));
+  }
   // Children get the same overrides.
   std::vector<std::string> extra;
-  if (!flags.transport_override.empty()) {
-    extra.insert(extra.end(), {"--transport", flags.transport_override});
-  }
+  if (!carrier.empty()) extra.insert(extra.end(), {"--transport", carrier});
   if (!flags.run_dir_override.empty()) {
     extra.insert(extra.end(), {"--run-dir", exercise.run_dir.string()});
   }
+  auto command = [&](const dt::ProcessConfig& p) {
+    std::vector<std::string> command_line = dt::ProcessCommand(exercise, p, programs, extra);
+    return hosts ? hosts->OnHost(p.name, std::move(command_line)) : command_line;
+  };
   dt::Supervisor sup;
   sup.set_wake_fd(wake_fd);
   int rc = 0;
@@ -77,13 +103,13 @@ int main(int argc, char** argv) {
     if (exercise.server) servers.push_back(exercise.server->name);
     if (exercise.standby) servers.push_back(exercise.standby->name);
     for (const std::string& n : servers) {
-      sup.Start(n, dt::ProcessCommand(exercise, *exercise.FindProcess(n), programs, extra));
+      sup.Start(n, command(*exercise.FindProcess(n)));
     }
     dt::Status s = sup.WaitReady(servers, ready_timeout_s * 1000);
     std::vector<std::string> all = servers;
     if (s) {
       for (const dt::ProcessConfig& n : exercise.nodes) {
-        sup.Start(n.name, dt::ProcessCommand(exercise, n, programs, extra));
+        sup.Start(n.name, command(n));
         all.push_back(n.name);
       }
       s = sup.WaitReady(all, ready_timeout_s * 1000);
@@ -93,7 +119,7 @@ int main(int argc, char** argv) {
     for (const dt::ProcessConfig* p : {exercise.view ? &exercise.view->process : nullptr,
                                        exercise.dis ? &exercise.dis->process : nullptr}) {
       if (!s || p == nullptr) continue;
-      sup.Start(p->name, dt::ProcessCommand(exercise, *p, programs, extra));
+      sup.Start(p->name, command(*p));
       all.push_back(p->name);
       s = sup.WaitReady(all, ready_timeout_s * 1000);
     }

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -248,12 +249,31 @@ std::filesystem::path ExerciseConfig::SocketPath(std::string_view process_name) 
   return run_dir / (std::string(process_name) + ".sock");
 }
 
+std::optional<HostsMode> ParseHostsMode(std::string_view text) {
+  if (text == "none") return HostsMode::kNone;
+  if (text == "lan") return HostsMode::kLan;
+  if (text == "wan") return HostsMode::kWan;
+  return std::nullopt;
+}
+
+std::string_view HostsModeName(HostsMode mode) {
+  switch (mode) {
+    case HostsMode::kNone:
+      return "none";
+    case HostsMode::kLan:
+      return "lan";
+    case HostsMode::kWan:
+      return "wan";
+  }
+  return "none";
+}
+
 ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,
                                    const std::filesystem::path& base_dir) {
   const toml::table root = TomlReader::ParseText(toml_text, source_name);
   const TomlReader top(root, std::string(source_name), "",
                        {"exercise", "terrain", "protocol", "faults", "server", "standby", "node",
-                        "auth", "view", "dis", "vehicles"});
+                        "auth", "view", "dis", "vehicles", "hosts"});
   ExerciseConfig c;
   c.source = std::string(source_name);
 
@@ -340,14 +360,41 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     }
   }
 
-  if (auto f = top.OptionalTable("faults", {"drop_probability", "duplicate_probability",
-                                            "reorder_probability", "reorder_window", "seed"})) {
+  if (auto f = top.OptionalTable(
+          "faults",
+          {"drop_probability", "duplicate_probability", "reorder_probability", "reorder_window",
+           "seed", "delay_ms", "jitter_ms", "other_site_delay_ms", "other_site_jitter_ms"})) {
     c.faults.drop_probability = f->Double("drop_probability", 0.0, 0.0, 1.0);
     c.faults.duplicate_probability = f->Double("duplicate_probability", 0.0, 0.0, 1.0);
     c.faults.reorder_probability = f->Double("reorder_probability", 0.0, 0.0, 1.0);
-    c.faults.reorder_window = f->Int("reorder_window", 0, 0, 1000);
+    // Every delay of a process's FaultyTransport counts milliseconds (runtime/process_runtime.h).
+    c.faults.reorder_window = f->Int("reorder_window", 0, 0, 60000);
+    // Each received copy waits delay_ms +- jitter_ms; one from another site (a WAN) waits
+    // other_site_delay_ms +- other_site_jitter_ms more.
+    for (auto [delay_key, jitter_key, min, max] :
+         {std::tuple{"delay_ms", "jitter_ms", &c.faults.min_delay, &c.faults.max_delay},
+          std::tuple{"other_site_delay_ms", "other_site_jitter_ms", &c.faults.other_site_min_delay,
+                     &c.faults.other_site_max_delay}}) {
+      const int64_t delay = f->Int(delay_key, 0, 0, 60000);
+      const int64_t jitter = f->Int(jitter_key, 0, 0, 60000);
+      if (jitter > delay) {
+        f->Fail(jitter_key, fmt::format("{} exceeds {} = {}: a delay never goes below 0", jitter,
+                                        delay_key, delay));
+      }
+      std::tie(*min, *max) = DelayRange(delay, jitter);
+    }
     c.fault_seed = static_cast<uint64_t>(f->Int("seed", 1, 0, INT64_MAX));
     f->Finish();
+  }
+
+  if (auto h = top.OptionalTable("hosts", {"mode", "rate_mbit", "queue_ms"})) {
+    const std::string mode = h->String("mode", "none");
+    const std::optional<HostsMode> m = ParseHostsMode(mode);
+    if (!m) h->Fail("mode", fmt::format("\"{}\": expected none, lan or wan", mode));
+    c.hosts.mode = *m;
+    c.hosts.rate_mbit = h->Double("rate_mbit", c.hosts.rate_mbit, 0.1, 100000.0);
+    c.hosts.queue_ms = static_cast<int>(h->Int("queue_ms", c.hosts.queue_ms, 1, 10000));
+    h->Finish();
   }
 
   if (auto v =

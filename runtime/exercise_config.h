@@ -99,6 +99,19 @@ struct AuthSettings {
   int clock_tolerance_ms = 30000;          // PduAuthConfig::clock_tolerance
 };
 
+// [hosts]: where dt_launch and dt_drill run the processes (docs/deploy.md). `none`: every process
+// on the launcher's own network; `lan`: each in a network namespace of its own ("host") on one
+// bridge; `wan`: one bridge per site, the sites joined by a router namespace.
+enum class HostsMode { kNone, kLan, kWan };
+std::optional<HostsMode> ParseHostsMode(std::string_view text);  // "none", "lan", "wan"
+std::string_view HostsModeName(HostsMode mode);
+
+struct HostsConfig {
+  HostsMode mode = HostsMode::kNone;
+  double rate_mbit = 100.0;  // each host's link rate (tc tbf)
+  int queue_ms = 50;         // the longest a packet waits in a link's queue (tbf latency)
+};
+
 struct ExerciseConfig {
   std::filesystem::path source;  // the file read
   std::string name;
@@ -123,6 +136,7 @@ struct ExerciseConfig {
   // Shared vehicles' dead reckoning ([vehicles], docs/vehicles.md "Shared vehicles").
   DeadReckoningThresholds dead_reckoning;
   uint64_t fault_seed = 1;
+  HostsConfig hosts;  // read by the launchers only
   // Absent exactly when the file says [protocol] require_server = false: an exercise without a
   // server (a replay of a recording, docs/pdu.md), whose nodes sign on with what they hear.
   std::optional<ProcessConfig> server;

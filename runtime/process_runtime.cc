@@ -35,8 +35,8 @@ uint64_t FaultSeed(const ExerciseConfig& exercise, NodeAddress a) {
 ProcessTransport StackTransport(std::unique_ptr<Transport> carrier, const FaultConfig& faults,
                                 uint64_t fault_seed, const PduBusConfig& bus) {
   ProcessTransport t;
-  auto faulty =
-      std::make_unique<FaultyTransport>(std::move(carrier), bus.local, faults, fault_seed);
+  auto faulty = std::make_unique<FaultyTransport>(std::move(carrier), bus.local, faults, fault_seed,
+                                                  DelayUnit::kMilliseconds);
   t.faults = faulty.get();
   auto retrying = std::make_unique<RetryingTransport>(std::move(faulty));
   t.retrying = retrying.get();

@@ -35,7 +35,7 @@ struct ProcessTransport {
   bool needs_handling() const { return faults->held() > 0 || retrying->queued() > 0; }
 };
 // The layers every process puts over its carrier: faults -> retrying -> bus (bus.local is the
-// process's address).
+// process's address). The faults' delays count milliseconds.
 ProcessTransport StackTransport(std::unique_ptr<Transport> carrier, const FaultConfig& faults,
                                 uint64_t fault_seed, const PduBusConfig& bus);
 // PDUs are authenticated with the exercise's key ([auth]); a keyless exercise logs a warning.

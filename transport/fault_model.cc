@@ -20,6 +20,20 @@ void CheckFaultConfig(const FaultConfig& c) {
                     "max and window >= 0",
                     c.min_delay, c.max_delay, c.reorder_window));
   }
+  if (c.other_site_min_delay < 0 || c.other_site_max_delay < c.other_site_min_delay) {
+    throw std::invalid_argument(
+        fmt::format("FaultConfig: other-site delays min {} max {} must satisfy 0 <= min <= max",
+                    c.other_site_min_delay, c.other_site_max_delay));
+  }
+}
+
+std::pair<int64_t, int64_t> DelayRange(int64_t delay, int64_t jitter) {
+  if (delay < 0 || jitter < 0 || jitter > delay) {
+    throw std::invalid_argument(fmt::format(
+        "delay {} and jitter {} must satisfy 0 <= jitter <= delay (a delay never goes below 0)",
+        delay, jitter));
+  }
+  return {delay - jitter, delay + jitter};
 }
 
 FaultModel::FaultModel(FaultConfig config, uint64_t seed) : rng_(seed) { set_config(config); }
@@ -50,6 +64,9 @@ std::vector<int64_t> FaultModel::Fate(NodeAddress from, NodeAddress to) {
     const bool reorder = Uniform01() < config_.reorder_probability;
     const int64_t extra = UniformInt(1, std::max<int64_t>(1, config_.reorder_window));
     if (reorder && config_.reorder_window > 0) d += extra;
+    if (from.site != to.site && config_.other_site_max_delay > 0) {
+      d += UniformInt(config_.other_site_min_delay, config_.other_site_max_delay);
+    }
     if (copy == 0 || duplicate) delays.push_back(d);
   }
   if (drop) return {};

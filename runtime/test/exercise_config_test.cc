@@ -192,6 +192,29 @@ TEST(ExerciseConfigTest, AGroupsErrorsNameTheField) {
   EXPECT_NE(e.find("server.group"), std::string::npos) << e;
 }
 
+TEST(ExerciseConfigTest, ReadsDelaysWithJitterAndTheHostsTable) {
+  const ExerciseConfig c = ParseExerciseConfig(
+      Replace(kGood, "seed = 4\n",
+              "seed = 4\ndelay_ms = 20\njitter_ms = 5\nother_site_delay_ms = 50\n"
+              "other_site_jitter_ms = 10\n[hosts]\nmode = \"wan\"\nrate_mbit = 10\n"),
+      "ex.toml", "/base");
+  EXPECT_EQ(c.faults.min_delay, 15);
+  EXPECT_EQ(c.faults.max_delay, 25);
+  EXPECT_EQ(c.faults.other_site_min_delay, 40);
+  EXPECT_EQ(c.faults.other_site_max_delay, 60);
+  EXPECT_EQ(c.hosts.mode, HostsMode::kWan);
+  EXPECT_DOUBLE_EQ(c.hosts.rate_mbit, 10.0);
+  EXPECT_EQ(c.hosts.queue_ms, 50);  // default
+  EXPECT_EQ(ParseExerciseConfig(kGood, "ex.toml", "/base").hosts.mode, HostsMode::kNone);
+
+  std::string e = ErrorOf(Replace(kGood, "seed = 4\n", "seed = 4\ndelay_ms = 5\njitter_ms = 6\n"));
+  EXPECT_NE(e.find("faults.jitter_ms"), std::string::npos) << e;
+  EXPECT_NE(e.find("delay_ms = 5"), std::string::npos) << e;
+  e = ErrorOf(Replace(kGood, "seed = 4\n", "seed = 4\n[hosts]\nmode = \"cloud\"\n"));
+  EXPECT_NE(e.find("hosts.mode"), std::string::npos) << e;
+  EXPECT_NE(e.find("cloud"), std::string::npos) << e;
+}
+
 TEST(ExerciseConfigTest, ErrorsNameFileKeyAndValue) {
   std::string e = ErrorOf(Replace(kGood, "tick_hz = 20", "tick_hz = 0"));
   EXPECT_NE(e.find("ex.toml"), std::string::npos) << e;

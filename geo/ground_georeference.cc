@@ -43,6 +43,10 @@ GroundGeoreference::GroundGeoreference(const std::string& local_crs_wkt, double 
                     description_, CPLGetLastErrorMsg()));
   }
   origin_ = ToGeodetic(0.0, 0.0, 0.0);
+  if (std::isnan(origin_.latitude_deg)) {
+    throw std::invalid_argument(fmt::format("cannot place the ground's origin on WGS-84 ({}): {}",
+                                            description_, CPLGetLastErrorMsg()));
+  }
 }
 
 GroundGeoreference::~GroundGeoreference() = default;
@@ -51,10 +55,7 @@ GeodeticPoint GroundGeoreference::ToGeodetic(double x_m, double y_m, double z_m)
   double x = x0_ + x_m;
   double z = z0_ + z_m;
   std::lock_guard lock(impl_->mutex);
-  if (!impl_->to_wgs84->Transform(1, &x, &z)) {
-    throw std::runtime_error(fmt::format("cannot place terrain ({}, {}) on WGS-84 ({}): {}", x_m,
-                                         z_m, description_, CPLGetLastErrorMsg()));
-  }
+  if (!impl_->to_wgs84->Transform(1, &x, &z)) x = z = std::nan("");
   return {z, x, y_m};
 }
 
@@ -63,12 +64,7 @@ std::array<double, 2> GroundGeoreference::FromGeodetic(double latitude_deg,
   double x = longitude_deg;
   double z = latitude_deg;
   std::lock_guard lock(impl_->mutex);
-  if (!impl_->from_wgs84->Transform(1, &x, &z)) {
-    throw std::runtime_error(
-        fmt::format("cannot place latitude {} longitude {} on the ground "
-                    "({}): {}",
-                    latitude_deg, longitude_deg, description_, CPLGetLastErrorMsg()));
-  }
+  if (!impl_->from_wgs84->Transform(1, &x, &z)) return {std::nan(""), std::nan("")};
   return {x - x0_, z - z0_};
 }
 

@@ -28,9 +28,11 @@ class GroundGeoreference {
   GroundGeoreference(const GroundGeoreference&) = delete;
   GroundGeoreference& operator=(const GroundGeoreference&) = delete;
 
-  // Terrain (x, y, z) on WGS-84 (height = y). Throws std::runtime_error if PROJ fails.
+  // Terrain (x, y, z) on WGS-84 (height = y). NaN latitude and longitude where PROJ cannot
+  // (never inside the area; these serve network input, which must not throw).
   GeodeticPoint ToGeodetic(double x_m, double y_m, double z_m) const;
-  // The terrain {x, z} of a latitude and longitude. Throws std::runtime_error if PROJ fails.
+  // The terrain {x, z} of a latitude and longitude; NaN where PROJ cannot (the far side of the
+  // Earth from a tangent plane).
   std::array<double, 2> FromGeodetic(double latitude_deg, double longitude_deg) const;
   // Terrain (0, 0, 0) on WGS-84: the exercise's geodetic origin.
   GeodeticPoint origin() const { return origin_; }

@@ -7,7 +7,7 @@
 
 #include "log/log.h"
 #include "runtime/control_command.h"
-#include "terrain/random_terrain.h"
+#include "runtime/exercise_ground.h"
 #include "terrain/slump.h"
 #include "vehicle/physical_type.h"
 
@@ -18,11 +18,7 @@ NodeApp::NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process)
   if (!process.scenario.empty()) {
     scenario_.emplace(LoadScenario(process.scenario, process.start_vehicle_count()));
   }
-  const int64_t t0 = MonotonicMs();
-  HeightGrid ground = MakeRandomTerrain(exercise.terrain);
-  DT_LOG_INFO("terrain {} x {} posts ({} x {} m) ready in {} ms", exercise.terrain.posts_x,
-              exercise.terrain.posts_z, exercise.terrain_size_x_m(), exercise.terrain_size_z_m(),
-              MonotonicMs() - t0);
+  HeightGrid ground = MakeExerciseGround(exercise);
   transport_ = MakeProcessTransport(exercise, process);
   ReplicaConfig rc = MakeReplicaConfig(exercise, process, NodeRole::kNode);
   ids_ = std::make_unique<IdReservationFile>(exercise.run_dir / (process.name + ".ids"),

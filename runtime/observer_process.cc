@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "log/log.h"
-#include "terrain/random_terrain.h"
+#include "runtime/exercise_ground.h"
 
 namespace dt {
 namespace {
@@ -34,8 +34,8 @@ ObserverProcess::ObserverProcess(const ExerciseConfig& exercise, const ProcessCo
                                                process.address);
     rc.ids = ids_.get();
   }
-  replica_ = std::make_unique<Replica>(std::move(rc), MakeRandomTerrain(exercise.terrain),
-                                       *transport_.bus);
+  replica_ =
+      std::make_unique<Replica>(std::move(rc), MakeExerciseGround(exercise), *transport_.bus);
   if (!replica_->load_status()) throw std::runtime_error(replica_->load_status().error().message);
 }
 

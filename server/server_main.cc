@@ -10,9 +10,9 @@
 #include "log/log.h"
 #include "runtime/control_server.h"
 #include "runtime/exercise_flags.h"
+#include "runtime/exercise_ground.h"
 #include "runtime/process_runtime.h"
 #include "server/server_replica.h"
-#include "terrain/random_terrain.h"
 
 namespace {
 
@@ -82,8 +82,7 @@ int main(int argc, char** argv) {
     const dt::ReplicaConfig rc = dt::MakeReplicaConfig(exercise, *process, role);
     const std::filesystem::path db = exercise.run_dir / (name + ".db");
     const int64_t t0 = dt::MonotonicMs();
-    auto opened =
-        dt::ServerReplica::Open(rc, dt::MakeRandomTerrain(exercise.terrain), *transport.bus, db);
+    auto opened = dt::ServerReplica::Open(rc, dt::MakeExerciseGround(exercise), *transport.bus, db);
     // A database refused as a whole (not ours, damaged, a row that fails its checks) ends the
     // start here with exit 2 and the message naming the file and the row.
     if (!opened) throw std::runtime_error(opened.error().message);

@@ -1,0 +1,48 @@
+// The exercise's ground: seeded random ground or an elevation file ([terrain],
+// docs/real-ground.md).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "geo/elevation_loader.h"
+#include "terrain/height_grid.h"
+
+namespace dt {
+
+class TomlReader;
+struct ExerciseConfig;
+struct DisConfig;
+
+// [terrain] elevation_file and its keys, with what the file's header made of them.
+struct ElevationTerrain {
+  ElevationSource source;
+  ElevationLayout layout;  // posts, spacing and georeference, probed at config load
+};
+
+// The [terrain] keys of an elevation file (besides spacing_m, which the random ground shares).
+extern const std::vector<std::string> kElevationKeys;
+
+// Reads elevation_file (relative to base_dir), area_crs or area_lonlat_deg, spacing_m,
+// resampling, nodata_fill, nodata_fill_m and max_load_mb, and probes the file. Throws
+// std::invalid_argument naming the key for a bad value and, for a file GDAL cannot read, without
+// a georeference or too large, ProbeElevation's message (file, sizes, GDAL's own message).
+ElevationTerrain ReadElevationTerrain(const TomlReader& terrain,
+                                      const std::filesystem::path& base_dir);
+
+// The greatest distance a hand-typed [dis] origin may lie from the file's, metres.
+inline constexpr double kOriginToleranceM = 1.0;
+
+// The [dis] origin with an elevation file: the file's, or, if the exercise file typed one, that
+// one when it lies within kOriginToleranceM of the file's. Throws std::invalid_argument naming
+// both origins and their distance otherwise.
+void ApplyFileOrigin(const ElevationTerrain& elevation, bool origin_typed, DisConfig& dis,
+                     const std::string& source_name);
+
+// The ground every process of the exercise starts from: the elevation file's, or the seeded
+// random ground. Throws as LoadElevation (nodata without a fill, GDAL read errors).
+HeightGrid MakeExerciseGround(const ExerciseConfig& exercise);
+
+}  // namespace dt

@@ -249,43 +249,43 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   terrain_keys.insert(terrain_keys.end(), kElevationKeys.begin(), kElevationKeys.end());
   const TomlReader t = top.Table("terrain", terrain_keys);
   if (t.Has("elevation_file")) {
-    // The file gives the ground: its posts and spacing (docs/real-ground.md).
+    // The file gives the ground: its posts and spacing (docs/real-ground.md), set below.
     for (const char* key : {"posts_per_side", "posts_x", "posts_z", "relief_m", "seed"}) {
       if (t.Has(key)) t.Fail(key, "elevation_file gives the ground: remove it");
     }
     c.elevation = ReadElevationTerrain(t, base_dir.empty() ? std::filesystem::current_path()
                                                            : std::filesystem::absolute(base_dir));
+  } else {
+    for (const std::string& key : kElevationKeys) {
+      if (key != "elevation_file" && t.Has(key)) t.Fail(key, "only with elevation_file");
+    }
+  }
+  // A square (posts_per_side, the default) or a rectangle (posts_x and posts_z, both given).
+  const bool rectangle = t.Has("posts_x") || t.Has("posts_z");
+  if (rectangle) {
+    if (t.Has("posts_per_side")) {
+      t.Fail("posts_per_side",
+             "give either posts_per_side (a square grid) or posts_x and posts_z, not both");
+    }
+    for (const auto& [key, other] :
+         {std::pair{"posts_x", "posts_z"}, std::pair{"posts_z", "posts_x"}}) {
+      if (!t.Has(other)) {
+        t.Fail(key, fmt::format("{} needs {} too: a rectangular grid gives both", key, other));
+      }
+    }
+    c.terrain.posts_x = static_cast<int>(t.Int("posts_x", 2, kMaxPostsPerSide));
+    c.terrain.posts_z = static_cast<int>(t.Int("posts_z", 2, kMaxPostsPerSide));
+  } else {
+    c.terrain.posts_x = c.terrain.posts_z =
+        static_cast<int>(t.Int("posts_per_side", 129, 2, kMaxPostsPerSide));
+  }
+  c.terrain.spacing_m = t.Double("spacing_m", 10.0, 0.01, 10000.0);
+  c.terrain.relief_m = t.Double("relief_m", 50.0, 0.0, 10000.0);
+  c.terrain.seed = static_cast<uint64_t>(t.Int("seed", 1, 0, INT64_MAX));
+  if (c.elevation) {
     c.terrain.posts_x = c.elevation->layout.posts_x;
     c.terrain.posts_z = c.elevation->layout.posts_z;
     c.terrain.spacing_m = c.elevation->layout.spacing_m;
-  } else {
-    for (const std::string& key : kElevationKeys) {
-      if (key != "elevation_file" && t.Has(key)) {
-        t.Fail(key, "only with elevation_file");
-      }
-    }
-    // A square (posts_per_side, the default) or a rectangle (posts_x and posts_z, both given).
-    const bool rectangle = t.Has("posts_x") || t.Has("posts_z");
-    if (rectangle) {
-      if (t.Has("posts_per_side")) {
-        t.Fail("posts_per_side",
-               "give either posts_per_side (a square grid) or posts_x and posts_z, not both");
-      }
-      for (const auto& [key, other] :
-           {std::pair{"posts_x", "posts_z"}, std::pair{"posts_z", "posts_x"}}) {
-        if (!t.Has(other)) {
-          t.Fail(key, fmt::format("{} needs {} too: a rectangular grid gives both", key, other));
-        }
-      }
-      c.terrain.posts_x = static_cast<int>(t.Int("posts_x", 2, kMaxPostsPerSide));
-      c.terrain.posts_z = static_cast<int>(t.Int("posts_z", 2, kMaxPostsPerSide));
-    } else {
-      c.terrain.posts_x = c.terrain.posts_z =
-          static_cast<int>(t.Int("posts_per_side", 129, 2, kMaxPostsPerSide));
-    }
-    c.terrain.spacing_m = t.Double("spacing_m", 10.0, 0.01, 10000.0);
-    c.terrain.relief_m = t.Double("relief_m", 50.0, 0.0, 10000.0);
-    c.terrain.seed = static_cast<uint64_t>(t.Int("seed", 1, 0, INT64_MAX));
   }
   t.Finish();
 

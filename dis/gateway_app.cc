@@ -23,6 +23,7 @@ const DisConfig& FindDis(const ExerciseConfig& exercise, const std::string& name
 GatewaySettings SettingsOf(const ExerciseConfig& exercise, const DisConfig& dis) {
   GatewaySettings s;
   s.origin = {dis.latitude_deg, dis.longitude_deg, dis.height_m};
+  if (exercise.elevation) s.ground = exercise.elevation->layout.georeference;
   s.exercise_id = dis.dis_exercise_id;
   s.thresholds = exercise.dead_reckoning;
   s.terrain_size_x_m = exercise.terrain_size_x_m();

@@ -49,7 +49,7 @@ VehicleStateFields ExtrapolatedTo(const VehicleStateFields& s, double dt_s) {
 GatewayCore::GatewayCore(GatewaySettings settings, SendDatagram send, PublishVehicle publish,
                          FeatureAuthor author)
     : settings_(std::move(settings)),
-      frame_(settings_.origin),
+      frame_(settings_.origin, settings_.ground),
       send_(std::move(send)),
       publish_(std::move(publish)),
       author_(std::move(author)),

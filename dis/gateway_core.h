@@ -27,6 +27,7 @@ namespace dt::dis {
 
 struct GatewaySettings {
   GeodeticOrigin origin;
+  std::shared_ptr<const GroundGeoreference> ground;  // an elevation file's; null: none
   uint8_t exercise_id = 1;  // the DIS exercise ID sent and required on input
   DeadReckoningThresholds thresholds;
   // The terrain covers [0, terrain_size_x_m] x [0, terrain_size_z_m]: outside entities beyond it

@@ -94,7 +94,20 @@ GeodeticFrame::GeodeticFrame(const GeodeticOrigin& o) : origin_(o) {
   std::copy(m.begin(), m.end(), enu_to_ecef_.begin());
 }
 
+GeodeticFrame::GeodeticFrame(const GeodeticOrigin& origin,
+                             std::shared_ptr<const GroundGeoreference> ground)
+    : GeodeticFrame(origin) {
+  ground_ = std::move(ground);
+}
+
 WorldCoordinates GeodeticFrame::ToGeocentric(const LocalPoint& p) const {
+  if (ground_) {
+    const GeodeticPoint g = ground_->ToGeodetic(p.x_m, p.y_m, p.z_m);
+    WorldCoordinates c;
+    GeographicLib::Geocentric::WGS84().Forward(g.latitude_deg, g.longitude_deg, g.height_m, c.x,
+                                               c.y, c.z);
+    return c;
+  }
   const Vec enu = {p.x_m, p.z_m, p.y_m};
   const auto& m = enu_to_ecef_;
   WorldCoordinates c;
@@ -105,6 +118,12 @@ WorldCoordinates GeodeticFrame::ToGeocentric(const LocalPoint& p) const {
 }
 
 LocalPoint GeodeticFrame::FromGeocentric(const WorldCoordinates& c) const {
+  if (ground_) {
+    double lat = 0, lon = 0, h = 0;
+    GeographicLib::Geocentric::WGS84().Reverse(c.x, c.y, c.z, lat, lon, h);
+    const std::array<double, 2> xz = ground_->FromGeodetic(lat, lon);
+    return {xz[0], h, xz[1]};
+  }
   const Vec d = {c.x - origin_ecef_[0], c.y - origin_ecef_[1], c.z - origin_ecef_[2]};
   const auto& m = enu_to_ecef_;
   // The inverse of a rotation is its transpose.

@@ -3,8 +3,10 @@
 #pragma once
 
 #include <array>
+#include <memory>
 
 #include "dis/dis_pdu.h"
+#include "geo/ground_georeference.h"
 
 namespace dt::dis {
 
@@ -53,6 +55,12 @@ class GeodeticFrame {
  public:
   // Throws std::invalid_argument for an origin outside the ranges above or not finite.
   explicit GeodeticFrame(const GeodeticOrigin& origin);
+  // Ground from an elevation file (docs/real-ground.md): positions go through the ground's own
+  // georeference (its projection, exact to PROJ's rounding), so they agree with the file's
+  // latitudes and longitudes; heights are y above the ellipsoid. Free vectors and orientations
+  // keep the east/north/up axes at the origin (off by the projection's grid convergence, a
+  // fraction of a degree over a training area). `origin` must be the ground's origin.
+  GeodeticFrame(const GeodeticOrigin& origin, std::shared_ptr<const GroundGeoreference> ground);
 
   const GeodeticOrigin& origin() const { return origin_; }
 
@@ -79,6 +87,7 @@ class GeodeticFrame {
 
  private:
   GeodeticOrigin origin_;
+  std::shared_ptr<const GroundGeoreference> ground_;  // null: the tangent plane at the origin
   std::array<double, 3> origin_ecef_{};
   // Columns are the local east, north and up unit vectors in geocentric axes (row-major).
   std::array<double, 9> enu_to_ecef_{};

@@ -19,11 +19,7 @@ NodeApp::NodeApp(const ExerciseConfig& exercise, const ProcessConfig& process)
   if (!process.scenario.empty()) {
     scenario_.emplace(LoadScenario(process.scenario, process.start_vehicle_count()));
   }
-  const int64_t t0 = MonotonicMs();
   BaseGround ground = BuildExerciseGround(exercise);
-  DT_LOG_INFO("terrain {} x {} posts ({} x {} m) ready in {} ms", exercise.terrain.posts_x,
-              exercise.terrain.posts_z, exercise.terrain_size_x_m(), exercise.terrain_size_z_m(),
-              MonotonicMs() - t0);
   transport_ = MakeProcessTransport(exercise, process);
   ReplicaConfig rc = MakeReplicaConfig(exercise, process, NodeRole::kNode);
   ids_ = std::make_unique<IdReservationFile>(exercise.run_dir / (process.name + ".ids"),

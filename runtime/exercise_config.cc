@@ -291,8 +291,26 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   const std::string friction_file = ex.String("friction_file", "");
   ex.Finish();
 
-  const TomlReader t = top.Table("terrain", {"posts_per_side", "posts_x", "posts_z", "spacing_m",
-                                             "relief_m", "seed", "ground_file"});
+  std::vector<std::string> terrain_keys = {"posts_per_side", "posts_x", "posts_z",    "spacing_m",
+                                           "relief_m",       "seed",    "ground_file"};
+  terrain_keys.insert(terrain_keys.end(), kElevationKeys.begin(), kElevationKeys.end());
+  const TomlReader t = top.Table("terrain", terrain_keys);
+  if (t.Has("elevation_file") && t.Has("ground_file")) {
+    t.Fail("ground_file",
+           "give ground_file (a saved terrain) or elevation_file (a raster), not both");
+  }
+  if (t.Has("elevation_file")) {
+    // The file gives the ground: its posts and spacing (docs/real-ground.md), set below.
+    for (const char* key : {"posts_per_side", "posts_x", "posts_z", "relief_m", "seed"}) {
+      if (t.Has(key)) t.Fail(key, "elevation_file gives the ground: remove it");
+    }
+    c.elevation = ReadElevationTerrain(t, base_dir.empty() ? std::filesystem::current_path()
+                                                           : std::filesystem::absolute(base_dir));
+  } else {
+    for (const std::string& key : kElevationKeys) {
+      if (key != "elevation_file" && t.Has(key)) t.Fail(key, "only with elevation_file");
+    }
+  }
   // A square (posts_per_side, the default) or a rectangle (posts_x and posts_z, both given).
   const bool rectangle = t.Has("posts_x") || t.Has("posts_z");
   if (rectangle) {
@@ -316,6 +334,11 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   c.terrain.relief_m = t.Double("relief_m", 50.0, 0.0, 10000.0);
   c.terrain.seed = static_cast<uint64_t>(t.Int("seed", 1, 0, INT64_MAX));
   if (t.Has("ground_file")) ReadGroundFile(t, base_dir, c);
+  if (c.elevation) {
+    c.terrain.posts_x = c.elevation->layout.posts_x;
+    c.terrain.posts_z = c.elevation->layout.posts_z;
+    c.terrain.spacing_m = c.elevation->layout.spacing_m;
+  }
   t.Finish();
 
   bool require_server = true;
@@ -451,6 +474,10 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
                   "interface_address", "multicast_ttl", "dis_exercise_id", "import_craters",
                   "latitude_deg", "longitude_deg", "height_m", "feature_period_ms"})) {
     c.dis = ReadDis(*d, base);
+    if (c.elevation) {
+      const bool typed = d->Has("latitude_deg") || d->Has("longitude_deg") || d->Has("height_m");
+      ApplyFileOrigin(*c.elevation, typed, *c.dis, std::string(source_name));
+    }
   }
   top.Finish();
 

@@ -12,6 +12,7 @@
 
 #include "base/feature_id.h"
 #include "pdu/exercise_key.h"
+#include "runtime/exercise_ground.h"
 #include "terrain/base_ground.h"
 #include "terrain/friction_table.h"
 #include "terrain/random_terrain.h"
@@ -63,7 +64,8 @@ struct ViewConfig {
 
 // The DIS gateway (docs/dis.md "The gateway"): an observer replica (a node member when it imports
 // craters) that speaks DIS 7 on UDP. The geodetic origin of the terrain lives here: only the
-// gateway places the terrain on the Earth.
+// gateway places the terrain on the Earth. With an elevation file the origin is the file's
+// (a typed one must agree within kOriginToleranceM, docs/real-ground.md).
 struct DisConfig {
   ProcessConfig process;                        // name, address
   std::string bind_address = "0.0.0.0";         // the UDP socket's local address
@@ -123,13 +125,16 @@ struct ExerciseConfig {
   // configs/friction.toml when the file names none (friction_file then empty). Never null.
   std::filesystem::path friction_file;
   std::shared_ptr<const FrictionTable> friction;
-  // [terrain]: posts_per_side (a square) or posts_x and posts_z, spacing, relief, seed.
+  // [terrain]: posts_per_side (a square) or posts_x and posts_z, spacing, relief, seed. With an
+  // elevation file, posts and spacing are the file's layout's.
   RandomTerrainParams terrain;
   // [terrain] ground_file: a saved terrain (terrain/terrain_file.h, what the server's `export`
   // writes) the exercise starts on instead of random ground, read at load (absolute; empty:
   // none). Its grid's posts and spacing are then `terrain`'s; `ground` holds it as base ground.
   std::filesystem::path ground_file;
   std::shared_ptr<const BaseGround> ground;
+  // [terrain] elevation_file and its keys (docs/real-ground.md); absent for random ground.
+  std::optional<ElevationTerrain> elevation;
   ProtocolTiming protocol;
   AuthSettings auth;
   FaultConfig faults;  // injected on receipt by every process (transport/faulty_transport.h)

@@ -1,18 +1,136 @@
 #include "runtime/exercise_ground.h"
 
+#include <stdexcept>
+#include <utility>
+
 #include <fmt/format.h>
 
+#include "log/log.h"
+#include "runtime/exercise_config.h"
+#include "runtime/process_runtime.h"
+#include "runtime/toml_reader.h"
 #include "terrain/random_terrain.h"
 
 namespace dt {
 
+const std::vector<std::string> kElevationKeys = {"elevation_file", "area_crs",    "area_lonlat_deg",
+                                                 "resampling",     "nodata_fill", "nodata_fill_m",
+                                                 "max_load_mb"};
+
+namespace {
+
+// [[x_min, y_min], [x_max, y_max]]: the south-west and north-east corners.
+std::array<double, 4> ReadArea(const TomlReader& t, std::string_view key, double lo, double hi) {
+  const std::vector<std::vector<double>> rows = t.NumberRows(key, 2, lo, hi);
+  if (rows.size() != 2) {
+    t.Fail(key, "expected two corners, [[x_min, y_min], [x_max, y_max]] (south-west, north-east)");
+  }
+  if (!(rows[0][0] < rows[1][0]) || !(rows[0][1] < rows[1][1])) {
+    t.Fail(key, "the first corner must lie south-west of the second");
+  }
+  return {rows[0][0], rows[0][1], rows[1][0], rows[1][1]};
+}
+
+}  // namespace
+
+ElevationTerrain ReadElevationTerrain(const TomlReader& t, const std::filesystem::path& base_dir) {
+  ElevationTerrain e;
+  ElevationSource& s = e.source;
+  const std::string file = t.String("elevation_file");
+  if (file.empty()) t.Fail("elevation_file", "must name a file");
+  s.file = std::filesystem::absolute(base_dir / file).lexically_normal();
+  if (t.Has("area_crs") && t.Has("area_lonlat_deg")) {
+    t.Fail("area_crs", "give area_crs or area_lonlat_deg, not both");
+  }
+  if (t.Has("area_crs")) {
+    s.area_kind = AreaKind::kFileCrs;
+    s.area = ReadArea(t, "area_crs", -1e15, 1e15);
+  } else if (t.Has("area_lonlat_deg")) {
+    s.area_kind = AreaKind::kLonLat;
+    s.area = ReadArea(t, "area_lonlat_deg", -180.0, 180.0);
+    if (s.area[1] < -90.0 || s.area[3] > 90.0) {
+      t.Fail("area_lonlat_deg", "latitudes (the second of each pair) lie within [-90, 90]");
+    }
+  }
+  s.spacing_m = t.Has("spacing_m") ? t.Double("spacing_m", 0.01, 10000.0) : 0.0;
+  const std::string resampling = t.String("resampling", "bilinear");
+  if (resampling == "cubic") {
+    s.resampling = Resampling::kCubic;
+  } else if (resampling != "bilinear") {
+    t.Fail("resampling", "expected \"bilinear\" or \"cubic\"");
+  }
+  const std::string fill = t.String("nodata_fill", "none");
+  if (fill == "nearest") {
+    s.nodata_fill = NodataFill::kNearest;
+  } else if (fill == "constant") {
+    s.nodata_fill = NodataFill::kConstant;
+    if (!t.Has("nodata_fill_m")) t.Fail("nodata_fill", "\"constant\" needs nodata_fill_m");
+  } else if (fill != "none") {
+    t.Fail("nodata_fill", "expected \"none\", \"nearest\" or \"constant\"");
+  }
+  if (t.Has("nodata_fill_m") && s.nodata_fill != NodataFill::kConstant) {
+    t.Fail("nodata_fill_m", "only with nodata_fill = \"constant\"");
+  }
+  s.nodata_fill_m = t.Has("nodata_fill_m") ? t.Double("nodata_fill_m", -12000.0, 12000.0) : 0.0;
+  if (t.Has("max_load_mb")) {
+    s.max_load_bytes = static_cast<uint64_t>(t.Int("max_load_mb", 1, 1 << 24)) << 20;
+  }
+  try {
+    e.layout = ProbeElevation(s);
+  } catch (const std::exception& ex) {
+    throw std::invalid_argument(
+        fmt::format("{}: terrain.elevation_file: {}", t.source(), ex.what()));
+  }
+  return e;
+}
+
+void ApplyFileOrigin(const ElevationTerrain& elevation, bool origin_typed, DisConfig& dis,
+                     const std::string& source_name) {
+  const GeodeticPoint file = elevation.layout.georeference->origin();
+  if (origin_typed) {
+    const GeodeticPoint typed{dis.latitude_deg, dis.longitude_deg, dis.height_m};
+    const double d = GeocentricDistanceM(typed, file);
+    if (d > kOriginToleranceM) {
+      throw std::invalid_argument(fmt::format(
+          "{}: dis.latitude_deg/longitude_deg/height_m ({:.8f}, {:.8f}, {} m) lie {:.2f} m from "
+          "the origin of elevation_file {} ({:.8f}, {:.8f}, {} m; {}): more than {} m; remove "
+          "them to take the file's",
+          source_name, typed.latitude_deg, typed.longitude_deg, typed.height_m, d,
+          elevation.source.file.string(), file.latitude_deg, file.longitude_deg, file.height_m,
+          elevation.layout.georeference->description(), kOriginToleranceM));
+    }
+  }
+  dis.latitude_deg = file.latitude_deg;
+  dis.longitude_deg = file.longitude_deg;
+  dis.height_m = file.height_m;
+}
+
 BaseGround BuildExerciseGround(const ExerciseConfig& exercise) {
   if (exercise.ground) return *exercise.ground;
-  return BaseGround{MakeRandomTerrain(exercise.terrain), {}};
+  const int64_t t0 = MonotonicMs();
+  if (!exercise.elevation) {
+    HeightGrid g = MakeRandomTerrain(exercise.terrain);
+    DT_LOG_INFO("terrain {} x {} posts ({} x {} m, seed {}) ready in {} ms", g.posts_x(),
+                g.posts_z(), g.size_x_m(), g.size_z_m(), exercise.terrain.seed, MonotonicMs() - t0);
+    return BaseGround{std::move(g), {}};
+  }
+  const ElevationTerrain& e = *exercise.elevation;
+  HeightGrid g = LoadElevation(e.source, e.layout);
+  const GeodeticPoint o = e.layout.georeference->origin();
+  DT_LOG_INFO(
+      "terrain {} x {} posts ({} x {} m at {} m, {}) from {} ({}) in {} ms; origin {:.8f} "
+      "{:.8f} on the {}",
+      g.posts_x(), g.posts_z(), g.size_x_m(), g.size_z_m(), g.spacing_m(),
+      ResamplingName(e.source.resampling), e.source.file.string(), e.layout.driver,
+      MonotonicMs() - t0, o.latitude_deg, o.longitude_deg, e.layout.georeference->description());
+  return BaseGround{std::move(g), {}};
 }
 
 std::string ExerciseGroundSource(const ExerciseConfig& exercise) {
   if (exercise.ground) return fmt::format("ground_file {}", exercise.ground_file.string());
+  if (exercise.elevation) {
+    return fmt::format("elevation_file {}", exercise.elevation->source.file.string());
+  }
   const RandomTerrainParams& t = exercise.terrain;
   return fmt::format("random seed {} {}x{} posts spacing {} m relief {} m", t.seed, t.posts_x,
                      t.posts_z, t.spacing_m, t.relief_m);

@@ -1,21 +1,56 @@
-// BuildExerciseGround: the ground every process of an exercise starts on, from its [terrain].
+// The exercise's ground: seeded random ground, an elevation file (docs/real-ground.md) or a saved
+// terrain (docs/node.md "Starting from a saved terrain"), built in one place.
 #pragma once
 
+#include <filesystem>
+#include <optional>
 #include <string>
+#include <vector>
 
-#include "runtime/exercise_config.h"
+#include "geo/elevation_loader.h"
 #include "terrain/base_ground.h"
+#include "terrain/height_grid.h"
 
 namespace dt {
 
+class TomlReader;
+struct ExerciseConfig;
+struct DisConfig;
+
+// [terrain] elevation_file and its keys, with what the file's header made of them.
+struct ElevationTerrain {
+  ElevationSource source;
+  ElevationLayout layout;  // posts, spacing and georeference, probed at config load
+};
+
+// The [terrain] keys of an elevation file (besides spacing_m, which the random ground shares).
+extern const std::vector<std::string> kElevationKeys;
+
+// Reads elevation_file (relative to base_dir), area_crs or area_lonlat_deg, spacing_m,
+// resampling, nodata_fill, nodata_fill_m and max_load_mb, and probes the file. Throws
+// std::invalid_argument naming the key for a bad value and, for a file GDAL cannot read, without
+// a georeference or too large, ProbeElevation's message (file, sizes, GDAL's own message).
+ElevationTerrain ReadElevationTerrain(const TomlReader& terrain,
+                                      const std::filesystem::path& base_dir);
+
+// The greatest distance a hand-typed [dis] origin may lie from the file's, metres.
+inline constexpr double kOriginToleranceM = 1.0;
+
+// The [dis] origin with an elevation file: the file's, or, if the exercise file typed one, that
+// one when it lies within kOriginToleranceM of the file's. Throws std::invalid_argument naming
+// both origins and their distance otherwise.
+void ApplyFileOrigin(const ElevationTerrain& elevation, bool origin_typed, DisConfig& dis,
+                     const std::string& source_name);
+
 // The one place a process builds its ground from the exercise file: the saved terrain of
-// [terrain] ground_file (read when the file was loaded) with its features, else seeded random
-// ground without features. Every member of an exercise must build the same (docs/pdu.md "Ground
-// identity").
+// [terrain] ground_file (read when the file was loaded) with its features, else the elevation
+// file's ground, else seeded random ground, both without features. Every member of an exercise
+// must build the same (docs/pdu.md "Ground identity"). Throws as LoadElevation (nodata without a
+// fill, GDAL read errors).
 BaseGround BuildExerciseGround(const ExerciseConfig& exercise);
 
-// What the ground came from, for messages and `status`: "ground_file <path>" or
-// "random seed <n> <x>x<z> posts spacing <m> m relief <m> m".
+// What the ground came from, for messages and `status`: "ground_file <path>", "elevation_file
+// <path>" or "random seed <n> <x>x<z> posts spacing <m> m relief <m> m".
 std::string ExerciseGroundSource(const ExerciseConfig& exercise);
 
 }  // namespace dt

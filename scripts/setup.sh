@@ -12,7 +12,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcli11-dev libtomlplusplus-dev libspdlog-dev libfmt-dev
   libsqlite3-dev libpng-dev libxxhash-dev libsodium-dev
-  libgeographiclib-dev tshark
+  libgeographiclib-dev libgdal-dev gdal-bin tshark
   faketime
   clang libclang-rt-14-dev clang-format
   python3 python3-pip

@@ -419,6 +419,14 @@ TEST(ExerciseConfigTest, ShippedDemoParses) {
   EXPECT_EQ(c.nodes[1].start_vehicle_count(), 21);
   EXPECT_FALSE(c.auth.keyless);
   EXPECT_EQ(c.auth.key_file.filename(), "demo.key");
+  // Its ground is the committed GeoTIFF (docs/real-ground.md), near 36.6 N 121.9 W.
+  ASSERT_TRUE(c.elevation.has_value());
+  EXPECT_EQ(c.terrain.posts_x, 129);
+  EXPECT_EQ(c.terrain.posts_z, 129);
+  EXPECT_DOUBLE_EQ(c.terrain.spacing_m, 10.0);
+  ASSERT_TRUE(c.dis.has_value());
+  EXPECT_NEAR(c.dis->latitude_deg, 36.6, 1e-4);
+  EXPECT_NEAR(c.dis->longitude_deg, -121.9, 1e-4);
   for (const ProcessConfig& n : c.nodes) {
     if (!n.scenario.empty()) {
       EXPECT_TRUE(std::filesystem::exists(n.scenario)) << n.scenario;

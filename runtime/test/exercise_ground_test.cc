@@ -89,6 +89,13 @@ TEST_F(ExerciseGroundTest, RandomGroundIsBuiltFromTheSeedWithoutFeatures) {
   EXPECT_EQ(ExerciseGroundSource(c), "random seed 9 65x65 posts spacing 5 m relief 20 m");
 }
 
+TEST_F(ExerciseGroundTest, AGroundFileAndAnElevationFileTogetherAreRefused) {
+  const std::string e =
+      ErrorOf(Text("ground_file = \"grounds/field.dtt\"\nelevation_file = \"dem.tif\""));
+  EXPECT_NE(e.find("terrain.ground_file"), std::string::npos) << e;
+  EXPECT_NE(e.find("not both"), std::string::npos) << e;
+}
+
 TEST_F(ExerciseGroundTest, GridKeysBesideAGroundFileAndABadFileAreRefusedByName) {
   std::string e = ErrorOf(Text("ground_file = \"grounds/field.dtt\"\nseed = 4"));
   EXPECT_NE(e.find("terrain.seed"), std::string::npos) << e;

@@ -12,6 +12,13 @@ namespace dt {
 void Replica::OnMaxFeature(const dtpdu::max_feature_t& pdu) {
   ++counters_.received;
   const NodeAddress sender = FromPdu(pdu.sender);
+  // A MaxFeature names the sender's ground as it is now: one naming ours is judged by
+  // AdmitsGround below, not refused for what an earlier report said (a member restarted on the
+  // exercise's ground is believed again).
+  if (pdu.ground_digest[0] == static_cast<int64_t>(ground_digest_.high) &&
+      pdu.ground_digest[1] == static_cast<int64_t>(ground_digest_.low)) {
+    peer_grounds_.erase(sender);
+  }
   if (!AdmitsSender(sender)) return;
   const auto role = static_cast<NodeRole>(pdu.role);
   if (!AdmitsRole(sender, role, "a MaxFeature")) return;

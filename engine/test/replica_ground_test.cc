@@ -140,6 +140,21 @@ TEST_F(GroundTest, APduFromAMemberThatReportedAnotherGroundIsRefused) {
     // A node's other ground is the node's problem: no one refuses itself for it.
     EXPECT_FALSE(r->ground_refused());
   }
+  // Restarted on the exercise's ground, its next MaxFeature names that ground, and it is believed
+  // again: the earlier report does not refuse the one that corrects it.
+  const TerrainDigest test_ground = ComputeDigest(testing::TestGround());
+  report.ground_digest[0] = static_cast<int64_t>(test_ground.high);
+  report.ground_digest[1] = static_cast<int64_t>(test_ground.low);
+  report.lamport = 3;
+  ASSERT_TRUE(c.Publish(report).ok());
+  cluster_.Run(100);
+  f.change.lamport = 4;
+  ASSERT_TRUE(c.Publish(ToConstruct(f)).ok());
+  cluster_.Run(500);
+  for (Replica* r : {&S(), &A()}) {
+    EXPECT_TRUE(r->ground_mismatches().empty()) << r->config().address.ToString();
+    EXPECT_EQ(r->live_feature_count(), 1u) << r->config().address.ToString();
+  }
 }
 
 TEST_F(GroundTest, AStandbyAndAnObserverOnAnotherGroundRefuseThemselves) {

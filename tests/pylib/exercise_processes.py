@@ -9,6 +9,7 @@ polling a condition under a deadline, and stopped by PID.
 A test's scripts find this folder by their own path (sys.path), so they run by hand as in ctest.
 """
 import os
+import select
 import shutil
 import signal
 import subprocess
@@ -26,22 +27,35 @@ class ExerciseProcesses:
         shutil.rmtree(run_dir, ignore_errors=True)
         os.makedirs(run_dir)
 
-    def start(self, name, program, *extra, config=None, ready_s=60):
+    def start(self, name, program, *extra, config=None, ready_s=60, wait_ready=True):
         """Starts `program` as process `name` of the exercise (or of `config`) and returns once it
-        printed "READY <name>"; its stdout up to then and its stderr go to <run_dir>/<name>.log."""
+        printed "READY <name>" (at once if not `wait_ready`: a process expected never to be ready);
+        its stdout and its stderr go to <run_dir>/<name>.log. A process silent past `ready_s`
+        fails the test, so a missing READY is never a hang."""
         args = [self.programs[program], "--config", config or self.exercise, "--run-dir",
                 self.run_dir, "--name", name, *extra]
         log = open(os.path.join(self.run_dir, f"{name}.log"), "ab")
+        if not wait_ready:
+            self.procs[name] = subprocess.Popen(args, stdout=log, stderr=log)
+            return self.procs[name]
         p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=log)
         self.procs[name] = p
         deadline = time.time() + ready_s
-        for line in p.stdout:  # readiness: the process's own READY line, read as it comes
-            log.write(line)
-            log.flush()
-            if line.strip() == f"READY {name}".encode():
-                return p
-            if time.time() > deadline:
+        pending = b""
+        fd = p.stdout.fileno()
+        while time.time() < deadline:
+            readable, _, _ = select.select([fd], [], [], max(0.0, deadline - time.time()))
+            if not readable:
                 break
+            chunk = os.read(fd, 4096)  # readiness: the process's own READY line, read as it comes
+            if not chunk:
+                break
+            log.write(chunk)
+            log.flush()
+            pending += chunk
+            *lines, pending = pending.split(b"\n")
+            if any(line.strip() == f"READY {name}".encode() for line in lines):
+                return p
         self.fail(f"{name} never printed READY {name}")
 
     def ctl(self, name, *command, config=None):

@@ -202,12 +202,14 @@ with sync_playwright() as pw:
     print(f"screenshot {shot}")
 
     # A forced divergence: node-2 restarted on a different terrain (the exercise file with
-    # another [terrain] seed, so the same features on other ground) has a digest of its own. Its
-    # row is flagged and its digest's colour differs; the server and node-1 agree and look alike.
+    # another [terrain] seed, so the same features on other ground) has a digest of its own. It
+    # refuses itself on hearing the server's ground (docs/pdu.md "Ground identity"), so it never
+    # prints READY; it still answers `status`. Its row is flagged and its digest's colour
+    # differs; the server and node-1 agree and look alike.
     procs["node-2"].send_signal(signal.SIGTERM)
     if procs["node-2"].wait(timeout=15) != 0:
         fail("node-2 did not exit 0 on SIGTERM")
-    start("node-2", "dt_node", config=other_terrain_exercise())
+    start("node-2", "dt_node", config=other_terrain_exercise(), wait_ready=False)
     rows_js = """() => Object.fromEntries([...document.querySelectorAll('#processes tbody tr')]
         .map(r => [r.dataset.name, {state: r.dataset.state, diverged: r.dataset.diverged,
                    colour: r.querySelector('td.digest .swatch')?.style.background ?? '',

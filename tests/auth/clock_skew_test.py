@@ -18,12 +18,13 @@ Exit 0: pass; 1: fail; 77: skipped (no faketime, or it does not move this machin
 """
 import os
 import re
-import select
 import shutil
-import signal
 import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pylib"))
+from launch_output import LaunchOutput  # noqa: E402
 
 SKIP = 77
 SKEW_S = 45
@@ -110,64 +111,9 @@ def faketime_works():
     return True
 
 
-class Launch:
-    """dt_launch of the exercise, its output read line by line under deadlines."""
-
-    def __init__(self, argv):
-        self.lines = []
-        self.proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
-        self.buffer = b""
-
-    def _read_line(self, deadline):
-        """The next line, or None at the end of the output or the deadline."""
-        while b"\n" not in self.buffer:
-            left = deadline - time.monotonic()
-            if left <= 0:
-                return None
-            ready, _, _ = select.select([self.proc.stdout], [], [], left)
-            if not ready:
-                return None
-            chunk = os.read(self.proc.stdout.fileno(), 65536)
-            if not chunk:
-                return None
-            self.buffer += chunk
-        line, _, self.buffer = self.buffer.partition(b"\n")
-        text = line.decode(errors="replace")
-        self.lines.append(text)
-        return text
-
-    def wait_for(self, what, pattern, timeout_s=WAIT_S):
-        """Reads lines until one matches `pattern` (a compiled regex); returns the match."""
-        for line in self.lines:  # already read while waiting for something else
-            m = pattern.search(line)
-            if m:
-                return m
-        deadline = time.monotonic() + timeout_s
-        while True:
-            line = self._read_line(deadline)
-            if line is None:
-                raise Failure(f"no line with {what} within {timeout_s} s")
-            m = pattern.search(line)
-            if m:
-                return m
-
-    def wait_exit(self, timeout_s=WAIT_S):
-        deadline = time.monotonic() + timeout_s
-        while self._read_line(deadline) is not None:
-            pass
-        try:
-            return self.proc.wait(max(0.0, deadline - time.monotonic()))
-        except subprocess.TimeoutExpired:
-            raise Failure(f"dt_launch still running {timeout_s} s after its ready timeout")
-
-    def stop(self):
-        if self.proc.poll() is None:
-            self.proc.send_signal(signal.SIGTERM)
-            try:
-                self.proc.wait(30)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait()
+def Launch(argv):
+    """dt_launch of an exercise, its output read line by line under deadlines."""
+    return LaunchOutput(argv, failure=Failure, wait_s=WAIT_S)
 
 
 def status(ctl, config, name):

@@ -27,11 +27,13 @@ Exit 0: pass; 1: fail.
 import os
 import re
 import select
-import signal
 import struct
 import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pylib"))
+from launch_output import LaunchOutput  # noqa: E402
 
 READY_TIMEOUT_S = 25  # dt_launch's --ready-timeout-s for the battle: node-2 never signs on
 WAIT_S = 30  # every wait for a line or a state gives up after this long
@@ -102,62 +104,9 @@ class Failure(Exception):
     pass
 
 
-class Launch:
+def Launch(argv):
     """dt_launch of an exercise, its output read line by line under deadlines."""
-
-    def __init__(self, argv):
-        self.lines = []
-        self.proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
-        self.buffer = b""
-
-    def _read_line(self, deadline):
-        while b"\n" not in self.buffer:
-            left = deadline - time.monotonic()
-            if left <= 0:
-                return None
-            ready, _, _ = select.select([self.proc.stdout], [], [], left)
-            if not ready:
-                return None
-            chunk = os.read(self.proc.stdout.fileno(), 65536)
-            if not chunk:
-                return None
-            self.buffer += chunk
-        line, _, self.buffer = self.buffer.partition(b"\n")
-        text = line.decode(errors="replace")
-        self.lines.append(text)
-        return text
-
-    def wait_for(self, what, pattern, timeout_s=WAIT_S):
-        for line in self.lines:
-            m = pattern.search(line)
-            if m:
-                return m
-        deadline = time.monotonic() + timeout_s
-        while True:
-            line = self._read_line(deadline)
-            if line is None:
-                raise Failure(f"no line with {what} within {timeout_s} s")
-            m = pattern.search(line)
-            if m:
-                return m
-
-    def wait_exit(self, timeout_s=WAIT_S):
-        deadline = time.monotonic() + timeout_s
-        while self._read_line(deadline) is not None:
-            pass
-        try:
-            return self.proc.wait(max(0.0, deadline - time.monotonic()))
-        except subprocess.TimeoutExpired:
-            raise Failure(f"dt_launch still running {timeout_s} s after it should have ended")
-
-    def stop(self):
-        if self.proc.poll() is None:
-            self.proc.send_signal(signal.SIGTERM)
-            try:
-                self.proc.wait(30)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
-                self.proc.wait()
+    return LaunchOutput(argv, failure=Failure, wait_s=WAIT_S)
 
 
 def ctl(ctl_bin, config, name, *args):

@@ -45,27 +45,23 @@ bool SettleOnTerrain(const Terrain& terrain, const VehicleType& type, DrPose& po
   const double grade_left = (left - right) / type.width_m;
   pose.pitch_rad = std::atan2(front - back, type.length_m);
   pose.roll_rad = std::atan2(left - right, type.width_m);  // right side down is positive
-  // The plane of that tilt laid on the highest point of the surface under the footprint: on a
-  // plane it is the mean of the sides; over a crest (a berm, a crater's rim, a solid's edge) the
-  // vehicle rests on the crest, not in it. Where no earthwork or solid is near, the ground's
-  // triangles are flat enough for the sides, the centre and the corners; near one the footprint is
-  // sampled every kRemoteSettleStepM.
-  const bool rough = !solids.empty() || EarthworkNear(terrain, plan);
-  const int n_ahead = rough ? static_cast<int>(std::ceil(type.length_m / kRemoteSettleStepM)) : 2;
-  const int n_left = rough ? static_cast<int>(std::ceil(type.width_m / kRemoteSettleStepM)) : 2;
-  double y = -INFINITY;
-  auto lay = [&](double ahead_m, double left_m, double h) {
-    y = std::max(y, h - ahead_m * grade_ahead - left_m * grade_left);
-  };
-  lay(hl, 0, front);
-  lay(-hl, 0, back);
-  lay(0, hw, left);
-  lay(0, -hw, right);
-  lay(0, 0, surface(0, 0));
-  for (int i = 0; i <= n_ahead; ++i) {
-    for (int k = 0; k <= n_left; ++k) {
-      const double a = -hl + type.length_m * i / n_ahead, l = -hw + type.width_m * k / n_left;
-      lay(a, l, surface(a, l));
+  // The plane of that tilt laid on the highest point of the surface under the footprint, sampled
+  // every kRemoteSettleStepM: over a crest (a berm, a crater's rim, a solid's edge) the vehicle
+  // rests on the crest, not in it. Where no earthwork or solid is near, the ground's triangles
+  // are flat enough for the mean of the sides (on a plane the same).
+  double y = (front + back + left + right) / 4;
+  if (!solids.empty() || EarthworkNear(terrain, plan)) {
+    const int n_ahead = static_cast<int>(std::ceil(type.length_m / kRemoteSettleStepM));
+    const int n_left = static_cast<int>(std::ceil(type.width_m / kRemoteSettleStepM));
+    auto lay = [&](double ahead_m, double left_m, double h) {
+      y = std::max(y, h - ahead_m * grade_ahead - left_m * grade_left);
+    };
+    lay(0, 0, surface(0, 0));
+    for (int i = 0; i <= n_ahead; ++i) {
+      for (int k = 0; k <= n_left; ++k) {
+        const double a = -hl + type.length_m * i / n_ahead, l = -hw + type.width_m * k / n_left;
+        lay(a, l, surface(a, l));
+      }
     }
   }
   pose.location_m[1] = y;

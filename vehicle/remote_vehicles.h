@@ -76,10 +76,11 @@ inline constexpr double kRemoteSettleStepM = 0.5;
 // Settles a vehicle of `type` at pose.location (x, z) and heading on `terrain`'s surface: the
 // ground with its earthworks and, within kRemoteClimbM above the owner's elevation
 // (pose.location y), the tops of this node's bridge solids. Pitch and roll are the slopes between
-// the surface under the centres of opposite sides; y lays that plane on the highest point of the
-// surface under the footprint (sampled every kRemoteSettleStepM near earthworks and bridges), so
-// the footprint is not below the surface (docs/vehicles.md "Shared vehicles"). Returns false,
-// leaving the pose alone, where the footprint is not on the terrain.
+// the surface under the centres of opposite sides; y is the mean of the four, and near an
+// earthwork or a bridge lays that plane on the highest point of the surface under the footprint
+// (sampled every kRemoteSettleStepM), so the footprint is not below the surface (docs/vehicles.md
+// "Shared vehicles"). Returns false, leaving the pose alone, where the footprint is not on the
+// terrain.
 bool SettleOnTerrain(const Terrain& terrain, const VehicleType& type, DrPose& pose);
 
 }  // namespace dt

@@ -56,7 +56,7 @@ VehicleGroupConfig ReadGroup(const TomlReader& r, double size_x_m, double size_z
   if (!BuiltInVehicleType(g.type)) r.Fail("type", "unknown vehicle type (tank, truck, jeep)");
   g.count = static_cast<int>(r.Int("count", 1, kMaxGroupVehicles));
   g.seed = static_cast<uint64_t>(r.Int("seed", 1, 0, INT64_MAX));
-  const std::string model = r.String("model", "light");
+  const std::string model = r.String("model", "physical");
   const std::optional<VehicleModel> m = ParseVehicleModel(model);
   if (!m) r.Fail("model", "expected \"physical\" or \"light\"");
   g.model = *m;

@@ -39,7 +39,9 @@ struct VehicleGroupConfig {
   int count = 1;    // 1 .. kMaxGroupVehicles
   WanderArea area;  // inside the terrain; the whole terrain when the file gives none
   uint64_t seed = 1;
-  VehicleModel model = VehicleModel::kLight;  // light by default: groups are meant to be large
+  // Physical by default: a group obeys the terrain; "light" only where a file asks for it (it does
+  // not: docs/vehicles.md "Autonomous groups").
+  VehicleModel model = VehicleModel::kPhysical;
 };
 inline constexpr int kMaxGroupVehicles = 10000;  // per group
 inline constexpr int kMaxNodeVehicles = 60000;   // vehicles and groups of one node together

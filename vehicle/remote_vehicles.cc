@@ -1,9 +1,13 @@
 #include "vehicle/remote_vehicles.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "base/demand.h"
 #include "log/log.h"
+#include "vehicle/bridge_solids.h"
+#include "vehicle/contact_surface.h"
 
 namespace dt {
 
@@ -12,20 +16,55 @@ bool SettleOnTerrain(const Terrain& terrain, const VehicleType& type, DrPose& po
   const double ax = std::cos(pose.heading_rad), az = std::sin(pose.heading_rad);
   const double lx = -az, lz = ax;  // left of the heading
   const double hl = type.length_m / 2, hw = type.width_m / 2;
-  const double pts[4][2] = {{x + ax * hl, z + az * hl},
-                            {x - ax * hl, z - az * hl},
-                            {x + lx * hw, z + lz * hw},
-                            {x - lx * hw, z - lz * hw}};
-  for (const auto& p : pts) {
-    if (!terrain.Contains(p[0], p[1])) return false;
+  auto at = [&](double ahead_m, double left_m) {
+    return std::pair{x + ax * ahead_m + lx * left_m, z + az * ahead_m + lz * left_m};
+  };
+  // The footprint's corners on the terrain, so every point between them is.
+  for (const double a : {-hl, hl}) {
+    for (const double l : {-hw, hw}) {
+      const auto [px, pz] = at(a, l);
+      if (!terrain.Contains(px, pz)) return false;
+    }
   }
-  const double front = terrain.ElevationAt(pts[0][0], pts[0][1]);
-  const double back = terrain.ElevationAt(pts[1][0], pts[1][1]);
-  const double left = terrain.ElevationAt(pts[2][0], pts[2][1]);
-  const double right = terrain.ElevationAt(pts[3][0], pts[3][1]);
-  pose.location_m[1] = (front + back + left + right) / 4;
+  Rect plan{x - hl - hw, z - hl - hw, x + hl + hw, z + hl + hw};
+  // This node's bridges as the solids the physical model drives on: a top within a climb of the
+  // owner's elevation carries the vehicle (so a deck the owner drives on is met here, and one
+  // destroyed here lets it down onto what lies below instead of leaving it in the air); a solid
+  // higher up is passed under.
+  std::vector<Solid> solids;
+  SolidsNear(terrain, plan, solids);
+  const double reach_m = pose.location_m[1] + kRemoteClimbM;
+  auto surface = [&](double ahead_m, double left_m) {
+    const auto [px, pz] = at(ahead_m, left_m);
+    return solids.empty() ? terrain.ElevationAt(px, pz)
+                          : SampleSurface(terrain, solids, px, pz, reach_m).height_m;
+  };
+  const double front = surface(hl, 0), back = surface(-hl, 0);
+  const double left = surface(0, hw), right = surface(0, -hw);
+  const double grade_ahead = (front - back) / type.length_m;
+  const double grade_left = (left - right) / type.width_m;
   pose.pitch_rad = std::atan2(front - back, type.length_m);
   pose.roll_rad = std::atan2(left - right, type.width_m);  // right side down is positive
+  // The plane of that tilt laid on the highest point of the surface under the footprint, sampled
+  // every kRemoteSettleStepM: over a crest (a berm, a crater's rim, a solid's edge) the vehicle
+  // rests on the crest, not in it. Where no earthwork or solid is near, the ground's triangles
+  // are flat enough for the mean of the sides (on a plane the same).
+  double y = (front + back + left + right) / 4;
+  if (!solids.empty() || EarthworkNear(terrain, plan)) {
+    const int n_ahead = static_cast<int>(std::ceil(type.length_m / kRemoteSettleStepM));
+    const int n_left = static_cast<int>(std::ceil(type.width_m / kRemoteSettleStepM));
+    auto lay = [&](double ahead_m, double left_m, double h) {
+      y = std::max(y, h - ahead_m * grade_ahead - left_m * grade_left);
+    };
+    lay(0, 0, surface(0, 0));
+    for (int i = 0; i <= n_ahead; ++i) {
+      for (int k = 0; k <= n_left; ++k) {
+        const double a = -hl + type.length_m * i / n_ahead, l = -hw + type.width_m * k / n_left;
+        lay(a, l, surface(a, l));
+      }
+    }
+  }
+  pose.location_m[1] = y;
   return true;
 }
 
@@ -100,10 +139,10 @@ std::vector<EntityId> RemoteVehicles::Tick(const Terrain& terrain, double now_s)
       continue;
     }
     v.pose = Extrapolate(v.state, v.orientation0, silent_s);
-    // Off the ground (on a bridge deck, falling) the owner's elevation and tilt are kept.
-    const bool grounded =
-        (v.state.appearance & (appearance::kOnBridge | appearance::kFalling)) == 0;
-    v.settled = grounded && SettleOnTerrain(terrain, v.type, v.pose);
+    // Falling, the owner's elevation and tilt are kept; on the ground or a deck it is settled on
+    // this node's terrain (SettleOnTerrain meets this node's decks).
+    const bool falling = (v.state.appearance & appearance::kFalling) != 0;
+    v.settled = !falling && SettleOnTerrain(terrain, v.type, v.pose);
     ++it;
   }
   return dropped;

@@ -67,10 +67,20 @@ class RemoteVehicles {
   uint64_t conflicts_unlogged_ = 0;
 };
 
-// Settles a ground vehicle of `type` at pose.location (x, z) and heading on `terrain`: y is the
-// mean ground elevation under the centres of its four sides, pitch and roll the slopes between
-// opposite sides (docs/vehicles.md "Shared vehicles"). Returns false, leaving the pose alone,
-// where the footprint is not on the terrain.
+// How far above the owner's elevation a bridge solid's top may be and still carry a remote
+// vehicle (SettleOnTerrain); a higher one is passed under.
+inline constexpr double kRemoteClimbM = 1.0;
+// How densely SettleOnTerrain samples a footprint near an earthwork or a bridge.
+inline constexpr double kRemoteSettleStepM = 0.5;
+
+// Settles a vehicle of `type` at pose.location (x, z) and heading on `terrain`'s surface: the
+// ground with its earthworks and, within kRemoteClimbM above the owner's elevation
+// (pose.location y), the tops of this node's bridge solids. Pitch and roll are the slopes between
+// the surface under the centres of opposite sides; y is the mean of the four, and near an
+// earthwork or a bridge lays that plane on the highest point of the surface under the footprint
+// (sampled every kRemoteSettleStepM), so the footprint is not below the surface (docs/vehicles.md
+// "Shared vehicles"). Returns false, leaving the pose alone, where the footprint is not on the
+// terrain.
 bool SettleOnTerrain(const Terrain& terrain, const VehicleType& type, DrPose& pose);
 
 }  // namespace dt

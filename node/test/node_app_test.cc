@@ -283,8 +283,8 @@ TEST_F(NodeAppTest, ABulldozerCutsCarriesAndSetsDownThroughEarthMoves) {
   EXPECT_EQ(sum, 0);
 }
 
-// A tank and a group of 12 light trucks: the trucks wander (the same way in two runs), are
-// listed, counted and shared like the tank; a drive command hands one to its operator.
+// A tank and a group of 12 trucks (physical, the default): the trucks wander (the same way in two
+// runs), are listed, counted and shared like the tank; a drive command hands one to its operator.
 TEST_F(NodeAppTest, AGroupWandersDeterministicallyIsSharedAndCountedAndADriveTakesOneOver) {
   const ExerciseConfig exercise = Exercise(
       "[[node.vehicle]]\ntype = \"tank\"\nx_m = 50\nz_m = 100\n"
@@ -297,7 +297,7 @@ TEST_F(NodeAppTest, AGroupWandersDeterministicallyIsSharedAndCountedAndADriveTak
     ASSERT_EQ(node.vehicles().size(), 13u);
     EXPECT_EQ(node.autonomous_count(), 12);
     EXPECT_FALSE(node.autonomous(0));
-    EXPECT_EQ(node.vehicles()[1].model(), VehicleModel::kLight);
+    EXPECT_EQ(node.vehicles()[1].model(), VehicleModel::kPhysical);
     std::vector<VehiclePose> start;
     for (const SimulatedVehicle& v : node.vehicles()) start.push_back(v.pose());
     node.Start(0);
@@ -333,9 +333,10 @@ TEST_F(NodeAppTest, AGroupWandersDeterministicallyIsSharedAndCountedAndADriveTak
       // Driving truck 5 makes it the operator's: it stops wandering and holds the command.
       ASSERT_TRUE(node.Handle("drive 5 0 0").ok);
       EXPECT_FALSE(node.autonomous(5));
-      for (int64_t ms = 20033; ms <= 21000; ms += 33) node.Tick(ms, 0.033);
+      // The physical truck brakes within its grip: a few seconds from its wandering speed.
+      for (int64_t ms = 20033; ms <= 25000; ms += 33) node.Tick(ms, 0.033);
       EXPECT_EQ(node.vehicles()[5].commanded_speed_mps(), 0.0);
-      EXPECT_EQ(node.vehicles()[5].pose().speed_mps, 0.0);
+      EXPECT_NEAR(node.vehicles()[5].pose().speed_mps, 0.0, 0.05);
       r = node.Handle("status");
       EXPECT_NE(r.body.find("autonomous_vehicles 11"), std::string::npos) << r.body;
     }

@@ -114,9 +114,9 @@ std::string WithGroup(const std::string& group) {
   return std::string(kGood) + "[[node.group]]\n" + group;
 }
 
-TEST(ExerciseConfigTest, AGroupReadsItsFieldsAndDefaultsToLightVehiclesOverTheWholeTerrain) {
+TEST(ExerciseConfigTest, AGroupReadsItsFieldsAndDefaultsToPhysicalVehiclesOverTheWholeTerrain) {
   const ExerciseConfig c = ParseExerciseConfig(
-      WithGroup("type = \"tank\"\ncount = 30\nseed = 5\nmodel = \"physical\"\n"
+      WithGroup("type = \"tank\"\ncount = 30\nseed = 5\nmodel = \"light\"\n"
                 "area = { x_min_m = 10, x_max_m = 200, z_min_m = 20.5, z_max_m = 300 }\n"
                 "[[node.group]]\ncount = 7\n"),
       "ex.toml", "/base");
@@ -125,14 +125,14 @@ TEST(ExerciseConfigTest, AGroupReadsItsFieldsAndDefaultsToLightVehiclesOverTheWh
   EXPECT_EQ(g.type, "tank");
   EXPECT_EQ(g.count, 30);
   EXPECT_EQ(g.seed, 5u);
-  EXPECT_EQ(g.model, VehicleModel::kPhysical);
+  EXPECT_EQ(g.model, VehicleModel::kLight);
   EXPECT_EQ(g.area.x_min_m, 10.0);
   EXPECT_EQ(g.area.x_max_m, 200.0);
   EXPECT_EQ(g.area.z_min_m, 20.5);
   EXPECT_EQ(g.area.z_max_m, 300.0);
   const VehicleGroupConfig& d = c.nodes[1].groups[1];
   EXPECT_EQ(d.type, "truck");
-  EXPECT_EQ(d.model, VehicleModel::kLight);
+  EXPECT_EQ(d.model, VehicleModel::kPhysical);
   EXPECT_EQ(d.seed, 1u);
   EXPECT_EQ(d.area.x_min_m, 0.0);
   EXPECT_EQ(d.area.x_max_m, 320.0);

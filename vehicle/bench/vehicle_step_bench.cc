@@ -1,6 +1,10 @@
 // Benchmarks of the vehicle models on a terrain holding 10^6 craters: one 30 Hz tick per vehicle
-// under the physical model (its internal steps included) and under the light model, and one
-// contact-surface query against one elevation query at the same points.
+// under the physical model (its internal steps included) and under the light model, a node's
+// autonomous group of 10 000 wandering vehicles ticked whole, and one contact-surface query
+// against one elevation query at the same points.
+#include <time.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -16,6 +20,8 @@
 #include "vehicle/contact_surface.h"
 #include "vehicle/light_vehicle.h"
 #include "vehicle/physical_vehicle.h"
+#include "vehicle/simulated_vehicle.h"
+#include "vehicle/wander.h"
 
 namespace dt {
 namespace {
@@ -143,6 +149,77 @@ void BM_LightTick(benchmark::State& state) {
   PerVehicleTick(state, ticks);
 }
 
+// CPU time of the calling thread: one core's work, whatever else the machine runs.
+double ThreadCpuS() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
+}
+
+// A node's group (docs/vehicles.md "Autonomous groups"): `state.range(2)` vehicles of the model
+// `state.range(3)` names (0 physical, 1 light), trucks, tanks and jeeps in turn, each placed and
+// steered by its Wanderer over the whole field as NodeApp does; an iteration is one 30 Hz tick of
+// the whole group (wander, command, advance). Counters: each tick's CPU time, p50 and p99 (ms).
+void BM_GroupTick(benchmark::State& state) {
+  const Field& f = TheField(state.range(0));
+  const auto model = static_cast<VehicleModel>(state.range(3));
+  const WanderArea area{0.0, f.size_m, 0.0, f.size_m};
+  std::vector<SimulatedVehicle> group;
+  std::vector<Wanderer> wanderers;
+  for (int64_t i = 0; i < state.range(2); ++i) {
+    const PhysicalVehicleType type = BuiltInPhysicalType(kTypes[i % 3], Friction()).value();
+    const uint64_t seed = WanderSeed(5, static_cast<uint64_t>(i));
+    Wanderer w(type.base, area, f.size_m, f.size_m, seed);
+    WanderRandom place(seed + 1);
+    for (int attempt = 0;; ++attempt) {
+      const WanderStart s = DrawWanderStart(w.clear_area(), place);
+      Result<SimulatedVehicle> v =
+          SimulatedVehicle::Make(type, *f.terrain, s.x_m, s.z_m, s.heading_rad, model);
+      if (v) {
+        group.push_back(std::move(v).value());
+        break;
+      }
+      if (attempt == 100) std::abort();
+    }
+    wanderers.push_back(std::move(w));
+  }
+  auto tick = [&] {
+    for (size_t i = 0; i < group.size(); ++i) {
+      SimulatedVehicle& v = group[i];
+      if (v.alive() && v.damage() == Damage::kNone) {
+        const WanderCommand c = wanderers[i].Next(v.pose(), kTickS);
+        if (c.speed_mps != v.commanded_speed_mps() ||
+            c.heading_rate_rad_s != v.commanded_rate_rad_s()) {
+          (void)v.Command(c.speed_mps, c.heading_rate_rad_s);
+        }
+      }
+      auto r = v.Advance(*f.terrain, kTickS);
+      benchmark::DoNotOptimize(r);
+    }
+  };
+  for (int64_t i = 0; i < state.range(1); ++i) tick();
+  std::vector<double> tick_ms;
+  for (auto _ : state) {
+    const double t0 = ThreadCpuS();
+    tick();
+    tick_ms.push_back((ThreadCpuS() - t0) * 1e3);
+  }
+  std::sort(tick_ms.begin(), tick_ms.end());
+  auto at = [&](double q) {
+    return tick_ms[std::min(tick_ms.size() - 1,
+                            static_cast<size_t>(q * static_cast<double>(tick_ms.size())))];
+  };
+  state.counters["p50_ms"] = at(0.5);
+  state.counters["p99_ms"] = at(0.99);
+  int wrecks = 0, stopped = 0;
+  for (const SimulatedVehicle& v : group) {
+    wrecks += v.alive() ? 0 : 1;
+    stopped += v.damage() == Damage::kNone ? 0 : 1;
+  }
+  state.counters["destroyed_at_end"] = wrecks;
+  state.counters["damaged_at_end"] = stopped;
+}
+
 void ContactQuery(benchmark::State& state, bool crater) {
   const Field& f = TheField(state.range(0));
   const auto& points = crater ? f.crater_points : f.bare_points;
@@ -178,6 +255,14 @@ BENCHMARK(BM_LightTick)
     ->Args({1'000'000, 1800})
     ->Iterations(kMeasuredTicks)
     ->Unit(benchmark::kMicrosecond);
+// Arguments: features, ticks before the window (1 s, 60 s), vehicles, model (0 physical, 1 light).
+// 60 ticks (2 s) a window: each is a whole group's tick, 10 000 vehicles.
+BENCHMARK(BM_GroupTick)
+    ->Args({1'000'000, 30, 10'000, 0})
+    ->Args({1'000'000, 1800, 10'000, 0})
+    ->Args({1'000'000, 30, 10'000, 1})
+    ->Iterations(60)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ElevationQueryBare)->Arg(1'000'000);
 BENCHMARK(BM_ContactQueryBare)->Arg(1'000'000);
 BENCHMARK(BM_ElevationQueryCrater)->Arg(1'000'000);

@@ -2,6 +2,7 @@
 // receiver's own terrain.
 #include "vehicle/remote_vehicles.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -100,14 +101,100 @@ TEST(RemoteVehicles, GroundVehiclesSettleOnTheLocalTerrainAndTiltOverItsCrater) 
   table.Tick(terrain, 0.3);
   EXPECT_NEAR(v.pose.roll_rad, std::atan2(1.5, 3.7), 1e-6);
   EXPECT_NEAR(v.pose.pitch_rad, 0.0, 1e-9);
-  // On a bridge the owner's elevation and tilt are kept.
-  auto on_bridge = Tank(1, 50, 100);
-  on_bridge.location_m[1] = 12.0;
-  on_bridge.appearance = appearance::kOnBridge;
-  table.Apply({1, 1}, on_bridge, 0.4);
+  // Falling, the owner's elevation and tilt are kept.
+  auto falling = Tank(1, 50, 100);
+  falling.location_m[1] = 12.0;
+  falling.appearance = appearance::kFalling;
+  table.Apply({1, 1}, falling, 0.4);
   table.Tick(terrain, 0.4);
   EXPECT_FALSE(v.settled);
   EXPECT_EQ(v.pose.location_m[1], 12.0);
+}
+
+// The lowest point of the footprint of a tank settled at `pose`, against the surface (ground and
+// earthworks) under it, on a 9 x 5 grid: positive where the footprint is below the surface.
+double SinkM(const Terrain& terrain, const DrPose& pose) {
+  const VehicleType tank = BuiltInVehicleType("tank").value();
+  const double ax = std::cos(pose.heading_rad), az = std::sin(pose.heading_rad);
+  double worst = -INFINITY;
+  for (int i = -4; i <= 4; ++i) {
+    for (int k = -2; k <= 2; ++k) {
+      const double a = tank.length_m / 2 * i / 4, l = tank.width_m / 2 * k / 2;
+      const double y =
+          pose.location_m[1] + a * std::tan(pose.pitch_rad) + l * std::tan(pose.roll_rad);
+      worst = std::max(worst, terrain.ElevationAt(pose.location_m[0] + ax * a - az * l,
+                                                  pose.location_m[2] + az * a + ax * l) -
+                                  y);
+    }
+  }
+  return worst;
+}
+
+// A berm made here across the path of a tank its owner reports on flat ground: the mean of the
+// sides' ground put it 0.75 m into the crest; it rests on the crest, level, touching it.
+TEST(RemoteVehicles, ARemoteVehicleRestsOnALocalBermsCrestNotInIt) {
+  Terrain terrain = Flat();
+  // 1.5 m high, 4 m wide at its base, running north-south through x = 50.
+  ASSERT_TRUE(
+      terrain.Add({3, 3, 1}, FeatureParams::Berm(50, 100, 1.5707963267948966, 30, 4, 1.5)).ok());
+  RemoteVehicles table({});
+  table.Apply({1, 1}, Tank(1, 50, 100), 0.0);  // heading east, across the berm
+  table.Tick(terrain, 0.0);
+  const RemoteVehicle& v = table.vehicles().at({1, 1, 1});
+  ASSERT_TRUE(v.settled);
+  EXPECT_NEAR(v.pose.pitch_rad, 0.0, 1e-9);
+  EXPECT_NEAR(v.pose.location_m[1], terrain.ElevationAt(50, 100), 1e-9);
+  EXPECT_NEAR(SinkM(terrain, v.pose), 0.0, 1e-6);
+  // Anywhere across it, the footprint is nowhere inside the berm (nor inside a crater's rim).
+  ASSERT_TRUE(terrain.Add({3, 3, 2}, FeatureParams::Crater(120, 100, 6, Material::kDirt)).ok());
+  for (double x = 35; x <= 135; x += 0.5) {
+    table.Apply({1, 1}, Tank(1, x, 100), x);
+    table.Tick(terrain, x);
+    EXPECT_LE(SinkM(terrain, v.pose), 0.05) << "x " << x;
+  }
+}
+
+// A bridge made here, 6 m high, east-west, ramp 1 from x 40 to 70, span to 110, ramp 2 to 140.
+FeatureParams LocalBridge() { return FeatureParams::Bridge(70, 100, 0.0, 10, 30, 40, 30, 6, 6); }
+
+TEST(RemoteVehicles, ARemoteVehicleOnABridgeStandsOnThisNodesDeckOrWhatIsLeftOfIt) {
+  Terrain terrain = Flat();
+  FeatureParams bridge = LocalBridge();
+  ASSERT_TRUE(terrain.Add({3, 3, 1}, bridge).ok());
+  RemoteVehicles table({});
+  // The owner says it is on the span, 0.3 m off this node's deck (its ground differs).
+  auto on_span = Tank(1, 90, 100);
+  on_span.appearance = appearance::kOnBridge;
+  on_span.location_m[1] = 5.0 + 6.0 - 0.3;
+  table.Apply({1, 1}, on_span, 0.0);
+  table.Tick(terrain, 0.0);
+  const RemoteVehicle& v = table.vehicles().at({1, 1, 1});
+  ASSERT_TRUE(v.settled);
+  EXPECT_NEAR(v.pose.location_m[1], 11.0, 1e-6);  // the deck's top
+  EXPECT_NEAR(v.pose.pitch_rad, 0.0, 1e-9);
+  // Half way up ramp 1 it stands on the ramp, pitched by its grade.
+  auto on_ramp = Tank(1, 55, 100);
+  on_ramp.appearance = appearance::kOnBridge;
+  on_ramp.location_m[1] = 8.0;
+  table.Apply({1, 1}, on_ramp, 0.1);
+  table.Tick(terrain, 0.1);
+  EXPECT_NEAR(v.pose.location_m[1], 8.0, 1e-6);
+  EXPECT_NEAR(v.pose.pitch_rad, std::atan(6.0 / 30.0), 1e-6);
+  // Under the span (the owner drives below it) it is on the ground.
+  auto under = Tank(1, 90, 100);
+  under.location_m[1] = 5.0;
+  table.Apply({1, 1}, under, 0.2);
+  table.Tick(terrain, 0.2);
+  EXPECT_NEAR(v.pose.location_m[1], 5.0, 1e-9);
+  // The span destroyed here, not yet on the owner's terrain: the vehicle the owner still has on
+  // its deck is not left in the air 6 m up; it lies on the rubble, below the deck that is gone.
+  bridge.status = BridgeStatus::kDestroyed;
+  ASSERT_TRUE(terrain.Update({3, 3, 1}, bridge).ok());
+  table.Apply({1, 1}, on_span, 0.3);
+  table.Tick(terrain, 0.3);
+  EXPECT_TRUE(v.settled);
+  EXPECT_LT(v.pose.location_m[1], 7.0);
+  EXPECT_GE(v.pose.location_m[1], 5.0);
 }
 
 TEST(RemoteVehicles, OffTheLocalTerrainTheOwnersPoseIsKept) {

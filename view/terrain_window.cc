@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 
 #include <fmt/format.h>
@@ -66,36 +67,42 @@ Result<TerrainWindowRequest> ParseTerrainWindowQuery(const std::string& query) {
 std::string TerrainWindowJson(const Terrain& terrain, const TerrainWindowRequest& request) {
   const HeightGrid& g = terrain.ground();
   const double spacing = g.spacing_m();
-  // The part of the square asked for that is on the terrain, and the step that covers it with the
-  // posts asked for, rounded up to whole post spacings: a small terrain seen from far is sent
-  // whole at its own spacing, a large one at a coarser step.
+  // The part of the square asked for that is on the terrain, covered by the posts asked for: at
+  // whole post spacings when that is coarser than the terrain's posts, else at a power-of-two
+  // fraction of the spacing (down to an eighth): the surface is defined between posts too (an
+  // earthwork is a shape, not posts), so a window close up shows a crater finer than the grid.
   const double lo_x = std::clamp(request.x_m - request.half_m, 0.0, g.size_x_m());
   const double hi_x = std::clamp(request.x_m + request.half_m, 0.0, g.size_x_m());
   const double lo_z = std::clamp(request.z_m - request.half_m, 0.0, g.size_z_m());
   const double hi_z = std::clamp(request.z_m + request.half_m, 0.0, g.size_z_m());
-  const double extent = std::max(hi_x - lo_x, hi_z - lo_z);
-  const int stride =
-      std::max(1, static_cast<int>(std::ceil(extent / (request.posts - 1) / spacing - 1e-9)));
-  const double step = stride * spacing;
-  // On the stride's lattice from the terrain's origin, so a window that moves keeps its samples.
-  auto first = [&](double lo) { return static_cast<int>(std::floor(lo / step + 1e-9)) * stride; };
-  auto count = [&](int first_post, double hi, int posts) {
-    const int n = 1 + static_cast<int>(std::ceil((hi - first_post * spacing) / step - 1e-9));
-    return std::clamp(n, 1, std::min(request.posts, (posts - 1 - first_post) / stride + 1));
+  const double wanted = std::max(hi_x - lo_x, hi_z - lo_z) / (request.posts - 1);
+  double step = spacing;
+  if (wanted > spacing) {
+    step = spacing * std::ceil(wanted / spacing - 1e-9);
+  } else {
+    while (step / 2 >= wanted && step > spacing / 8 * 1.5) step /= 2;
+  }
+  // On the step's lattice from the terrain's origin, so a window that moves keeps its samples
+  // (lattice indices kept as whole doubles: a fine step on a large terrain passes 2^31).
+  auto first = [&](double lo) { return std::floor(lo / step + 1e-9); };
+  auto count = [&](double k0, double hi, double size) {
+    const double n = 1 + std::ceil((hi - k0 * step) / step - 1e-9);
+    const double on_terrain = std::floor(size / step + 1e-9) - k0 + 1;
+    return static_cast<int>(std::clamp(n, 1.0, std::min<double>(request.posts, on_terrain)));
   };
-  const int i0 = first(lo_x), j0 = first(lo_z);
-  const int nx = count(i0, hi_x, g.posts_x()), nz = count(j0, hi_z, g.posts_z());
+  const double i0 = first(lo_x), j0 = first(lo_z);
+  const int nx = count(i0, hi_x, g.size_x_m()), nz = count(j0, hi_z, g.size_z_m());
   nlohmann::json h = nlohmann::json::array(), d = nlohmann::json::array();
   for (int j = 0; j < nz; ++j) {
     for (int i = 0; i < nx; ++i) {
-      const double x = (i0 + i * stride) * spacing, z = (j0 + j * stride) * spacing;
+      const double x = std::min((i0 + i) * step, g.size_x_m());
+      const double z = std::min((j0 + j) * step, g.size_z_m());
       const double surface = terrain.ElevationAt(x, z);
       h.push_back(Cm(surface));
-      d.push_back(Cm(surface - g.post(i0 + i * stride, j0 + j * stride)));
+      d.push_back(Cm(surface - terrain.GroundElevationAt(x, z)));
     }
   }
-  const Rect area{i0 * spacing, j0 * spacing, (i0 + (nx - 1) * stride) * spacing,
-                  (j0 + (nz - 1) * stride) * spacing};
+  const Rect area{i0 * step, j0 * step, (i0 + nx - 1) * step, (j0 + nz - 1) * step};
   nlohmann::json solids = nlohmann::json::array();
   int bridges = 0;
   // Every feature, not the square index: a window of a large terrain covers millions of squares,
@@ -116,8 +123,8 @@ std::string TerrainWindowJson(const Terrain& terrain, const TerrainWindowRequest
                         {"top", {s.top0_m, s.top1_m}}});
     }
   }
-  const nlohmann::json out = {{"x0", i0 * spacing},
-                              {"z0", j0 * spacing},
+  const nlohmann::json out = {{"x0", i0 * step},
+                              {"z0", j0 * step},
                               {"step", step},
                               {"nx", nx},
                               {"nz", nz},

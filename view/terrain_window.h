@@ -25,12 +25,13 @@ struct TerrainWindowRequest {
 Result<TerrainWindowRequest> ParseTerrainWindowQuery(const std::string& query);
 
 // The window as JSON (docs/view.md "The 3D view"): a grid of `nx` x `nz` samples from (x0, z0)
-// every `step` metres (a multiple of the terrain's post spacing, aligned to it so a window that
-// moves keeps its samples), row by row along x, of the surface (Terrain::ElevationAt: ground plus
-// earthworks) in `h` and of the earthworks' part of it (surface minus bare ground: negative in a
-// crater or ditch, positive on a berm) in `d`; and `solids`, the solids of every bridge whose
-// bounds meet the window (vehicle/bridge_solids.h BridgeSolids: the faces vehicles drive on and
-// stop against).
+// every `step` metres, row by row along x, on the lattice of that step from the terrain's origin
+// (so a window that moves keeps its samples): the step is whole post spacings for a window wider
+// than its posts, else a power-of-two fraction of the spacing down to an eighth. `h` holds the
+// surface (Terrain::ElevationAt: ground plus earthworks) and `d` the earthworks' part of it
+// (surface minus bare ground: negative in a crater's floor or a ditch, positive on a rim or a
+// berm); `solids` are the solids of every bridge whose bounds meet the window
+// (vehicle/bridge_solids.h BridgeSolids: the faces vehicles drive on and stop against).
 std::string TerrainWindowJson(const Terrain& terrain, const TerrainWindowRequest& request);
 
 }  // namespace dt

@@ -1,7 +1,8 @@
 """A fixed scene for the 3D view's browser test: what dt_view's GET /terrain3d answers (docs/view.md
 "The 3D view"), for a terrain given as a function (rolling ground with a crater, a berm, a ditch,
-an intact and a destroyed bridge), sampled as dt_view samples its grid (a step of whole post
-spacings, aligned to them, at most the posts asked for a side), plus the page's vehicles standing
+an intact and a destroyed bridge), sampled as dt_view samples its grid (whole post spacings, or a
+power-of-two fraction of one close up, on the step's lattice, at most the posts asked for a side),
+plus the page's vehicles standing
 still. The server answers the page's files, /terrain3d and /ws (one snapshot, then nothing), so the
 picture depends on the camera alone.
 
@@ -88,32 +89,35 @@ def bridge_solids(b):
 def window(query, size_m, spacing_m):
     """GET /terrain3d's answer, sampled as view/terrain_window.cc samples."""
     q = {k: float(v[0]) for k, v in urllib.parse.parse_qs(query).items()}
-    posts_side = int(round(size_m / spacing_m)) + 1
     want = int(q.get("posts", 129))
     lo_x, hi_x = (min(max(q["x"] + s * q["half"], 0.0), size_m) for s in (-1, 1))
     lo_z, hi_z = (min(max(q["z"] + s * q["half"], 0.0), size_m) for s in (-1, 1))
-    extent = max(hi_x - lo_x, hi_z - lo_z)
-    stride = max(1, math.ceil(extent / (want - 1) / spacing_m - 1e-9))
-    step = stride * spacing_m
+    wanted = max(hi_x - lo_x, hi_z - lo_z) / (want - 1)
+    step = spacing_m
+    if wanted > spacing_m:
+        step = spacing_m * math.ceil(wanted / spacing_m - 1e-9)
+    else:
+        while step / 2 >= wanted and step > spacing_m / 8 * 1.5:
+            step /= 2
 
     def first(lo):
-        return math.floor(lo / step + 1e-9) * stride
+        return math.floor(lo / step + 1e-9)
 
-    def count(i0, hi):
-        n = 1 + math.ceil((hi - i0 * spacing_m) / step - 1e-9)
-        return max(1, min(n, want, (posts_side - 1 - i0) // stride + 1))
+    def count(k0, hi):
+        n = 1 + math.ceil((hi - k0 * step) / step - 1e-9)
+        return int(max(1, min(n, want, math.floor(size_m / step + 1e-9) - k0 + 1)))
 
     i0, j0 = first(lo_x), first(lo_z)
     nx, nz = count(i0, hi_x), count(j0, hi_z)
-    xs = (i0 + stride * np.arange(nx)) * spacing_m
-    zs = (j0 + stride * np.arange(nz)) * spacing_m
+    xs = np.minimum((i0 + np.arange(nx)) * step, size_m)
+    zs = np.minimum((j0 + np.arange(nz)) * step, size_m)
     X, Z = np.meshgrid(xs, zs)
     bare, works = ground(X, Z), earthworks(X, Z)
     solids = []
     for b in BRIDGES:
         if abs(b[0] - q["x"]) < q["half"] + 120 and abs(b[1] - q["z"]) < q["half"] + 120:
             solids += bridge_solids(b)
-    return {"x0": i0 * spacing_m, "z0": j0 * spacing_m, "step": step, "nx": nx, "nz": nz,
+    return {"x0": i0 * step, "z0": j0 * step, "step": step, "nx": nx, "nz": nz,
             "spacing": spacing_m, "size_x": size_m, "size_z": size_m,
             "h": np.round(bare + works, 2).ravel().tolist(),
             "d": np.round(works, 2).ravel().tolist(), "solids": solids}

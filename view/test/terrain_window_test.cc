@@ -70,9 +70,12 @@ TEST(TerrainWindowTest, ALargeTerrainIsSentAtACoarserStepNeverMorePosts) {
   EXPECT_EQ(w["nx"].get<int>(), 129);
   EXPECT_EQ(w["nz"].get<int>(), 129);
   const auto near = nlohmann::json::parse(TerrainWindowJson(t, {4000, 4000, 100, 129}));
-  EXPECT_EQ(near["step"].get<double>(), 4.0) << "close up, the terrain's own posts";
+  // Close up, finer than the posts: 200 m over 128 steps is 1.56 m, so half the 4 m spacing.
+  EXPECT_EQ(near["step"].get<double>(), 2.0);
   EXPECT_EQ(near["x0"].get<double>(), 3900.0);
-  EXPECT_EQ(near["nx"].get<int>(), 51);
+  EXPECT_EQ(near["nx"].get<int>(), 101);
+  const auto closest = nlohmann::json::parse(TerrainWindowJson(t, {4000, 4000, 10, 129}));
+  EXPECT_EQ(closest["step"].get<double>(), 0.5) << "an eighth of the spacing at most";
 }
 
 TEST(TerrainWindowTest, BridgesAreTheSolidsVehiclesMeet) {

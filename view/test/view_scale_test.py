@@ -8,7 +8,8 @@ page's count of what it drew) and the canvas holds owner-colour pixels for every
 for every owner; zoomed in, the vehicles in view (counted here from the page's model and view) are
 drawn one marker each, and the pixels hold them. Printed, not asserted (speed is a benchmark's to
 measure): frames per second, the worst frame and the page's lag behind its messages over 10 s of
-panning and zooming, and the feed's bytes per second. Exits 77 (skipped) when playwright or
+panning and zooming, and the feed's bytes per second; then the 3D view's frames per second with
+every vehicle on the feed's terrain window. Exits 77 (skipped) when playwright or
 chromium is not installed. Run inside tests/run_in_netns.sh.
 
   view_scale_test.py <vehicles> <features> <run_dir> [<seconds of panning>]
@@ -82,7 +83,9 @@ IN_VIEW = """() => {
 }"""
 
 with sync_playwright() as pw:
-    browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True, args=["--no-sandbox"])
+    browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
+                                 args=["--no-sandbox", "--use-angle=swiftshader",
+                                       "--enable-unsafe-swiftshader"])
     try:
         page = browser.new_page(viewport={"width": 1600, "height": 1000})
         page.goto(f"http://127.0.0.1:{PORT}/")
@@ -164,6 +167,21 @@ with sync_playwright() as pw:
         print(f"the page's time over {stats['ms'] / 1000:.1f} s: {c['messages']} messages applied "
               f"in {c['applyMs']:.0f} ms, {c['draws']} frames drawn in {c['drawMs']:.0f} ms")
         page.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-after.png"))
+
+        # The 3D view over the whole terrain with every vehicle, while the deltas keep coming:
+        # frames per second and lag printed, not asserted.
+        page.click("#toggle3d")
+        page.wait_for_function(f"window.dtView3d.windows >= 1 && window.dtView3d.drawn.vehicles "
+                               f">= {vehicles * 9 // 10}", timeout=30000)
+        page.evaluate("window.dtView.maxLagMs = 0")
+        f0, t0 = page.evaluate("window.dtView3d.frames"), time.monotonic()
+        page.wait_for_timeout(5000)
+        fps3d = (page.evaluate("window.dtView3d.frames") - f0) / (time.monotonic() - t0)
+        d3 = page.evaluate("window.dtView3d.drawn")
+        load = os.getloadavg()
+        print(f"3D view, {d3['vehicles']} vehicles drawn on {d3['posts']} posts: {fps3d:.1f} fps, "
+              f"lag max {page.evaluate('window.dtView.maxLagMs')} ms, load average {load[0]:.2f}")
+        page.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-3d.png"))
     finally:
         browser.close()
         server.shutdown()

@@ -7,6 +7,7 @@ const SKY = [0.53, 0.66, 0.80];
 const SUN = norm([0.45, 0.8, 0.35]);
 const POSTS = 129;            // samples per side asked of dt_view (it sends at most 257)
 const REFETCH_MS = 500;       // a changed terrain is asked again at most this often
+const SIMPLE_ABOVE = 1000;    // vehicles drawn as points above this many
 const VEHICLE_L = 7, VEHICLE_W = 3.2, VEHICLE_H = 2.4;  // metres, before the zoom's scale
 const v3 = {
   on: false, gl: null, cam: { x: 500, z: 500, yaw: 0.6, pitch: 0.55, dist: 600, follow: null },
@@ -40,12 +41,19 @@ function mul(a, b) {
 // The terrain's frame is x east, z north, y up (docs/conventions.md): GL's z is the terrain's -z,
 // so the picture is not mirrored.
 const VS = `#version 300 es
-uniform mat4 mvp; uniform float scale;
+uniform mat4 mvp; uniform float scale; uniform float pointPx;
 in vec3 pos; in vec3 nrm; in vec3 col;
 in vec4 inst; in vec3 instCol;  // vehicles: x, y, z, heading; colour (zero for the meshes)
 out vec3 vCol; out float vLight;
 void main() {
   vec3 p = pos, n = nrm, c = col;
+  if (pointPx > 0.0) {  // a vehicle as one point: its place, lifted by its height
+    gl_Position = mvp * vec4(inst.x, inst.y + scale * ${VEHICLE_H}, -inst.z, 1.0);
+    gl_PointSize = pointPx;
+    vCol = instCol;
+    vLight = 1.0;
+    return;
+  }
   if (scale > 0.0) {
     float ch = cos(inst.w), sh = sin(inst.w);
     p = vec3(inst.x + scale * (p.x * ch - p.z * sh), inst.y + scale * p.y,
@@ -93,7 +101,6 @@ function upload(gl, verts, idx) {
 function release(gl, m) {
   if (!m) return;
   gl.deleteVertexArray(m.vao); gl.deleteBuffer(m.vb); gl.deleteBuffer(m.ib);
-  if (m.instances) gl.deleteBuffer(m.instances);
 }
 
 // The ground: a grid of the window's samples, coloured by height and tinted where earthworks cut
@@ -155,7 +162,7 @@ function solidFaces(s, verts, idx) {
 }
 
 // A vehicle: a hull and a smaller turret, 1 long along +x (its heading), white (tinted by owner).
-function vehicleShape() {
+function vehicleShape(detailed) {
   const verts = [], idx = [];
   const box = (x0, x1, y0, y1, w, shade) => {
     const s = { o: [0, 0], u: [1, 0], a: [x0, x1], r: [-w / 2, w / 2], bottom: [y0, y0], top: [y1, y1], kind: "v" };
@@ -164,8 +171,10 @@ function vehicleShape() {
     for (let k = before; k < verts.length; k += 9) verts[k + 6] = verts[k + 7] = verts[k + 8] = shade;
   };
   box(-VEHICLE_L / 2, VEHICLE_L / 2, 0, VEHICLE_H * 0.55, VEHICLE_W, 1.0);
-  box(-VEHICLE_L * 0.15, VEHICLE_L * 0.3, VEHICLE_H * 0.55, VEHICLE_H, VEHICLE_W * 0.6, 0.8);
-  box(VEHICLE_L * 0.3, VEHICLE_L * 0.75, VEHICLE_H * 0.72, VEHICLE_H * 0.82, 0.35, 0.6);  // gun
+  if (detailed) {
+    box(-VEHICLE_L * 0.15, VEHICLE_L * 0.3, VEHICLE_H * 0.55, VEHICLE_H, VEHICLE_W * 0.6, 0.8);
+    box(VEHICLE_L * 0.3, VEHICLE_L * 0.75, VEHICLE_H * 0.72, VEHICLE_H * 0.82, 0.35, 0.6);  // gun
+  }
   // solidFaces writes z as the terrain's north: the vertex shader flips it with the rest.
   return { verts: new Float32Array(verts), idx: new Uint32Array(idx) };
 }
@@ -176,18 +185,22 @@ function setUp() {
   if (!gl) { v3.error = "this browser has no WebGL 2"; return false; }
   v3.gl = gl;
   v3.prog = compile(gl);
-  v3.loc = { mvp: gl.getUniformLocation(v3.prog, "mvp"), scale: gl.getUniformLocation(v3.prog, "scale") };
-  const shape = vehicleShape();
-  v3.vehicle = upload(gl, shape.verts, shape.idx);
-  gl.bindVertexArray(v3.vehicle.vao);
-  v3.vehicle.instances = gl.createBuffer();
-  gl.bindBuffer(gl.ARRAY_BUFFER, v3.vehicle.instances);
+  v3.loc = { mvp: gl.getUniformLocation(v3.prog, "mvp"), scale: gl.getUniformLocation(v3.prog, "scale"),
+             pointPx: gl.getUniformLocation(v3.prog, "pointPx") };
+  v3.instances = gl.createBuffer();
   const inst = gl.getAttribLocation(v3.prog, "inst"), col = gl.getAttribLocation(v3.prog, "instCol");
-  gl.enableVertexAttribArray(inst); gl.vertexAttribPointer(inst, 4, gl.FLOAT, false, 28, 0);
-  gl.vertexAttribDivisor(inst, 1);
-  gl.enableVertexAttribArray(col); gl.vertexAttribPointer(col, 3, gl.FLOAT, false, 28, 16);
-  gl.vertexAttribDivisor(col, 1);
-  gl.bindVertexArray(null);
+  for (const detailed of [true]) {
+    const shape = vehicleShape(detailed);
+    const m = upload(gl, shape.verts, shape.idx);
+    gl.bindVertexArray(m.vao);
+    gl.bindBuffer(gl.ARRAY_BUFFER, v3.instances);
+    gl.enableVertexAttribArray(inst); gl.vertexAttribPointer(inst, 4, gl.FLOAT, false, 28, 0);
+    gl.vertexAttribDivisor(inst, 1);
+    gl.enableVertexAttribArray(col); gl.vertexAttribPointer(col, 3, gl.FLOAT, false, 28, 16);
+    gl.vertexAttribDivisor(col, 1);
+    gl.bindVertexArray(null);
+    v3.vehicle = m;
+  }
   return true;
 }
 
@@ -267,7 +280,7 @@ function updateVehicles() {
     ++n;
   }
   const gl = v3.gl;
-  gl.bindBuffer(gl.ARRAY_BUFFER, v3.vehicle.instances);
+  gl.bindBuffer(gl.ARRAY_BUFFER, v3.instances);
   gl.bufferData(gl.ARRAY_BUFFER, data.subarray(0, n * 7), gl.DYNAMIC_DRAW);
   v3.vehicleCount = n;
 }
@@ -319,8 +332,14 @@ function draw(now) {
   updateVehicles();
   // Vehicles at their size up close, larger when far so a marker stays a few pixels.
   gl.uniform1f(v3.loc.scale, Math.max(1, cam.dist / 250));
+  // Many vehicles: one point each (a shape of 72 vertices each costs a CPU rasteriser too much at
+  // thousands); few: the hull and turret.
+  const points = v3.vehicleCount > SIMPLE_ABOVE;
+  gl.uniform1f(v3.loc.pointPx, points ? 5 : 0);
   gl.bindVertexArray(v3.vehicle.vao);
-  gl.drawElementsInstanced(gl.TRIANGLES, v3.vehicle.count, gl.UNSIGNED_INT, 0, v3.vehicleCount);
+  if (points) gl.drawArraysInstanced(gl.POINTS, 0, 1, v3.vehicleCount);
+  else gl.drawElementsInstanced(gl.TRIANGLES, v3.vehicle.count, gl.UNSIGNED_INT, 0, v3.vehicleCount);
+  gl.uniform1f(v3.loc.pointPx, 0);
   gl.bindVertexArray(null);
   v3.drawn = { posts: v3.win.nx * v3.win.nz, step: v3.win.step, solids: v3.win.solids.length,
                vehicles: v3.vehicleCount };

@@ -162,7 +162,7 @@ function solidFaces(s, verts, idx) {
 }
 
 // A vehicle: a hull and a smaller turret, 1 long along +x (its heading), white (tinted by owner).
-function vehicleShape(detailed) {
+function vehicleShape() {
   const verts = [], idx = [];
   const box = (x0, x1, y0, y1, w, shade) => {
     const s = { o: [0, 0], u: [1, 0], a: [x0, x1], r: [-w / 2, w / 2], bottom: [y0, y0], top: [y1, y1], kind: "v" };
@@ -171,10 +171,8 @@ function vehicleShape(detailed) {
     for (let k = before; k < verts.length; k += 9) verts[k + 6] = verts[k + 7] = verts[k + 8] = shade;
   };
   box(-VEHICLE_L / 2, VEHICLE_L / 2, 0, VEHICLE_H * 0.55, VEHICLE_W, 1.0);
-  if (detailed) {
-    box(-VEHICLE_L * 0.15, VEHICLE_L * 0.3, VEHICLE_H * 0.55, VEHICLE_H, VEHICLE_W * 0.6, 0.8);
-    box(VEHICLE_L * 0.3, VEHICLE_L * 0.75, VEHICLE_H * 0.72, VEHICLE_H * 0.82, 0.35, 0.6);  // gun
-  }
+  box(-VEHICLE_L * 0.15, VEHICLE_L * 0.3, VEHICLE_H * 0.55, VEHICLE_H, VEHICLE_W * 0.6, 0.8);
+  box(VEHICLE_L * 0.3, VEHICLE_L * 0.75, VEHICLE_H * 0.72, VEHICLE_H * 0.82, 0.35, 0.6);  // gun
   // solidFaces writes z as the terrain's north: the vertex shader flips it with the rest.
   return { verts: new Float32Array(verts), idx: new Uint32Array(idx) };
 }
@@ -189,18 +187,16 @@ function setUp() {
              pointPx: gl.getUniformLocation(v3.prog, "pointPx") };
   v3.instances = gl.createBuffer();
   const inst = gl.getAttribLocation(v3.prog, "inst"), col = gl.getAttribLocation(v3.prog, "instCol");
-  for (const detailed of [true]) {
-    const shape = vehicleShape(detailed);
-    const m = upload(gl, shape.verts, shape.idx);
-    gl.bindVertexArray(m.vao);
-    gl.bindBuffer(gl.ARRAY_BUFFER, v3.instances);
-    gl.enableVertexAttribArray(inst); gl.vertexAttribPointer(inst, 4, gl.FLOAT, false, 28, 0);
-    gl.vertexAttribDivisor(inst, 1);
-    gl.enableVertexAttribArray(col); gl.vertexAttribPointer(col, 3, gl.FLOAT, false, 28, 16);
-    gl.vertexAttribDivisor(col, 1);
-    gl.bindVertexArray(null);
-    v3.vehicle = m;
-  }
+  // The shape's vertices, and per instance the vehicle's place and colour (also drawn as points).
+  const shape = vehicleShape();
+  v3.vehicle = upload(gl, shape.verts, shape.idx);
+  gl.bindVertexArray(v3.vehicle.vao);
+  gl.bindBuffer(gl.ARRAY_BUFFER, v3.instances);
+  gl.enableVertexAttribArray(inst); gl.vertexAttribPointer(inst, 4, gl.FLOAT, false, 28, 0);
+  gl.vertexAttribDivisor(inst, 1);
+  gl.enableVertexAttribArray(col); gl.vertexAttribPointer(col, 3, gl.FLOAT, false, 28, 16);
+  gl.vertexAttribDivisor(col, 1);
+  gl.bindVertexArray(null);
   return true;
 }
 

@@ -11,6 +11,7 @@
 #include "log/log.h"
 #include "runtime/control_client.h"
 #include "view/operator_command.h"
+#include "view/terrain_window.h"
 
 namespace dt {
 namespace {
@@ -70,6 +71,14 @@ ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOp
         [copy, extra = std::move(extra)] { return copy->Text(WallMs(), extra); });
   };
   handlers.message = [this](const std::string& text) { return OnMessage(text); };
+  handlers.terrain3d = [this](const std::string& query) -> std::pair<int, std::string> {
+    // Checked here, built on the loop (the terrain is the loop's): docs/view.md "The 3D view".
+    auto r = ParseTerrainWindowQuery(query);
+    if (!r) return {400, r.error().message};
+    auto json = windows_.Ask(query, kWindowTimeoutMs);
+    if (!json) return {503, "the view's loop did not answer in time"};
+    return {200, std::move(*json)};
+  };
   web_ = std::make_unique<WebServer>(view_.http_address, view_.http_port, options_.web_dir,
                                      std::move(handlers));
 }
@@ -103,6 +112,11 @@ void ViewApp::OnTick(int64_t now_ms) {
     // The page shows how long ago in whole tenths of a second: finer would be a delta per tick.
     if (r.last_heard_ago_ms > 0) r.last_heard_ago_ms = r.last_heard_ago_ms / 100 * 100;
   }
+  windows_.Serve(
+      [this](const std::string& query) {
+        return TerrainWindowJson(replica_->terrain(), ParseTerrainWindowQuery(query).value());
+      },
+      kWindowsPerTick);
   vehicles_->Tick(replica_->terrain(), static_cast<double>(now_ms) / 1000.0);
   const std::vector<VehicleView> vehicles = vehicles_->Vehicles();
   web_->Publish([&] {

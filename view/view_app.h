@@ -10,6 +10,7 @@
 
 #include "runtime/exercise_config.h"
 #include "runtime/observer_process.h"
+#include "view/loop_requests.h"
 #include "view/process_poller.h"
 #include "view/relief_renderer.h"
 #include "view/shared_vehicle_source.h"
@@ -49,6 +50,11 @@ class ViewApp : public ObserverProcess {
   std::unique_ptr<ViewModel> model_;
   std::unique_ptr<ProcessPoller> poller_;
   std::unique_ptr<SharedVehicleSource> vehicles_;
+  // The 3D view's terrain windows: asked on the web server's threads, built on the loop. Before
+  // web_, so the server's threads stop before it goes.
+  LoopRequests windows_;
+  static constexpr int kWindowTimeoutMs = 2000;
+  static constexpr size_t kWindowsPerTick = 2;  // each is a few ms at 129^2 samples
   std::unique_ptr<WebServer> web_;
   std::unique_ptr<ReliefRenderer> relief_;
   std::set<std::string> nodes_;

@@ -37,6 +37,8 @@ WebServer::WebServer(const std::string& address, int port, std::filesystem::path
         "the view cannot listen on {} (in use, or not an address of this host)", ports));
   }
   mg_set_request_handler(ctx_, "/relief.png", &WebServer::HandleRelief, this);
+  if (handlers_.terrain3d)
+    mg_set_request_handler(ctx_, "/terrain3d", &WebServer::HandleTerrain3d, this);
   mg_set_websocket_handler(ctx_, "/ws", &WebServer::WsConnect, &WebServer::WsReady,
                            &WebServer::WsData, &WebServer::WsClose, this);
   mg_set_request_handler(ctx_, "/", &WebServer::HandleFile, this);
@@ -79,6 +81,19 @@ int WebServer::HandleRelief(mg_connection* conn, void* self_ptr) {
   }
   mg_send_http_ok(conn, "image/png", static_cast<long long>(png.size()));
   mg_write(conn, png.data(), png.size());
+  return 200;
+}
+
+int WebServer::HandleTerrain3d(mg_connection* conn, void* self_ptr) {
+  auto* self = static_cast<WebServer*>(self_ptr);
+  const char* query = mg_get_request_info(conn)->query_string;
+  const auto [status, body] = self->handlers_.terrain3d(query == nullptr ? "" : query);
+  if (status != 200) {
+    mg_send_http_error(conn, status, "%s", body.c_str());
+    return status;
+  }
+  mg_send_http_ok(conn, "application/json", static_cast<long long>(body.size()));
+  mg_write(conn, body.data(), body.size());
   return 200;
 }
 

@@ -1,5 +1,6 @@
 // WebServer: the live view's HTTP and WebSocket endpoint over civetweb: the page's files, the
-// relief image, and one WebSocket per page that gets a snapshot, then every delta.
+// relief image, the 3D view's terrain windows, and one WebSocket per page that gets a snapshot,
+// then every delta.
 #pragma once
 
 #include <cstdint>
@@ -9,6 +10,7 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 struct mg_context;
@@ -28,6 +30,9 @@ class WebServer {
     // A message from a page (an operator command); the reply sent back to that page alone.
     // Called on a civetweb thread.
     std::function<std::string(const std::string& message)> message;
+    // GET /terrain3d?<query>: the HTTP status and the JSON body. Called on a civetweb thread;
+    // absent, the path is not found.
+    std::function<std::pair<int, std::string>(const std::string& query)> terrain3d;
   };
 
   // Serves `web_dir`'s files (index.html at /) on address:port. Throws std::runtime_error naming
@@ -47,6 +52,7 @@ class WebServer {
  private:
   static int HandleFile(mg_connection* conn, void* self);
   static int HandleRelief(mg_connection* conn, void* self);
+  static int HandleTerrain3d(mg_connection* conn, void* self);
   static int WsConnect(const mg_connection* conn, void* self);
   static void WsReady(mg_connection* conn, void* self);
   static int WsData(mg_connection* conn, int flags, char* data, size_t len, void* self);

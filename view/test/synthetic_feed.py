@@ -2,7 +2,8 @@
 /ws, that sends a snapshot and then deltas at the view's tick rate, in dt_view's message format
 (docs/view.md "Messages"), for N vehicles of three owners wandering on circles and M features.
 
-Used by view_scale_test.py to load the page with 9000 or 30 000 vehicles without running the
+GET /terrain3d answers scene3d.py's ground over the same 1000 m, so the 3D view can be timed with
+the same vehicles. Used by view_scale_test.py to load the page with 9000 or 30 000 vehicles without running the
 nodes that would drive them. The deltas of one period of the vehicles' motion are built once and
 sent in a loop, each with a fresh seq and t_ms, so the feed itself costs little CPU and the page's
 measured frame rate and lag are the page's.
@@ -18,6 +19,8 @@ import socket
 import socketserver
 import threading
 import time
+
+import scene3d
 
 OWNERS = ["node-1", "node-2", "node-3"]
 TYPES = ["tank", "truck", "jeep"]
@@ -115,6 +118,15 @@ def serve(port, web_dir, vehicles, features):
             pass
 
         def do_GET(self):
+            path, _, query = self.path.partition("?")
+            if path == "/terrain3d":  # the 3D view's window: scene3d's ground, 129 posts a side
+                body = json.dumps(scene3d.window(query, SIZE_M, SIZE_M / 128)).encode()
+                self.send_response(200)
+                self.send_header("Content-Type", "application/json")
+                self.send_header("Content-Length", str(len(body)))
+                self.end_headers()
+                self.wfile.write(body)
+                return
             if self.path != "/ws":
                 return super().do_GET()
             key = self.headers["Sec-WebSocket-Key"]

@@ -9,7 +9,10 @@ not asserted); the vehicle marker moves when node-1 drives it; a crater placed b
 silent and live again after its restart; a page opened late shows the current state at once;
 node-2 restarted on another terrain is flagged diverged while the server and node-1 look alike,
 and the event log says its digest differs, then matches once it is back; without
---allow-commands the page has no operator panel and a command sent anyway is refused. Screenshots go to <run_dir>. Exits 77 (skipped) when playwright
+--allow-commands the page has no operator panel and a command sent anyway is refused; the 3D
+view's /terrain3d holds the bridge's solids and refuses a bad query, and the 3D view follows the
+driven vehicle (its picture is saved, and with <screenshot for docs> also beside that as
+view3d.png). Screenshots go to <run_dir>. Exits 77 (skipped) when playwright
 or chromium is not installed. Run inside tests/run_in_netns.sh.
 
   view_browser_test.py <dt_server> <dt_node> <dt_view> <dt_ctl> <exercise.toml> <run_dir>
@@ -91,7 +94,8 @@ sys.excepthook = stop_all_on_error  # a Playwright timeout must not leave proces
 
 with sync_playwright() as pw:
     browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
-                                 args=["--no-sandbox"])
+                                 args=["--no-sandbox", "--use-angle=swiftshader",
+                                       "--enable-unsafe-swiftshader"])
     page = browser.new_page(viewport={"width": 1400, "height": 900})
     page.goto(URL)
     page.wait_for_function("window.dtView.snapshotAt > 0", timeout=10000)
@@ -132,6 +136,44 @@ with sync_playwright() as pw:
     ctl("node-1", "drive", "0", "0", "0")
     moved = page.evaluate(f"[{where}[3], {where}[4]]")
     print(f"the vehicle {vid} moved from {x0:.1f}, {z0:.1f} to {moved[0]:.1f}, {moved[1]:.1f}")
+
+    # The 3D view's terrain window from dt_view (GET /terrain3d, built on the view's loop): the
+    # bridge's solids are there, a bad query is refused with the value named.
+    window = page.evaluate("fetch('/terrain3d?x=400&z=150&half=100').then(r => r.json())")
+    if len(window["h"]) != window["nx"] * window["nz"] or window["nx"] < 10:
+        fail(f"/terrain3d answered {window['nx']} x {window['nz']} posts, {len(window['h'])} heights")
+    kinds = sorted(s["kind"] for s in window["solids"] if s["bridge"] == made[2])
+    if kinds != ["deck"] * 3 + ["pier"] * 4:
+        fail(f"/terrain3d holds {kinds} for the intact bridge {made[2]}")
+    bad = page.evaluate("fetch('/terrain3d?x=1&z=2&half=nan').then(r => r.status + ' ' + r.statusText)")
+    if not bad.startswith("400"):
+        fail(f"/terrain3d with half=nan answered {bad}")
+    # The 3D view follows the driven vehicle: the camera's target is the vehicle's place.
+    page.fill("#follow", vid)
+    page.dispatch_event("#follow", "change")
+    page.click("#toggle3d")
+    page.wait_for_function("window.dtView3d.on && window.dtView3d.windows >= 1 && "
+                           "window.dtView3d.drawn.vehicles >= 1", timeout=10000)
+    ctl("node-1", "drive", "0", "5", "0")
+    page.wait_for_function(
+        f"Math.hypot({where}[3] - {moved[0]}, {where}[4] - {moved[1]}) > 1 && Math.hypot("
+        f"window.dtView3d.cam.x - {where}[3], window.dtView3d.cam.z - {where}[4]) < 3",
+        timeout=10000)
+    ctl("node-1", "drive", "0", "0", "0")
+    drawn3d = page.evaluate("window.dtView3d.drawn")
+    # The exercise's features from above the berm, for the docs: crater, berm, bridge, vehicles.
+    # (terrainVersion -1: the window is asked again for the new place.)
+    windows = page.evaluate("window.dtView3d.windows")
+    page.evaluate("Object.assign(window.dtView3d.cam, {follow: null, x: 270, z: 190, yaw: -0.4,"
+                  " pitch: 0.55, dist: 360}); window.dtView3d.terrainVersion = -1")
+    page.wait_for_function(f"window.dtView3d.windows > {windows}", timeout=10000)
+    page.evaluate("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    shot3d = os.path.join(run_dir, "view3d.png")
+    page.locator("#mapbox").screenshot(path=shot3d)
+    if docs_shot:
+        shutil.copy(shot3d, os.path.join(os.path.dirname(docs_shot), "view3d.png"))
+    page.click("#toggle3d")
+    print(f"3D view: {drawn3d}, following {vid}")
 
     # Operator actions (--allow-commands): a crater placed by clicking, as node-1's command, then
     # destroyed from the page; both go through the node, so the server holds the result.

@@ -8,7 +8,8 @@ page's count of what it drew) and the canvas holds owner-colour pixels for every
 for every owner; zoomed in, the vehicles in view (counted here from the page's model and view) are
 drawn one marker each, and the pixels hold them. Printed, not asserted (speed is a benchmark's to
 measure): frames per second, the worst frame and the page's lag behind its messages over 10 s of
-panning and zooming, and the feed's bytes per second. Exits 77 (skipped) when playwright or
+panning and zooming, and the feed's bytes per second; then the 3D view's frames per second with
+every vehicle on the feed's terrain window. Exits 77 (skipped) when playwright or
 chromium is not installed. Run inside tests/run_in_netns.sh.
 
   view_scale_test.py <vehicles> <features> <run_dir> [<seconds of panning>]
@@ -82,7 +83,10 @@ IN_VIEW = """() => {
 }"""
 
 with sync_playwright() as pw:
-    browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True, args=["--no-sandbox"])
+    browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
+                                 # WebGL on SwiftShader where there is no GPU, for the 3D view;
+                                 # the 2D canvas is left to chromium's default.
+                                 args=["--no-sandbox", "--enable-unsafe-swiftshader"])
     try:
         page = browser.new_page(viewport={"width": 1600, "height": 1000})
         page.goto(f"http://127.0.0.1:{PORT}/")
@@ -164,6 +168,34 @@ with sync_playwright() as pw:
         print(f"the page's time over {stats['ms'] / 1000:.1f} s: {c['messages']} messages applied "
               f"in {c['applyMs']:.0f} ms, {c['draws']} frames drawn in {c['drawMs']:.0f} ms")
         page.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-after.png"))
+
+        # The 3D view over the whole terrain with every vehicle, while the deltas keep coming:
+        # frames per second and lag printed, not asserted. In a browser of its own whose WebGL
+        # runs on ANGLE's SwiftShader (the default software path blocks the page's thread; forced
+        # for the 2D page, it slows that one's canvas instead).
+        page.close()  # its deltas would cost the 3D page's machine
+        browser3d = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
+                                       args=["--no-sandbox", "--use-angle=swiftshader",
+                                             "--enable-unsafe-swiftshader"])
+        try:
+            p3 = browser3d.new_page(viewport={"width": 1600, "height": 1000})
+            p3.goto(f"http://127.0.0.1:{PORT}/#3d=500,500,0.5,0.6,700")  # the whole terrain
+            p3.wait_for_function(f"window.dtView3d.error || window.dtView3d.windows >= 1 && "
+                                 f"window.dtView3d.drawn.vehicles === {vehicles}", timeout=60000)
+            if p3.evaluate("window.dtView3d.error"):
+                fail(f"the 3D view: {p3.evaluate('window.dtView3d.error')}")
+            p3.evaluate("window.dtView.maxLagMs = 0")
+            f0, t0 = p3.evaluate("window.dtView3d.frames"), time.monotonic()
+            p3.wait_for_timeout(5000)
+            fps3d = (p3.evaluate("window.dtView3d.frames") - f0) / (time.monotonic() - t0)
+            d3 = p3.evaluate("window.dtView3d.drawn")
+            load = os.getloadavg()
+            print(f"3D view, {d3['vehicles']} vehicles drawn on {d3['posts']} posts: {fps3d:.1f} "
+                  f"fps, lag max {p3.evaluate('window.dtView.maxLagMs')} ms, load average "
+                  f"{load[0]:.2f}")
+            p3.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-3d.png"))
+        finally:
+            browser3d.close()
     finally:
         browser.close()
         server.shutdown()

@@ -8,7 +8,7 @@ const state = {
 // For tests and for the curious: when each feature was first drawn (Date.now()), and the
 // sequence of the last message applied.
 window.dtView = { state, drawnAt: {}, appliedSeq: 0, snapshotAt: 0, deltas: 0, frames: 0,
-                  lagMs: 0, maxLagMs: 0, drawn: null,
+                  lagMs: 0, maxLagMs: 0, drawn: null, terrainVersion: 0,
                   // The page's own time: applying messages (parse included) and drawing.
                   cost: { messages: 0, applyMs: 0, draws: 0, drawMs: 0 }, ownerRgb: (n) => ownerRgb(n), vehicleOf };
 
@@ -262,7 +262,9 @@ function drawFeatureCache(now, t) {
 // cross) while they are few enough to leave the ground readable; otherwise one square per cell
 // of the screen in the colour of the owner with most vehicles there, sized by the count, with a
 // red corner when any of them is dead.
-function drawVehicles(t) {
+// `under` draws what lies beneath the markers (the features): before the markers, but after the
+// cells, whose translucent squares would otherwise veil the features at the whole map.
+function drawVehicles(t, under) {
   const visible = [];
   const x0 = t.ox, y0 = t.oy, x1 = t.ox + t.W * t.s, y1 = t.oy + t.H * t.s;
   for (const v of state.vehicles.values()) {
@@ -272,6 +274,7 @@ function drawVehicles(t) {
   const cover = visible.length * MARKER_PX * MARKER_PX * 1.4 / (t.W * t.H);
   const drawn = { mode: "markers", vehicles: visible.length, marks: 0, dead: 0 };
   if (visible.length <= MARKERS_MAX && cover <= MARKER_COVER_MAX) {
+    under();
     const byOwner = new Map(), dead = new Path2D(), crosses = new Path2D();
     const s = MARKER_PX;
     for (const v of visible) {
@@ -332,9 +335,17 @@ function drawVehicles(t) {
       byOwner[owner].rect(x, y, side, side);
       if (dead[c]) { deadMarks.rect(x + side - 3, y, 3, 3); drawn.dead += dead[c]; }
     }
-    owners.forEach((o, i) => { ctx.fillStyle = css(ownerRgb(o)); ctx.fill(byOwner[i]); });
+    // Outlined in the owner's colour over a faint fill: the relief and the features show through
+    // the cells (docs/view.md "Drawing at scale").
+    ctx.lineWidth = 2;
+    owners.forEach((o, i) => {
+      const [r, g, b] = ownerRgb(o);
+      ctx.fillStyle = `rgba(${r},${g},${b},0.3)`; ctx.fill(byOwner[i]);
+      ctx.strokeStyle = css([r, g, b]); ctx.stroke(byOwner[i]);
+    });
     ctx.fillStyle = "#ff3b2b"; ctx.fill(deadMarks);
     drawn.marks = cells;
+    under();
   }
   return drawn;
 }
@@ -350,9 +361,10 @@ function drawFrame(now) {
   if (overlay.width !== W || overlay.height !== H) { overlay.width = W; overlay.height = H; }
   const t = transform();
   ctx.clearRect(0, 0, W, H);
-  if (featuresOnCanvas()) drawFeatureCache(now, t);
-  drawSelected(t);
-  const drawn = drawVehicles(t);
+  const drawn = drawVehicles(t, () => {
+    if (featuresOnCanvas()) drawFeatureCache(now, t);
+    drawSelected(t);
+  });
   drawn.features = state.features.size;
   drawn.featureMode = featuresOnCanvas() ? featureCache.mode : "svg";
   window.dtView.drawn = drawn;
@@ -493,6 +505,7 @@ function onSnapshot(s) {
   state.vehicles.clear();
   s.vehicles.forEach(setVehicle);
   setRelief(s.relief);
+  ++window.dtView.terrainVersion;
   if (s.exercise.commands) setUpOperator(s.exercise.nodes);
   window.dtView.snapshotAt = Date.now();
 }
@@ -504,6 +517,8 @@ function onDelta(d) {
   if (d.vehicles_removed) d.vehicles_removed.forEach(removeVehicle);
   if (d.vehicles) d.vehicles.forEach(setVehicle);
   if (d.relief !== undefined) setRelief(d.relief);
+  // The 3D view asks for its terrain window again (the ground or a feature changed).
+  if (d.removed || d.features || d.relief !== undefined) ++window.dtView.terrainVersion;
   window.dtView.deltas++;
 }
 // Messages are queued as they arrive and applied once per animation frame, all of them at once:
@@ -542,7 +557,9 @@ function tick(now) {
     featureCache.tView !== undefined && now - frame.viewChangedAt > 150 &&
     featureCache.renderedAt < frame.viewChangedAt);
   const t1 = performance.now();
-  if ((frame.dirty || cacheBehind) && state.view) {
+  // Under the 3D view the map is not drawn: it is drawn when it shows again.
+  const under3d = window.dtView3d && window.dtView3d.on;
+  if ((frame.dirty || cacheBehind) && state.view && !under3d) {
     frame.dirty = false;
     drawFrame(now);
     ++cost.draws;

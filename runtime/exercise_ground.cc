@@ -1,5 +1,6 @@
 #include "runtime/exercise_ground.h"
 
+#include <malloc.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -159,6 +160,9 @@ BaseGround BuildExerciseGround(const ExerciseConfig& exercise) {
         c.built ? fmt::format("read into the ground cache {} ({})", c.file.string(), c.build_reason)
                 : fmt::format("mapped from the ground cache {}", c.file.string());
     loaded = std::move(c.grid);
+    // The pixels and posts read are freed; give their heap back, or the builder of a large
+    // world keeps a private copy's worth of memory it no longer uses.
+    if (c.built) malloc_trim(0);
   }
   HeightGrid& g = *loaded;
   const GeodeticPoint o = e.layout.georeference->origin();

@@ -191,7 +191,7 @@ def run_world(args, programs, posts, work):
                                           cache_rss_mb=rss / 1024, cache_pss_mb=pss / 1024,
                                           load=(m.group(1), int(m.group(2))) if m else None)
     finally:
-        codes = ex.stop_all()
+        codes = ex.stop_all(timeout_s=60)  # the server digests the whole ground as it stops
     figures["codes"] = codes
     return figures
 

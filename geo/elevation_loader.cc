@@ -24,8 +24,9 @@ namespace {
 constexpr int kEdgeSamples = 33;
 // Nodata posts a message lists.
 constexpr size_t kListedPosts = 5;
-// A terrain holds about 34 bytes per grid square (terrain/height_grid.h kMaxPostsPerSide).
-constexpr uint64_t kTerrainBytesPerSquare = 34;
+// The ground's two soils per grid square; the terrain's per-square tables lie in zero-filled
+// pages and cost memory only where features lie (terrain/terrain.h).
+constexpr uint64_t kTerrainBytesPerSquare = 2 * sizeof(Material);
 // Per post while loading: its height, its two file coordinates and its nodata mark.
 constexpr uint64_t kLoadBytesPerPost = sizeof(float) + 2 * sizeof(double) + 1;
 
@@ -255,12 +256,13 @@ ElevationLayout ProbeElevation(const ElevationSource& source) {
   }
   const double span_x = (x_hi - x_lo) / L.spacing_m + 1e-9;
   const double span_z = (z_hi - z_lo) / L.spacing_m + 1e-9;
-  if (span_x + 1 > kMaxPostsPerSide || span_z + 1 > kMaxPostsPerSide || span_x < 1 || span_z < 1) {
+  if (span_x + 1 > kMaxGridPostsPerSide || span_z + 1 > kMaxGridPostsPerSide || span_x < 1 ||
+      span_z < 1) {
     throw std::invalid_argument(fmt::format(
         "elevation_file {}: the area is {:.1f} x {:.1f} m, {:.0f} x {:.0f} posts at {} m spacing: "
         "a side must hold 2 to {} posts (choose a smaller area or a larger spacing_m)",
         file, x_hi - x_lo, z_hi - z_lo, std::floor(span_x) + 1, std::floor(span_z) + 1, L.spacing_m,
-        kMaxPostsPerSide));
+        kMaxGridPostsPerSide));
   }
   L.posts_x = static_cast<int>(span_x) + 1;
   L.posts_z = static_cast<int>(span_z) + 1;

@@ -38,7 +38,7 @@ struct ElevationLayout {
 // std::runtime_error naming the file, the sizes and GDAL's message (CPLGetLastErrorMsg) when GDAL
 // cannot read the file, when it has no geotransform or CRS, a rotated geotransform or no band;
 // std::invalid_argument when the area reaches beyond the file's data or holds fewer than 2 or more
-// than kMaxPostsPerSide posts a side, or when loading would take more than max_load_bytes.
+// than kMaxGridPostsPerSide posts a side, or when loading would take more than max_load_bytes.
 ElevationLayout ProbeElevation(const ElevationSource& source);
 
 // Reads the window and interpolates every post. Throws std::runtime_error as ProbeElevation if

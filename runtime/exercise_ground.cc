@@ -1,5 +1,9 @@
 #include "runtime/exercise_ground.h"
 
+#include <malloc.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <stdexcept>
 #include <utility>
 
@@ -9,13 +13,14 @@
 #include "runtime/exercise_config.h"
 #include "runtime/process_runtime.h"
 #include "runtime/toml_reader.h"
+#include "terrain/ground_cache.h"
 #include "terrain/random_terrain.h"
 
 namespace dt {
 
-const std::vector<std::string> kElevationKeys = {"elevation_file", "area_crs",    "area_lonlat_deg",
-                                                 "resampling",     "nodata_fill", "nodata_fill_m",
-                                                 "max_load_mb"};
+const std::vector<std::string> kElevationKeys = {
+    "elevation_file", "area_crs",      "area_lonlat_deg", "resampling",
+    "nodata_fill",    "nodata_fill_m", "max_load_mb",     "ground_cache_dir"};
 
 namespace {
 
@@ -75,6 +80,11 @@ ElevationTerrain ReadElevationTerrain(const TomlReader& t, const std::filesystem
   if (t.Has("max_load_mb")) {
     s.max_load_bytes = static_cast<uint64_t>(t.Int("max_load_mb", 1, 1 << 24)) << 20;
   }
+  if (t.Has("ground_cache_dir")) {
+    const std::string dir = t.String("ground_cache_dir");
+    if (dir.empty()) t.Fail("ground_cache_dir", "must name a directory");
+    e.ground_cache_dir = std::filesystem::absolute(base_dir / dir).lexically_normal();
+  }
   try {
     e.layout = ProbeElevation(s);
   } catch (const std::exception& ex) {
@@ -105,6 +115,29 @@ void ApplyFileOrigin(const ElevationTerrain& elevation, bool origin_typed, DisCo
   dis.height_m = file.height_m;
 }
 
+std::filesystem::path GroundCacheDir(const ElevationTerrain& e) {
+  if (!e.ground_cache_dir.empty()) return e.ground_cache_dir;
+  const uint64_t posts = static_cast<uint64_t>(e.layout.posts_x) * e.layout.posts_z;
+  if (posts <= kGroundCachePostsThreshold) return {};
+  return std::filesystem::temp_directory_path() / fmt::format("dynterrain-ground-{}", getuid());
+}
+
+std::string GroundCacheKey(const ElevationTerrain& e) {
+  const ElevationSource& s = e.source;
+  struct stat st {};
+  if (stat(s.file.c_str(), &st) != 0) st = {};
+  const ElevationLayout& L = e.layout;
+  return fmt::format(
+      "dynterrain ground v1\nfile {}\nsize {} mtime {}.{:09d}\narea {} {:.17g} {:.17g} {:.17g} "
+      "{:.17g}\nspacing {:.17g}\nresampling {}\nfill {} {:.17g}\nlayout {} x {} at {:.17g} m, "
+      "window {} {} {} {}\n",
+      s.file.string(), static_cast<int64_t>(st.st_size), static_cast<int64_t>(st.st_mtim.tv_sec),
+      st.st_mtim.tv_nsec, static_cast<int>(s.area_kind), s.area[0], s.area[1], s.area[2], s.area[3],
+      s.spacing_m, ResamplingName(s.resampling), static_cast<int>(s.nodata_fill), s.nodata_fill_m,
+      L.posts_x, L.posts_z, L.spacing_m, L.window_col0, L.window_row0, L.window_cols,
+      L.window_rows);
+}
+
 BaseGround BuildExerciseGround(const ExerciseConfig& exercise) {
   if (exercise.ground) return *exercise.ground;
   const int64_t t0 = MonotonicMs();
@@ -115,13 +148,29 @@ BaseGround BuildExerciseGround(const ExerciseConfig& exercise) {
     return BaseGround{std::move(g), {}};
   }
   const ElevationTerrain& e = *exercise.elevation;
-  HeightGrid g = LoadElevation(e.source, e.layout);
+  const std::filesystem::path cache_dir = GroundCacheDir(e);
+  std::string cached = "read by this process";
+  std::optional<HeightGrid> loaded;
+  if (cache_dir.empty()) {
+    loaded = LoadElevation(e.source, e.layout);
+  } else {
+    GroundCacheOpened c = OpenGroundCache(cache_dir, GroundCacheKey(e),
+                                          [&] { return LoadElevation(e.source, e.layout); });
+    cached =
+        c.built ? fmt::format("read into the ground cache {} ({})", c.file.string(), c.build_reason)
+                : fmt::format("mapped from the ground cache {}", c.file.string());
+    loaded = std::move(c.grid);
+    // The pixels and posts read are freed; give their heap back, or the builder of a large
+    // world keeps a private copy's worth of memory it no longer uses.
+    if (c.built) malloc_trim(0);
+  }
+  HeightGrid& g = *loaded;
   const GeodeticPoint o = e.layout.georeference->origin();
   DT_LOG_INFO(
-      "terrain {} x {} posts ({} x {} m at {} m, {}) from {} ({}) in {} ms; origin {:.8f} "
+      "terrain {} x {} posts ({} x {} m at {} m, {}) from {} ({}), {}, in {} ms; origin {:.8f} "
       "{:.8f} on the {}",
       g.posts_x(), g.posts_z(), g.size_x_m(), g.size_z_m(), g.spacing_m(),
-      ResamplingName(e.source.resampling), e.source.file.string(), e.layout.driver,
+      ResamplingName(e.source.resampling), e.source.file.string(), e.layout.driver, cached,
       MonotonicMs() - t0, o.latitude_deg, o.longitude_deg, e.layout.georeference->description());
   return BaseGround{std::move(g), {}};
 }

@@ -21,7 +21,25 @@ struct DisConfig;
 struct ElevationTerrain {
   ElevationSource source;
   ElevationLayout layout;  // posts, spacing and georeference, probed at config load
+  // [terrain] ground_cache_dir (relative to the exercise file), where the host's processes share
+  // the ground as one mapped file (docs/real-ground.md "Large worlds"); empty: the default,
+  // GroundCacheDir.
+  std::filesystem::path ground_cache_dir;
 };
+
+// A ground of more posts than this is mapped from a ground cache file even without
+// ground_cache_dir: kMaxPostsPerSide squared, the largest ground each process made for itself.
+inline constexpr uint64_t kGroundCachePostsThreshold =
+    static_cast<uint64_t>(kMaxPostsPerSide) * kMaxPostsPerSide;
+
+// Where an elevation ground is cached, or empty for none: ground_cache_dir if given; otherwise,
+// for a ground beyond kGroundCachePostsThreshold posts, "dynterrain-ground-<uid>" in the system's
+// temporary directory (one per host and user); otherwise none (each process reads the file).
+std::filesystem::path GroundCacheDir(const ElevationTerrain& elevation);
+
+// What the cached ground is made from: the file (absolute path, size, modification time), the
+// area, spacing, resampling and fill, and the layout; any change names another cache file.
+std::string GroundCacheKey(const ElevationTerrain& elevation);
 
 // The [terrain] keys of an elevation file (besides spacing_m, which the random ground shares).
 extern const std::vector<std::string> kElevationKeys;
@@ -44,9 +62,10 @@ void ApplyFileOrigin(const ElevationTerrain& elevation, bool origin_typed, DisCo
 
 // The one place a process builds its ground from the exercise file: the saved terrain of
 // [terrain] ground_file (read when the file was loaded) with its features, else the elevation
-// file's ground, else seeded random ground, both without features. Every member of an exercise
-// must build the same (docs/pdu.md "Ground identity"). Throws as LoadElevation (nodata without a
-// fill, GDAL read errors).
+// file's ground (mapped from the host's ground cache where GroundCacheDir names one, the file read
+// by the first process that needs it), else seeded random ground, both without features. Every
+// member of an exercise must build the same (docs/pdu.md "Ground identity"). Throws as
+// LoadElevation (nodata without a fill, GDAL read errors) and OpenGroundCache.
 BaseGround BuildExerciseGround(const ExerciseConfig& exercise);
 
 // What the ground came from, for messages and `status`: "ground_file <path>", "elevation_file

@@ -1,10 +1,15 @@
 #include "terrain/height_grid.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "base/demand.h"
 
 namespace dt {
 namespace {
@@ -13,9 +18,9 @@ namespace {
 // allocates.
 size_t CheckShape(int posts_x, int posts_z, double spacing_m) {
   for (const auto& [name, n] : {std::pair{"posts_x", posts_x}, std::pair{"posts_z", posts_z}}) {
-    if (n < 2 || n > kMaxPostsPerSide) {
+    if (n < 2 || n > kMaxGridPostsPerSide) {
       throw std::invalid_argument(
-          fmt::format("{} = {} must be in [2, {}]", name, n, kMaxPostsPerSide));
+          fmt::format("{} = {} must be in [2, {}]", name, n, kMaxGridPostsPerSide));
     }
   }
   if (!std::isfinite(spacing_m) || spacing_m <= 0.0) {
@@ -27,9 +32,9 @@ size_t CheckShape(int posts_x, int posts_z, double spacing_m) {
 }  // namespace
 
 int HeightGrid::CheckPostsPerSide(int posts_per_side) {
-  if (posts_per_side < 2 || posts_per_side > kMaxPostsPerSide) {
-    throw std::invalid_argument(
-        fmt::format("posts_per_side = {} must be in [2, {}]", posts_per_side, kMaxPostsPerSide));
+  if (posts_per_side < 2 || posts_per_side > kMaxGridPostsPerSide) {
+    throw std::invalid_argument(fmt::format("posts_per_side = {} must be in [2, {}]",
+                                            posts_per_side, kMaxGridPostsPerSide));
   }
   return posts_per_side;
 }
@@ -48,22 +53,84 @@ HeightGrid::HeightGrid(int posts_x, int posts_z, double spacing_m, float elevati
 
 HeightGrid::HeightGrid(int posts_x, int posts_z, double spacing_m, std::vector<float> posts_m,
                        Material soil)
-    : nx_(posts_x), nz_(posts_z), spacing_m_(spacing_m), posts_(std::move(posts_m)) {
+    : nx_(posts_x), nz_(posts_z), spacing_m_(spacing_m), owned_posts_(std::move(posts_m)) {
   const size_t expected = CheckShape(posts_x, posts_z, spacing_m);
-  if (posts_.size() != expected) {
+  if (owned_posts_.size() != expected) {
     throw std::invalid_argument(fmt::format("{} posts given for a {} x {} grid (expected {})",
-                                            posts_.size(), nx_, nz_, expected));
+                                            owned_posts_.size(), nx_, nz_, expected));
   }
-  for (size_t k = 0; k < posts_.size(); ++k) {
-    if (!std::isfinite(posts_[k])) {
+  for (size_t k = 0; k < owned_posts_.size(); ++k) {
+    if (!std::isfinite(owned_posts_[k])) {
       throw std::invalid_argument(
-          fmt::format("post ({}, {}) is not finite ({})", k % nx_, k / nx_, posts_[k]));
+          fmt::format("post ({}, {}) is not finite ({})", k % nx_, k / nx_, owned_posts_[k]));
     }
   }
   if (!IsValidMaterial(static_cast<uint16_t>(soil)) || soil == Material::kFromGround) {
     throw std::invalid_argument(fmt::format("{} is not a soil", static_cast<uint16_t>(soil)));
   }
-  soil_.assign(static_cast<size_t>(nx_ - 1) * static_cast<size_t>(nz_ - 1) * 2, soil);
+  owned_soil_.assign(soil_count(), soil);
+  posts_ = owned_posts_.data();
+  soil_ = owned_soil_.data();
+}
+
+GroundFileSource::~GroundFileSource() {
+  if (fd >= 0) close(fd);
+}
+
+HeightGrid HeightGrid::Mapped(int posts_x, int posts_z, double spacing_m,
+                              std::shared_ptr<const GroundFileSource> file) {
+  CheckShape(posts_x, posts_z, spacing_m);
+  DT_DEMAND(file != nullptr);
+  HeightGrid g;
+  g.nx_ = posts_x;
+  g.nz_ = posts_z;
+  g.spacing_m_ = spacing_m;
+  if (file->posts_offset + g.post_count() * sizeof(float) > file->file_size ||
+      file->soils_offset + g.soil_count() * sizeof(Material) > file->file_size) {
+    throw std::invalid_argument(fmt::format(
+        "a ground file of {} bytes cannot hold {} x {} posts at offset {} and soils at {}",
+        file->file_size, posts_x, posts_z, file->posts_offset, file->soils_offset));
+  }
+  g.file_ = std::move(file);
+  g.MapFile();
+  return g;
+}
+
+void HeightGrid::MapFile() {
+  Result<MappedMemory> m = MappedMemory::MapFilePrivate(file_->fd, file_->file_size);
+  if (!m) throw std::runtime_error("mapping the ground file: " + m.error().message);
+  mapping_ = std::move(m).value();
+  posts_ = reinterpret_cast<float*>(mapping_.data() + file_->posts_offset);
+  soil_ = reinterpret_cast<Material*>(mapping_.data() + file_->soils_offset);
+}
+
+HeightGrid::HeightGrid(const HeightGrid& other)
+    : nx_(other.nx_),
+      nz_(other.nz_),
+      spacing_m_(other.spacing_m_),
+      owned_posts_(other.owned_posts_),
+      owned_soil_(other.owned_soil_),
+      file_(other.file_) {
+  if (!file_) {
+    posts_ = owned_posts_.empty() ? nullptr : owned_posts_.data();
+    soil_ = owned_soil_.empty() ? nullptr : owned_soil_.data();
+    return;
+  }
+  MapFile();
+  // Only the pages the other grid wrote differ from the file: copying just those keeps every
+  // other page shared.
+  constexpr size_t kChunk = 4096;
+  const std::byte* from = other.mapping_.data();
+  std::byte* to = mapping_.data();
+  for (size_t at = 0; at < mapping_.size(); at += kChunk) {
+    const size_t n = std::min(kChunk, mapping_.size() - at);
+    if (std::memcmp(from + at, to + at, n) != 0) std::memcpy(to + at, from + at, n);
+  }
+}
+
+HeightGrid& HeightGrid::operator=(const HeightGrid& other) {
+  if (this != &other) *this = HeightGrid(other);
+  return *this;
 }
 
 bool HeightGrid::Contains(double x_m, double z_m) const {

@@ -22,10 +22,33 @@ std::atomic<uint64_t> next_stamp{1};
 Terrain::Terrain(HeightGrid ground) : ground_(std::move(ground)) {
   const size_t squares =
       static_cast<size_t>(ground_.squares_x()) * static_cast<size_t>(ground_.squares_z());
-  squares_.resize(squares);
-  bits_.assign(squares, 0);
+  square_lists_ = ZeroPagedArray<uint32_t>(squares);
+  bits_ = ZeroPagedArray<uint16_t>(squares);
+  square_stamps_ = ZeroPagedArray<uint64_t>(squares);
   Changed();
-  square_stamps_.assign(squares, stamp_);
+  stamps_floor_ = stamp_;
+}
+
+std::vector<const Feature*>& Terrain::MutableSquareFeatures(size_t slot) {
+  uint32_t& k = square_lists_[slot];
+  if (k == 0) {
+    if (free_lists_.empty()) {
+      lists_.emplace_back();
+      k = static_cast<uint32_t>(lists_.size());
+    } else {
+      k = free_lists_.back() + 1;
+      free_lists_.pop_back();
+    }
+  }
+  return lists_[k - 1];
+}
+
+void Terrain::ReleaseIfEmpty(size_t slot) {
+  uint32_t& k = square_lists_[slot];
+  if (k == 0 || !lists_[k - 1].empty()) return;
+  std::vector<const Feature*>().swap(lists_[k - 1]);
+  free_lists_.push_back(k - 1);
+  k = 0;
 }
 
 void Terrain::Changed() { stamp_ = next_stamp.fetch_add(1, std::memory_order_relaxed); }
@@ -43,7 +66,7 @@ void Terrain::MarkChanged(SquareIndex square) { square_stamps_[SquareSlot(square
 uint64_t Terrain::AreaStamp(const Rect& area) const {
   SquareIndex lo, hi;
   SquareRange(area, lo, hi);
-  uint64_t newest = 0;
+  uint64_t newest = stamps_floor_;
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i)
       newest = std::max(newest, square_stamps_[SquareSlot({i, j})]);
@@ -78,7 +101,7 @@ Status Terrain::CheckPlacement(const Feature& candidate, const Feature* replacin
   SquareRange(b, lo, hi);
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i) {
-      for (const Feature* other : squares_[SquareSlot({i, j})]) {
+      for (const Feature* other : SquareFeatures(SquareSlot({i, j}))) {
         if (other == replacing || !other->CanConflict()) continue;
         if (candidate.ConflictsWith(*other) || other->ConflictsWith(candidate)) {
           return Error{fmt::format("{} {} overlaps {} {}", FeatureTypeName(candidate.type()),
@@ -97,7 +120,7 @@ void Terrain::Index(const Feature* feature) {
   SquareRange(feature->Bounds(), lo, hi);
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i) {
-      squares_[SquareSlot({i, j})].push_back(feature);
+      MutableSquareFeatures(SquareSlot({i, j})).push_back(feature);
       bits_[SquareSlot({i, j})] |= CellsMaybeCovered(*feature, {i, j});
       MarkChanged(SquareIndex{i, j});
     }
@@ -110,9 +133,10 @@ void Terrain::Unindex(const Feature* feature) {
   SquareRange(feature->Bounds(), lo, hi);
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i) {
-      auto& list = squares_[SquareSlot({i, j})];
+      const size_t slot = SquareSlot({i, j});
+      auto& list = MutableSquareFeatures(slot);
       list.erase(std::remove(list.begin(), list.end(), feature), list.end());
-      if (list.empty()) list.shrink_to_fit();
+      ReleaseIfEmpty(slot);
       RecomputeBits({i, j});
       MarkChanged(SquareIndex{i, j});
     }
@@ -150,7 +174,7 @@ uint16_t Terrain::CellsMaybeCovered(const Feature& feature, SquareIndex square) 
 
 void Terrain::RecomputeBits(SquareIndex square) {
   uint16_t mask = 0;
-  for (const Feature* f : squares_[SquareSlot(square)]) mask |= CellsMaybeCovered(*f, square);
+  for (const Feature* f : SquareFeatures(SquareSlot(square))) mask |= CellsMaybeCovered(*f, square);
   bits_[SquareSlot(square)] = mask;
 }
 
@@ -205,7 +229,7 @@ int64_t Terrain::BladeDeltaMm(int i, int j) const {
 }
 
 std::vector<float> Terrain::BarePosts() const {
-  std::vector<float> posts = ground_.posts();
+  std::vector<float> posts(ground_.posts().begin(), ground_.posts().end());
   for (const auto& [index, post] : blade_) posts[index] = post.bare_m;
   return posts;
 }
@@ -220,7 +244,7 @@ void Terrain::GroundChangedAround(const std::vector<std::pair<int, int>>& posts)
         const int si = i + di, sj = j + dj;
         if (si < 0 || sj < 0 || si >= mx || sj >= mz) continue;
         MarkChanged(SquareIndex{si, sj});
-        for (const Feature* f : squares_[SquareSlot({si, sj})]) {
+        for (const Feature* f : SquareFeatures(SquareSlot({si, sj}))) {
           touched.push_back(const_cast<Feature*>(f));
         }
       }
@@ -291,10 +315,13 @@ void Terrain::RemoveAll() {
     ground_.set_post(static_cast<int>(index % nx), static_cast<int>(index / nx), post.bare_m);
   }
   blade_.clear();
-  for (auto& list : squares_) std::vector<const Feature*>().swap(list);
-  std::fill(bits_.begin(), bits_.end(), uint16_t{0});
+  square_lists_.Clear();
+  lists_.clear();
+  free_lists_.clear();
+  bits_.Clear();
   Changed();
-  std::fill(square_stamps_.begin(), square_stamps_.end(), stamp_);
+  square_stamps_.Clear();
+  stamps_floor_ = stamp_;
 }
 
 Status Terrain::SetPostElevation(int i, int j, float elevation_m) {
@@ -348,11 +375,11 @@ std::vector<const Feature*> Terrain::FeaturesById() const {
 }
 
 std::span<const Feature* const> Terrain::FeaturesInSquare(SquareIndex square) const {
-  return squares_[SquareSlot(square)];
+  return SquareFeatures(SquareSlot(square));
 }
 
 std::span<const Feature* const> Terrain::FeaturesNear(double x_m, double z_m) const {
-  return squares_[SquareSlot(ground_.SquareAt(x_m, z_m))];
+  return SquareFeatures(SquareSlot(ground_.SquareAt(x_m, z_m)));
 }
 
 double Terrain::ElevationAt(double x_m, double z_m) const {
@@ -365,7 +392,7 @@ double Terrain::ElevationAt(double x_m, double z_m) const {
   // thesis's highest-wins.
   double raise_m = 0.0;  // kNotCovered never wins against the ground's 0
   double cut_m = 0.0;
-  for (const Feature* f : squares_[slot]) {
+  for (const Feature* f : SquareFeatures(slot)) {
     const double offset_m = f->OffsetOrNotCovered(x_m, z_m);
     raise_m = std::max(raise_m, offset_m);
     cut_m = std::min(cut_m, offset_m == Feature::kNotCovered ? 0.0 : offset_m);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "base/feature_id.h"
+#include "base/mapped_memory.h"
 #include "base/result.h"
 #include "terrain/feature.h"
 #include "terrain/feature_params.h"
@@ -120,12 +121,32 @@ class Terrain {
   // Tells every feature on the squares around the posts that the ground changed.
   void GroundChangedAround(const std::vector<std::pair<int, int>>& posts);
 
+  // The features touching the square in `slot` (empty if none).
+  std::span<const Feature* const> SquareFeatures(size_t slot) const {
+    const uint32_t k = square_lists_[slot];
+    if (k == 0) return {};
+    return lists_[k - 1];
+  }
+  // The square's list, made if it has none.
+  std::vector<const Feature*>& MutableSquareFeatures(size_t slot);
+  // Gives an empty list of the square back.
+  void ReleaseIfEmpty(size_t slot);
+
   HeightGrid ground_;
   FeatureTable features_;
-  std::vector<std::vector<const Feature*>> squares_;  // features touching each square
-  std::vector<uint16_t> bits_;                        // 4 x 4 presence bits per square
+  // The per-square tables live in zero-filled pages (ZeroPagedArray): a page costs memory only
+  // once a feature or change touches one of its squares, so a world of 10^8 squares holds only
+  // what its features touch (docs/real-ground.md "Large worlds").
+  // Per square: 1 + the index in lists_ of the features touching it, 0 for none.
+  ZeroPagedArray<uint32_t> square_lists_;
+  std::vector<std::vector<const Feature*>> lists_;
+  std::vector<uint32_t> free_lists_;  // indices in lists_ no square uses
+  ZeroPagedArray<uint16_t> bits_;     // 4 x 4 presence bits per square
   uint64_t stamp_ = 0;
-  std::vector<uint64_t> square_stamps_;  // per square: the stamp of its last change (AreaStamp)
+  // Per square: the stamp of its last change (AreaStamp), 0 for none since stamps_floor_, the
+  // stamp every square had at the terrain's making or its last RemoveAll.
+  ZeroPagedArray<uint64_t> square_stamps_;
+  uint64_t stamps_floor_ = 0;
   // Blade work, per post an earth move touched (index j * posts_x + i): the post as set without
   // blade work and the sum of the earth moves' millimetres. The ground post is always float(bare_m
   // + sum_mm * kPostDeltaUnitM), a function of the sum alone, so the ground is the same in every

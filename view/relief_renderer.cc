@@ -5,6 +5,7 @@
 
 #include "log/log.h"
 #include "runtime/process_runtime.h"
+#include "terrain/ground_level.h"
 
 namespace dt {
 
@@ -24,8 +25,15 @@ bool ReliefRenderer::Offer(const Terrain& terrain) {
   std::lock_guard lock(mu_);
   if (busy_) return false;
   busy_ = true;
-  Job job{terrain.ground(), {}};
-  for (const Feature* f : terrain.FeaturesById()) job.features.emplace_back(f->id(), f->params());
+  // A large world is drawn from a level of detail at the picture's resolution, taken here from
+  // the posts it keeps: the whole grid is never copied or drawn (docs/real-ground.md "Large
+  // worlds"). Blade work is in the posts kept; its post indices are the fine grid's.
+  const bool coarse = CoarseStride(terrain.ground()) > 1;
+  Job job{CoarseGround(terrain.ground()), {}};
+  for (const Feature* f : terrain.FeaturesById()) {
+    if (coarse && f->type() == FeatureType::kEarthMove) continue;
+    job.features.emplace_back(f->id(), f->params());
+  }
   todo_.emplace(std::move(job));
   wake_.notify_all();
   return true;

@@ -23,8 +23,9 @@ class ReliefRenderer {
   ReliefRenderer(const ReliefRenderer&) = delete;
   ReliefRenderer& operator=(const ReliefRenderer&) = delete;
 
-  // Starts rendering `terrain` (its ground and placed features, copied) unless a render is under
-  // way; false if one is.
+  // Starts rendering `terrain` (its ground, at most kReliefMaxPostsPerSide posts a side of it
+  // (CoarseGround), and its placed features, copied) unless a render is under way; false if one
+  // is.
   bool Offer(const Terrain& terrain);
   // The PNG bytes of a render finished since the last call, if any.
   std::optional<std::string> Take();

@@ -305,7 +305,7 @@ TEST_F(ElevationLoaderTest, TooLargeForTheMemoryAllowedIsAnErrorBeforeReading) {
   EXPECT_NE(e.find("101 x 80 posts from 101 x 80 pixels"), std::string::npos) << e;
   EXPECT_NE(e.find("max_load_mb"), std::string::npos) << e;
   s.spacing_m = 0.05;  // 20000 posts a side
-  EXPECT_NE(ErrorOf([&] { ProbeElevation(s); }).find("a side must hold 2 to 4097 posts"),
+  EXPECT_NE(ErrorOf([&] { ProbeElevation(s); }).find("a side must hold 2 to 16385 posts"),
             std::string::npos);
 }
 

@@ -2,6 +2,7 @@
 // [dis] origin taken from the file (a typed one must agree to 1 m), and its errors.
 #include "runtime/exercise_ground.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,8 @@
 
 #include "geo/test/test_rasters.h"
 #include "runtime/exercise_config.h"
+#include "terrain/ground_cache.h"
+#include "terrain/terrain_digest.h"
 
 namespace dt {
 namespace {
@@ -79,9 +82,35 @@ TEST_F(ExerciseElevationTest, EveryProcessGetsTheFilesGround) {
   EXPECT_DOUBLE_EQ(c.terrain_size_x_m(), 400.0);
   const HeightGrid a = BuildExerciseGround(c).grid;
   const HeightGrid b = BuildExerciseGround(c).grid;
-  EXPECT_EQ(a.posts(), b.posts());
+  EXPECT_TRUE(std::ranges::equal(a.posts(), b.posts()));
   EXPECT_NEAR(a.post(20, 10), Surface(kE0 + 205, kN0 + 105), 1e-4);
   EXPECT_EQ(a.post(3, 0), a.post(2, 0));  // filled from its west neighbour
+}
+
+TEST_F(ExerciseElevationTest, WithGroundCacheDirTheGroundIsMappedFromOneFileWithTheSameDigest) {
+  const ExerciseConfig direct = Parse("nodata_fill = \"nearest\"");
+  EXPECT_TRUE(GroundCacheDir(*direct.elevation).empty());  // small: each process reads the file
+  const ExerciseConfig c = Parse("nodata_fill = \"nearest\"\nground_cache_dir = \"cache\"");
+  EXPECT_EQ(GroundCacheDir(*c.elevation), dir_ / "cache");
+  const BaseGround from_file = BuildExerciseGround(direct);
+  EXPECT_FALSE(from_file.grid.is_mapped());
+  const BaseGround first = BuildExerciseGround(c);
+  const std::filesystem::path file = GroundCacheFile(dir_ / "cache", GroundCacheKey(*c.elevation));
+  ASSERT_TRUE(std::filesystem::exists(file));
+  const auto written = std::filesystem::last_write_time(file);
+  const BaseGround second = BuildExerciseGround(c);
+  EXPECT_EQ(std::filesystem::last_write_time(file), written);  // mapped, not written again
+  for (const BaseGround* g : {&first, &second}) {
+    EXPECT_TRUE(g->grid.is_mapped());
+    EXPECT_EQ(ComputeDigest(*g), ComputeDigest(from_file));
+  }
+  // Another fill is another ground: another file.
+  const ExerciseConfig other =
+      Parse("nodata_fill = \"constant\"\nnodata_fill_m = 3\nground_cache_dir = \"cache\"");
+  EXPECT_NE(GroundCacheKey(*other.elevation), GroundCacheKey(*c.elevation));
+  // The key is refused without an elevation file like the other elevation keys.
+  EXPECT_NE(std::find(kElevationKeys.begin(), kElevationKeys.end(), "ground_cache_dir"),
+            kElevationKeys.end());
 }
 
 TEST_F(ExerciseElevationTest, NodataWithoutAFillIsAnErrorAtStart) {

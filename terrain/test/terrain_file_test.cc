@@ -2,6 +2,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -80,8 +81,8 @@ TEST(TerrainFileTest, DecodeRebuildsTheSameState) {
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   const Terrain& t = *loaded.value();
   EXPECT_EQ(ComputeDigest(t), ComputeDigest(*original));
-  EXPECT_EQ(t.ground().posts(), original->ground().posts());
-  EXPECT_EQ(t.ground().soils(), original->ground().soils());
+  EXPECT_TRUE(std::ranges::equal(t.ground().posts(), original->ground().posts()));
+  EXPECT_TRUE(std::ranges::equal(t.ground().soils(), original->ground().soils()));
   EXPECT_EQ(t.ground().spacing_m(), 10.0);
   ASSERT_EQ(t.feature_count(), SampleFeatures().size());
   for (const auto& [id, params] : SampleFeatures()) {
@@ -486,8 +487,8 @@ TEST(TerrainFileTest, ARectangularTerrainIsVersionFourAndRoundTrips) {
     const Terrain& t = *loaded.value();
     EXPECT_EQ(t.ground().posts_x(), nx);
     EXPECT_EQ(t.ground().posts_z(), nz);
-    EXPECT_EQ(t.ground().posts(), original->ground().posts());
-    EXPECT_EQ(t.ground().soils(), original->ground().soils());
+    EXPECT_TRUE(std::ranges::equal(t.ground().posts(), original->ground().posts()));
+    EXPECT_TRUE(std::ranges::equal(t.ground().soils(), original->ground().soils()));
     EXPECT_EQ(t.ground().soil({nx - 2, nz - 2}, TriangleHalf::kUpper), Material::kRock);
     EXPECT_EQ(t.ground().soil({0, nz - 2}, TriangleHalf::kLower), Material::kMud);
     EXPECT_EQ(t.BladeDeltaMm(nx - 1, nz - 1), 250);

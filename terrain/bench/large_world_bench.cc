@@ -1,0 +1,120 @@
+// Benchmarks of a large world: an elevation query on a 10001^2-post ground mapped from a ground
+// cache file against the same on a 1001^2 grid with craters at the same density, and opening a
+// warm ground cache file (its checks included) per 10^6 posts (docs/real-ground.md "Large worlds").
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "terrain/ground_cache.h"
+#include "terrain/terrain.h"
+
+namespace dt {
+namespace {
+
+constexpr double kSpacingM = 1.0;
+constexpr double kCratersPerKm2 = 1000.0;
+constexpr size_t kPoints = 1 << 16;
+
+std::filesystem::path CacheDir() {
+  return std::filesystem::temp_directory_path() / ("large_world_bench." + std::to_string(getuid()));
+}
+
+// An analytic surface: ridges and a slope.
+HeightGrid Surface(int posts) {
+  std::vector<float> y(static_cast<size_t>(posts) * posts);
+  for (int j = 0; j < posts; ++j) {
+    for (int i = 0; i < posts; ++i) {
+      const double x = i * kSpacingM, z = j * kSpacingM;
+      y[static_cast<size_t>(j) * posts + i] = static_cast<float>(
+          200.0 + 0.01 * x + 0.005 * z + 40.0 * std::sin(x / 90.0) * std::cos(z / 70.0));
+    }
+  }
+  return HeightGrid(posts, posts, kSpacingM, std::move(y));
+}
+
+struct World {
+  std::unique_ptr<Terrain> terrain;
+  std::vector<std::pair<double, double>> uniform;  // anywhere on the world
+  std::vector<std::pair<double, double>> local;    // a vehicle's 200 m neighbourhood, moving
+};
+
+// posts x posts at 1 m, mapped from a ground cache file when `mapped`, with craters at
+// kCratersPerKm2.
+World& Get(int posts, bool mapped) {
+  static std::map<std::pair<int, bool>, std::unique_ptr<World>> worlds;
+  auto& slot = worlds[{posts, mapped}];
+  if (slot) return *slot;
+  slot = std::make_unique<World>();
+  World& w = *slot;
+  HeightGrid ground =
+      mapped ? OpenGroundCache(CacheDir(), "large_world_bench " + std::to_string(posts),
+                               [&] { return Surface(posts); })
+                   .grid
+             : Surface(posts);
+  w.terrain = std::make_unique<Terrain>(std::move(ground));
+  const double size_m = w.terrain->ground().size_x_m();
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> pos(20.0, size_m - 20.0);
+  std::uniform_real_distribution<double> radius(2.0, 10.0);
+  const auto craters = static_cast<int64_t>(kCratersPerKm2 * size_m * size_m / 1e6);
+  for (int64_t k = 0; k < craters; ++k) {
+    const FeatureId id{1, 1, static_cast<uint32_t>(k + 1)};
+    if (!w.terrain->Add(id, FeatureParams::Crater(pos(rng), pos(rng), radius(rng))).ok()) {
+      std::abort();
+    }
+  }
+  std::uniform_real_distribution<double> unit(-100.0, 100.0);
+  for (size_t k = 0; k < kPoints; ++k) {
+    w.uniform.emplace_back(pos(rng), pos(rng));
+    // The vehicle crosses the world's middle third; each point within 100 m of it.
+    const double t = static_cast<double>(k) / kPoints;
+    w.local.emplace_back(size_m * (1.0 / 3 + t / 3) + unit(rng), size_m / 2 + unit(rng));
+  }
+  return w;
+}
+
+void Query(benchmark::State& state, bool local) {
+  const World& w = Get(static_cast<int>(state.range(0)), state.range(1) != 0);
+  const auto& points = local ? w.local : w.uniform;
+  size_t k = 0;
+  double sum = 0.0;
+  for (auto _ : state) {
+    const auto& [x, z] = points[k++ & (kPoints - 1)];
+    sum += w.terrain->ElevationAt(x, z);
+  }
+  benchmark::DoNotOptimize(sum);
+  state.counters["features"] = static_cast<double>(w.terrain->feature_count());
+}
+
+void BM_QueryUniform(benchmark::State& state) { Query(state, false); }
+void BM_QueryLocal(benchmark::State& state) { Query(state, true); }
+// {posts a side, mapped}: the 1001^2 grid in memory against the 10001^2 mapped world.
+BENCHMARK(BM_QueryUniform)->Args({1001, 0})->Args({10001, 1});
+BENCHMARK(BM_QueryLocal)->Args({1001, 0})->Args({10001, 1});
+
+// Opening the warm cache file: reading the header, hashing every byte after it (from the page
+// cache) and mapping it; the time per 10^6 posts is the time over the counter posts_1e6.
+void BM_OpenWarmCache(benchmark::State& state) {
+  const int posts = static_cast<int>(state.range(0));
+  const std::string key = "large_world_bench " + std::to_string(posts);
+  (void)OpenGroundCache(CacheDir(), key, [&] { return Surface(posts); });
+  for (auto _ : state) {
+    GroundCacheOpened o = OpenGroundCache(CacheDir(), key, [&] { return Surface(posts); });
+    if (o.built) std::abort();
+    benchmark::DoNotOptimize(o.grid.post(0, 0));
+  }
+  state.counters["posts_1e6"] = static_cast<double>(posts) * posts / 1e6;
+}
+BENCHMARK(BM_OpenWarmCache)->Arg(5001)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace dt
+BENCHMARK_MAIN();

@@ -529,6 +529,28 @@ DecodeResult DecodePdu(std::span<const uint8_t> in, std::optional<uint8_t> exerc
   DT_UNREACHABLE();  // every type was checked above
 }
 
+PduFrame FrameAt(std::span<const uint8_t> datagram, size_t offset) {
+  DT_DEMAND(offset < datagram.size());
+  const size_t left = datagram.size() - offset;
+  if (left < kHeaderSize) {
+    return {{},
+            DecodeError{DecodeFailure::kTooShort,
+                        fmt::format("{} bytes left at byte {} of a {}-byte datagram, a DIS header "
+                                    "needs {}",
+                                    left, offset, datagram.size(), kHeaderSize)}};
+  }
+  // The length field is the header's bytes 8 and 9 (big-endian).
+  const size_t length = (static_cast<size_t>(datagram[offset + 8]) << 8) | datagram[offset + 9];
+  if (length < kHeaderSize || length > left) {
+    return {{},
+            DecodeError{DecodeFailure::kLengthMismatch,
+                        fmt::format("length field {} at byte {} of a {}-byte datagram ({} bytes "
+                                    "left)",
+                                    length, offset, datagram.size(), left)}};
+  }
+  return {datagram.subspan(offset, length), std::nullopt};
+}
+
 uint64_t DecodeCounters::rejected_total() const {
   uint64_t sum = 0;
   for (uint64_t n : rejected) sum += n;

@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -90,11 +91,43 @@ struct DecodeCounters {
   uint64_t rejected_for(DecodeFailure f) const { return rejected[static_cast<size_t>(f)]; }
 };
 
+// One PDU of a datagram that may bundle several (IEEE 1278.2: PDUs concatenated, each framed by
+// its own header's length field): its bytes, or why the rest of the datagram cannot be framed.
+struct PduFrame {
+  std::span<const uint8_t> bytes;    // empty when error is set
+  std::optional<DecodeError> error;  // set: the walk over the datagram ends here
+};
+// The PDU starting at `offset` (< datagram.size()). Refused, ending the walk: fewer bytes left
+// than a header (too short), a length field shorter than a header (length mismatch: it frames
+// nothing), or one running past the datagram's end (length mismatch: a truncated tail).
+PduFrame FrameAt(std::span<const uint8_t> datagram, size_t offset);
+
 // A decoder for one DIS exercise that counts what it accepts and why it drops the rest.
 class Decoder {
  public:
   explicit Decoder(uint8_t exercise_id) : exercise_id_(exercise_id) {}
+  // One PDU occupying the whole datagram.
   DecodeResult Decode(std::span<const uint8_t> datagram);
+  // Every PDU of a datagram bundling one or more, each decoded and counted on its own and given
+  // to on_result in order, a refused one too (its neighbours are kept). A tail that cannot be
+  // framed is one refusal (FrameAt); a datagram over kMaxPduSize is one (too long).
+  template <typename OnResult>
+  void DecodeBundle(std::span<const uint8_t> datagram, OnResult&& on_result) {
+    if (datagram.size() > kMaxPduSize || datagram.empty()) {
+      on_result(Decode(datagram));
+      return;
+    }
+    for (size_t offset = 0; offset < datagram.size();) {
+      PduFrame frame = FrameAt(datagram, offset);
+      if (frame.error) {
+        ++counters_.rejected[static_cast<size_t>(frame.error->failure)];
+        on_result(DecodeResult(std::move(*frame.error)));
+        return;
+      }
+      offset += frame.bytes.size();
+      on_result(Decode(frame.bytes));
+    }
+  }
   const DecodeCounters& counters() const { return counters_; }
   uint8_t exercise_id() const { return exercise_id_; }
 

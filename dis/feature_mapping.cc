@@ -40,8 +40,9 @@ CraterAppearance CraterAppearanceOf(const FeatureParams& p) {
   return {Saturate(2.0 * radius), Saturate(-lowest * 100.0), Saturate(highest * 100.0)};
 }
 
-EulerAngles LevelOrientation(const GeodeticFrame& frame, double heading_rad) {
-  return frame.ToDisOrientation({heading_rad, 0.0, 0.0});
+// In the terrain's axes at the object (its grid north on a UTM ground).
+EulerAngles LevelOrientation(const GeodeticFrame& frame, double heading_rad, const LocalPoint& at) {
+  return frame.ToDisOrientation({heading_rad, 0.0, 0.0}, frame.AxesAt(at));
 }
 
 Header HeaderOf(const PduContext& c) {
@@ -81,8 +82,8 @@ Result<ObjectStatePdu> FeatureToDis(const FeatureId& id, const FeatureParams& pa
   }
   Result<EntityId> object_id = ObjectIdOf(id);
   if (!object_id.ok()) return object_id.error();
-  const WorldCoordinates location =
-      frame.ToGeocentric({params.x_m, ground_elevation_m, params.z_m});
+  const LocalPoint at{params.x_m, ground_elevation_m, params.z_m};
+  const WorldCoordinates location = frame.ToGeocentric(at);
   const SimulationAddress requester{id.site, id.host};
 
   if (params.type == FeatureType::kBerm) {
@@ -97,7 +98,7 @@ Result<ObjectStatePdu> FeatureToDis(const FeatureId& id, const FeatureParams& pa
     s.segment_number = 1;
     s.general_appearance = kComplete;
     s.location = location;
-    s.orientation = LevelOrientation(frame, params.direction_rad);
+    s.orientation = LevelOrientation(frame, params.direction_rad, at);
     s.length_m = static_cast<float>(params.length_m[0]);
     s.width_m = static_cast<float>(params.width_m);
     s.height_m = static_cast<float>(params.height_m[0]);
@@ -116,11 +117,11 @@ Result<ObjectStatePdu> FeatureToDis(const FeatureId& id, const FeatureParams& pa
   pdu.general_appearance = kComplete;
   if (params.type == FeatureType::kCrater) {
     pdu.object_type = kCraterObjectType;
-    pdu.orientation = LevelOrientation(frame, 0.0);
+    pdu.orientation = LevelOrientation(frame, 0.0, at);
     pdu.specific_appearance = PackCraterAppearance(CraterAppearanceOf(params));
   } else {
     pdu.object_type = kBridgeObjectType;
-    pdu.orientation = LevelOrientation(frame, params.direction_rad);
+    pdu.orientation = LevelOrientation(frame, params.direction_rad, at);
     if (params.status == BridgeStatus::kDestroyed) {
       pdu.general_appearance |= general_appearance::kDamageDestroyed
                                 << general_appearance::kDamageShift;
@@ -173,7 +174,7 @@ Result<FeatureFromDis> FeatureFromDisPdu(const ObjectStatePdu& any, const Geodet
     out.update_number = point->update_number;
     const LocalPoint at = frame.FromGeocentric(point->location);
     out.ground_elevation_m = at.y_m;
-    const LocalAttitude attitude = frame.FromDisOrientation(point->orientation);
+    const LocalAttitude attitude = frame.FromDisOrientation(point->orientation, frame.AxesAt(at));
     if (SameType(point->object_type, kCraterObjectType)) {
       const CraterAppearance a = UnpackCraterAppearance(point->specific_appearance);
       if (a.diameter_m == 0) {
@@ -220,7 +221,7 @@ Result<FeatureFromDis> FeatureFromDisPdu(const ObjectStatePdu& any, const Geodet
     const LinearSegment& s = linear.segments[0];
     const LocalPoint at = frame.FromGeocentric(s.location);
     out.ground_elevation_m = at.y_m;
-    const LocalAttitude attitude = frame.FromDisOrientation(s.orientation);
+    const LocalAttitude attitude = frame.FromDisOrientation(s.orientation, frame.AxesAt(at));
     out.params = FeatureParams::Berm(at.x_m, at.z_m, attitude.heading_rad, s.length_m, s.width_m,
                                      s.height_m);
     out.complete = true;

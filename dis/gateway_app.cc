@@ -30,6 +30,7 @@ GatewaySettings SettingsOf(const ExerciseConfig& exercise, const DisConfig& dis)
   s.terrain_size_z_m = exercise.terrain_size_z_m();
   s.feature_period_s = dis.feature_period_ms / 1000.0;
   s.import_craters = dis.import_craters;
+  s.bundle_max_bytes = static_cast<size_t>(dis.bundle_max_bytes);
   s.self = dis.process.address;
   for (const ProcessConfig* p : exercise.Processes()) s.members.insert(p->address);
   if (exercise.view) s.members.insert(exercise.view->process.address);
@@ -69,11 +70,14 @@ GatewayApp::GatewayApp(const ExerciseConfig& exercise, const std::string& name)
   transport_.bus->Subscribe<dtpdu::vehicle_state_t>([this](const dtpdu::vehicle_state_t& pdu) {
     core_->OnVehicleState(FromPdu(pdu.sender), FromVehicleState(pdu), Seconds(now_ms()));
   });
-  DT_LOG_INFO("DIS exercise {} on UDP {}:{} -> {} ({}), origin {:.6f} deg, {:.6f} deg, {} m, {}",
-              dis_.dis_exercise_id, dis_.bind_address, dis_.udp_port, dis_.destination,
-              socket_->multicast() ? "multicast" : "broadcast", dis_.latitude_deg,
-              dis_.longitude_deg, dis_.height_m,
-              role() == NodeRole::kNode ? "importing craters (a node member)" : "observer");
+  DT_LOG_INFO(
+      "DIS exercise {} on UDP {}:{} -> {} ({}), origin {:.6f} deg, {:.6f} deg, {} m, {}, {}",
+      dis_.dis_exercise_id, dis_.bind_address, dis_.udp_port, dis_.destination,
+      socket_->multicast() ? "multicast" : "broadcast", dis_.latitude_deg, dis_.longitude_deg,
+      dis_.height_m, role() == NodeRole::kNode ? "importing craters (a node member)" : "observer",
+      dis_.bundle_max_bytes == 0
+          ? std::string("one PDU per datagram")
+          : fmt::format("PDUs bundled up to {} bytes a datagram", dis_.bundle_max_bytes));
 }
 
 GatewayApp::~GatewayApp() = default;
@@ -98,6 +102,12 @@ void GatewayApp::DrainDis(int64_t now_ms) {
     if (!datagram) break;
     core_->OnDatagram(*datagram, Seconds(now_ms));
   }
+}
+
+void GatewayApp::OnWoken(int64_t now_ms) {
+  DrainDis(now_ms);
+  // The bus was handled before: the Entity States of the states it brought leave together.
+  core_->Flush();
 }
 
 std::optional<ControlReply> GatewayApp::HandleOwn(const ControlCommand& command) {

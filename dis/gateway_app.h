@@ -31,7 +31,7 @@ class GatewayApp : public ObserverProcess {
   // Object States.
   void OnTick(int64_t now_ms) override;
   void AddPollFds(std::vector<pollfd>& fds) const override;
-  void OnWoken(int64_t now_ms) override { DrainDis(now_ms); }
+  void OnWoken(int64_t now_ms) override;
   // vehicles: the exercise's vehicles it sends to DIS and the outside entities it imported.
   std::optional<ControlReply> HandleOwn(const ControlCommand& command) override;
   std::string StatusLines() const override { return core_->StatusLines(); }

@@ -56,6 +56,33 @@ GatewayCore::GatewayCore(GatewaySettings settings, SendDatagram send, PublishVeh
       decoder_(settings_.exercise_id),
       members_(settings_.members.begin(), settings_.members.end()) {}
 
+bool GatewayCore::Emit(std::span<const uint8_t> pdu) {
+  const size_t max = settings_.bundle_max_bytes;
+  if (max == 0 || pdu.size() > max) {
+    if (!send_(pdu)) {
+      ++counters_.send_failed;
+      return false;
+    }
+    ++counters_.datagrams_sent;
+    return true;
+  }
+  if (bundle_.size() + pdu.size() > max) Flush();
+  bundle_.insert(bundle_.end(), pdu.begin(), pdu.end());
+  ++bundled_pdus_;
+  return true;
+}
+
+void GatewayCore::Flush() {
+  if (bundle_.empty()) return;
+  if (send_(bundle_)) {
+    ++counters_.datagrams_sent;
+  } else {
+    counters_.send_failed += bundled_pdus_;
+  }
+  bundle_.clear();  // keeps its capacity: no allocation per bundle
+  bundled_pdus_ = 0;
+}
+
 void GatewayCore::SendVehicle(OutVehicle& v, const VehicleStateFields& state, double now_s) {
   // The angles' cosines and sines serve the DIS orientation and the dead-reckoning matrix.
   const AttitudeTrig trig = TrigOf({state.heading_rad, state.pitch_rad, state.roll_rad});
@@ -72,10 +99,7 @@ void GatewayCore::SendVehicle(OutVehicle& v, const VehicleStateFields& state, do
     return;
   }
   EncodeInto(pdu.value(), datagram_);
-  if (!send_(datagram_)) {
-    ++counters_.send_failed;
-    return;
-  }
+  if (!Emit(datagram_)) return;
   v.dr.Sent(state,
             OrientationMatrixOfTrig(trig.cos_heading, trig.sin_heading, trig.cos_pitch,
                                     trig.sin_pitch, trig.cos_roll, trig.sin_roll),
@@ -114,10 +138,7 @@ void GatewayCore::OnVehicleState(NodeAddress sender, const VehicleStateFields& s
 
 bool GatewayCore::SendObject(const ObjectStatePdu& pdu) {
   const std::vector<uint8_t> bytes = std::visit([](const auto& p) { return Encode(p); }, pdu);
-  if (!send_(bytes)) {
-    ++counters_.send_failed;
-    return false;
-  }
+  if (!Emit(bytes)) return false;
   if (std::holds_alternative<PointObjectStatePdu>(pdu)) {
     ++counters_.point_sent;
   } else {
@@ -208,18 +229,21 @@ void GatewayCore::Tick(const std::map<FeatureId, FeatureParams>& live, const Ter
     r.next_s = now_s + settings_.feature_period_s;
     it = --r.resends_left <= 0 ? removals_.erase(it) : std::next(it);
   }
+  Flush();
 }
 
 void GatewayCore::OnDatagram(std::span<const uint8_t> datagram, double now_s) {
-  DecodeResult r = decoder_.Decode(datagram);
-  if (!r.ok()) {
-    if (now_s - last_error_log_s_ > kErrorLogPeriodS) {
+  decoder_.DecodeBundle(datagram, [&](const DecodeResult& r) {
+    if (r.ok()) {
+      OnPdu(r.pdu(), now_s);
+    } else if (now_s - last_error_log_s_ > kErrorLogPeriodS) {
       last_error_log_s_ = now_s;
-      DT_LOG_WARN("DIS datagram dropped: {} (later ones counted in status)", r.error().message);
+      DT_LOG_WARN("DIS PDU dropped: {} (later ones counted in status)", r.error().message);
     }
-    return;
-  }
-  const Pdu& pdu = r.pdu();
+  });
+}
+
+void GatewayCore::OnPdu(const Pdu& pdu, double now_s) {
   if (const auto* es = std::get_if<EntityStatePdu>(&pdu)) {
     OnEntityState(*es, now_s);
   } else if (const auto* point = std::get_if<PointObjectStatePdu>(&pdu)) {
@@ -362,14 +386,14 @@ std::string GatewayCore::StatusLines() const {
       "dis_in_own_dropped {}\ndis_in_entities_unmapped {}\ndis_in_vehicles_published {}\n"
       "dis_in_publish_failed {}\ndis_in_objects_ignored {}\ndis_in_objects_unmapped {}\n"
       "dis_imported_entities {}\ndis_craters_imported {}\ndis_craters_removed {}\n"
-      "dis_crater_import_failed {}\ndis_in_rejected {}",
+      "dis_crater_import_failed {}\ndis_in_rejected {}\ndis_datagrams_sent {}",
       settings_.exercise_id, vehicles_.size(), features_.size(), c.entity_state_sent,
       c.entity_removals_sent, c.point_sent, c.linear_sent, c.object_removals_sent, c.send_failed,
       c.features_unmapped, c.vehicles_timed_out, c.vehicle_conflicts, c.entity_states_unmapped,
       d.entity_state, d.point_object_state, d.linear_object_state, c.own_dropped,
       c.entities_unmapped, c.vehicles_published, c.publish_failed, c.objects_ignored,
       c.objects_unmapped, imported_.size(), c.craters_imported, c.craters_removed,
-      c.crater_import_failed, d.rejected_total());
+      c.crater_import_failed, d.rejected_total(), c.datagrams_sent);
   for (size_t i = 0; i < kDecodeFailureCount; ++i) {
     std::string key(DecodeFailureName(static_cast<DecodeFailure>(i)));
     for (char& ch : key) ch = ch == ' ' ? '_' : static_cast<char>(std::tolower(ch));

@@ -40,6 +40,9 @@ struct GatewaySettings {
   // The exercise's members: DIS input whose site/application is one of them is the exercise's
   // own (the gateway's datagrams looped back, or another gateway of the same exercise).
   std::set<NodeAddress> members;
+  // 0: one PDU per datagram. Else PDUs are bundled (IEEE 1278.2) into datagrams of at most this
+  // many bytes, sent when the next PDU would not fit and at Flush; a PDU larger goes alone.
+  size_t bundle_max_bytes = 0;
 };
 
 struct GatewayCounters {
@@ -47,6 +50,9 @@ struct GatewayCounters {
   uint64_t entity_state_sent = 0, entity_removals_sent = 0, point_sent = 0, linear_sent = 0,
            object_removals_sent = 0, send_failed = 0, features_unmapped = 0, vehicles_timed_out = 0,
            vehicle_conflicts = 0;
+  // Datagrams sent (with bundling fewer than the PDUs). A PDU is counted sent once bundled; a
+  // bundle the kernel refuses counts each of its PDUs in send_failed.
+  uint64_t datagrams_sent = 0;
   // Exercise states with no Entity State (a value not finite or too large for the PDU): dropped.
   uint64_t entity_states_unmapped = 0;
   // In, from DIS (decode counters are the decoder's).
@@ -77,8 +83,13 @@ class GatewayCore {
   // `live` is sent deactivated. `terrain` gives the bare ground under each feature.
   void Tick(const std::map<FeatureId, FeatureParams>& live, const Terrain& terrain, double now_s);
 
-  // DIS -> exercise. One datagram received at now_s: dropped and counted unless it is whole,
-  // valid, of this DIS exercise and from outside.
+  // With bundling, sends the PDUs waiting in the bundle (Tick ends with it; the process calls it
+  // once it has handled what woke it, so a PDU waits at most for the states heard with it).
+  void Flush();
+
+  // DIS -> exercise. One datagram received at now_s, bundling one or more PDUs: each is dropped
+  // and counted unless it is whole, valid, of this DIS exercise and from outside; the others of
+  // the datagram are taken all the same.
   void OnDatagram(std::span<const uint8_t> datagram, double now_s);
 
   const GatewayCounters& counters() const { return counters_; }
@@ -133,6 +144,9 @@ class GatewayCore {
   }
   void SendVehicle(OutVehicle& v, const VehicleStateFields& state, double now_s);
   bool SendObject(const ObjectStatePdu& pdu);
+  // One encoded PDU out: sent, or added to the bundle. False when the kernel refused it.
+  bool Emit(std::span<const uint8_t> pdu);
+  void OnPdu(const Pdu& pdu, double now_s);
   // changed: a new state (the update number goes up), else a periodic resend of the same.
   void SendFeature(const FeatureId& id, OutFeature& f, const Terrain& terrain, double now_s,
                    bool changed);
@@ -155,6 +169,8 @@ class GatewayCore {
   // settings_.members as a flat array: an exercise has few members, and every PDU in asks.
   std::vector<NodeAddress> members_;
   std::vector<uint8_t> datagram_;  // each Entity State encoded here: no allocation per PDU
+  std::vector<uint8_t> bundle_;    // PDUs waiting to be sent together
+  uint64_t bundled_pdus_ = 0;      // how many PDUs bundle_ holds
 };
 
 }  // namespace dt::dis

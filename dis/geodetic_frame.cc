@@ -133,16 +133,18 @@ LocalPoint GeodeticFrame::FromGeocentric(const WorldCoordinates& c) const {
   return {e, u, n};
 }
 
-Vector3F GeodeticFrame::VectorToGeocentric(const LocalPoint& v) const {
-  const auto& m = enu_to_ecef_;
+namespace {
+
+using Axes = GeodeticFrame::Axes;
+
+Vector3F ToEcef(const Axes& m, const LocalPoint& v) {
   const Vec enu = {v.x_m, v.z_m, v.y_m};
   return {static_cast<float>(m[0] * enu[0] + m[1] * enu[1] + m[2] * enu[2]),
           static_cast<float>(m[3] * enu[0] + m[4] * enu[1] + m[5] * enu[2]),
           static_cast<float>(m[6] * enu[0] + m[7] * enu[1] + m[8] * enu[2])};
 }
 
-LocalPoint GeodeticFrame::VectorFromGeocentric(const Vector3F& v) const {
-  const auto& m = enu_to_ecef_;
+LocalPoint FromEcef(const Axes& m, const Vector3F& v) {
   const Vec d = {v.x, v.y, v.z};
   const double e = m[0] * d[0] + m[3] * d[1] + m[6] * d[2];
   const double n = m[1] * d[0] + m[4] * d[1] + m[7] * d[2];
@@ -150,13 +152,8 @@ LocalPoint GeodeticFrame::VectorFromGeocentric(const Vector3F& v) const {
   return {e, u, n};
 }
 
-std::array<double, 3> GeodeticFrame::ToDisAnglesRad(const LocalAttitude& a) const {
-  return ToDisAnglesRadOf(TrigOf(a));
-}
-
-std::array<double, 3> GeodeticFrame::ToDisAnglesRadOf(const AttitudeTrig& t) const {
+std::array<double, 3> DisAngles(const Axes& m, const AttitudeTrig& t) {
   const BodyAxes b = AxesOf(t);
-  const auto& m = enu_to_ecef_;
   auto to_ecef = [&m](const Vec& v) {
     return Vec{m[0] * v[0] + m[1] * v[1] + m[2] * v[2], m[3] * v[0] + m[4] * v[1] + m[5] * v[2],
                m[6] * v[0] + m[7] * v[1] + m[8] * v[2]};
@@ -176,14 +173,13 @@ std::array<double, 3> GeodeticFrame::ToDisAnglesRadOf(const AttitudeTrig& t) con
   return {psi, theta, phi};
 }
 
-LocalAttitude GeodeticFrame::FromDisAnglesRad(double psi, double theta, double phi) const {
+LocalAttitude AttitudeOfDis(const Axes& m, double psi, double theta, double phi) {
   const double cps = std::cos(psi), sps = std::sin(psi);
   const double ct = std::cos(theta), st = std::sin(theta);
   const double cph = std::cos(phi), sph = std::sin(phi);
   // Columns of Rz(psi) Ry(theta) Rx(phi): forward (x) and right (y) body axes, geocentric.
   const Vec f = {cps * ct, sps * ct, -st};
   const Vec r = {cps * st * sph - sps * cph, sps * st * sph + cps * cph, ct * sph};
-  const auto& m = enu_to_ecef_;
   auto to_enu = [&m](const Vec& v) {
     return Vec{m[0] * v[0] + m[3] * v[1] + m[6] * v[2], m[1] * v[0] + m[4] * v[1] + m[7] * v[2],
                m[2] * v[0] + m[5] * v[1] + m[8] * v[2]};
@@ -191,18 +187,113 @@ LocalAttitude GeodeticFrame::FromDisAnglesRad(double psi, double theta, double p
   return AttitudeOf(to_enu(f), to_enu(r));
 }
 
+EulerAngles ToFloat(const std::array<double, 3>& a) {
+  return {static_cast<float>(a[0]), static_cast<float>(a[1]), static_cast<float>(a[2])};
+}
+
+bool Finite(const GeodeticPoint& g) {
+  return std::isfinite(g.latitude_deg) && std::isfinite(g.longitude_deg) &&
+         std::isfinite(g.height_m);
+}
+
+// Half the baseline over which grid north is measured: long enough that PROJ's rounding (well
+// under a millimetre) moves the angle by under 1e-5 rad, short enough that the convergence's
+// change along it (about 1e-5 rad per km) does not count.
+constexpr double kGridNorthHalfBaselineM = 50.0;
+
+}  // namespace
+
+double GeodeticFrame::GridConvergenceRad(const LocalPoint& at) const {
+  if (!ground_) return 0.0;
+  const GeodeticPoint g = ground_->ToGeodetic(at.x_m, at.y_m, at.z_m);
+  const GeodeticPoint south = ground_->ToGeodetic(at.x_m, at.y_m, at.z_m - kGridNorthHalfBaselineM);
+  const GeodeticPoint north = ground_->ToGeodetic(at.x_m, at.y_m, at.z_m + kGridNorthHalfBaselineM);
+  if (!Finite(g) || !Finite(south) || !Finite(north)) return 0.0;
+  const auto& earth = GeographicLib::Geocentric::WGS84();
+  std::vector<double> m(9);
+  double x = 0, y = 0, z = 0, sx = 0, sy = 0, sz = 0, nx = 0, ny = 0, nz = 0;
+  earth.Forward(g.latitude_deg, g.longitude_deg, g.height_m, x, y, z, m);
+  earth.Forward(south.latitude_deg, south.longitude_deg, south.height_m, sx, sy, sz);
+  earth.Forward(north.latitude_deg, north.longitude_deg, north.height_m, nx, ny, nz);
+  const Vec d = {nx - sx, ny - sy, nz - sz};
+  // Grid north's east and north parts at `at` (M's columns are east, north, up).
+  const double east = m[0] * d[0] + m[3] * d[1] + m[6] * d[2];
+  const double true_north = m[1] * d[0] + m[4] * d[1] + m[7] * d[2];
+  return std::atan2(east, true_north);
+}
+
+GeodeticFrame::Axes GeodeticFrame::AxesAt(const LocalPoint& at) const {
+  if (!ground_) return enu_to_ecef_;
+  const GeodeticPoint g = ground_->ToGeodetic(at.x_m, at.y_m, at.z_m);
+  if (!Finite(g)) return enu_to_ecef_;  // network input: never throws
+  std::vector<double> m(9);
+  double x = 0, y = 0, z = 0;
+  GeographicLib::Geocentric::WGS84().Forward(g.latitude_deg, g.longitude_deg, g.height_m, x, y, z,
+                                             m);
+  // Grid north is true north turned clockwise by gamma, grid east likewise (a conformal
+  // projection keeps them square): (east, north) parts (sin g, cos g) and (cos g, -sin g).
+  const double gamma = GridConvergenceRad(at);
+  const double c = std::cos(gamma), s = std::sin(gamma);
+  Axes out{};
+  for (int row = 0; row < 3; ++row) {
+    const double e = m[row * 3 + 0], n = m[row * 3 + 1], u = m[row * 3 + 2];
+    out[row * 3 + 0] = c * e - s * n;
+    out[row * 3 + 1] = s * e + c * n;
+    out[row * 3 + 2] = u;
+  }
+  return out;
+}
+
+Vector3F GeodeticFrame::VectorToGeocentric(const LocalPoint& v) const {
+  return ToEcef(enu_to_ecef_, v);
+}
+LocalPoint GeodeticFrame::VectorFromGeocentric(const Vector3F& v) const {
+  return FromEcef(enu_to_ecef_, v);
+}
+Vector3F GeodeticFrame::VectorToGeocentric(const LocalPoint& v, const Axes& axes) const {
+  return ToEcef(axes, v);
+}
+LocalPoint GeodeticFrame::VectorFromGeocentric(const Vector3F& v, const Axes& axes) const {
+  return FromEcef(axes, v);
+}
+
+std::array<double, 3> GeodeticFrame::ToDisAnglesRad(const LocalAttitude& a) const {
+  return ToDisAnglesRadOf(TrigOf(a));
+}
+std::array<double, 3> GeodeticFrame::ToDisAnglesRadOf(const AttitudeTrig& t) const {
+  return DisAngles(enu_to_ecef_, t);
+}
+std::array<double, 3> GeodeticFrame::ToDisAnglesRadOf(const AttitudeTrig& t,
+                                                      const Axes& axes) const {
+  return DisAngles(axes, t);
+}
+
+LocalAttitude GeodeticFrame::FromDisAnglesRad(double psi, double theta, double phi) const {
+  return AttitudeOfDis(enu_to_ecef_, psi, theta, phi);
+}
+LocalAttitude GeodeticFrame::FromDisAnglesRad(double psi, double theta, double phi,
+                                              const Axes& axes) const {
+  return AttitudeOfDis(axes, psi, theta, phi);
+}
+
 EulerAngles GeodeticFrame::ToDisOrientation(const LocalAttitude& a) const {
   return ToDisOrientationOf(TrigOf(a));
 }
-
+EulerAngles GeodeticFrame::ToDisOrientation(const LocalAttitude& a, const Axes& axes) const {
+  return ToDisOrientationOf(TrigOf(a), axes);
+}
 EulerAngles GeodeticFrame::ToDisOrientationOf(const AttitudeTrig& t) const {
-  const auto angles = ToDisAnglesRadOf(t);
-  return {static_cast<float>(angles[0]), static_cast<float>(angles[1]),
-          static_cast<float>(angles[2])};
+  return ToFloat(ToDisAnglesRadOf(t));
+}
+EulerAngles GeodeticFrame::ToDisOrientationOf(const AttitudeTrig& t, const Axes& axes) const {
+  return ToFloat(ToDisAnglesRadOf(t, axes));
 }
 
 LocalAttitude GeodeticFrame::FromDisOrientation(const EulerAngles& e) const {
   return FromDisAnglesRad(e.psi, e.theta, e.phi);
+}
+LocalAttitude GeodeticFrame::FromDisOrientation(const EulerAngles& e, const Axes& axes) const {
+  return FromDisAnglesRad(e.psi, e.theta, e.phi, axes);
 }
 
 }  // namespace dt::dis

@@ -58,8 +58,8 @@ class GeodeticFrame {
   // Ground from an elevation file (docs/real-ground.md): positions go through the ground's own
   // georeference (its projection, exact to PROJ's rounding), so they agree with the file's
   // latitudes and longitudes; heights are y above the ellipsoid. Free vectors and orientations
-  // keep the east/north/up axes at the origin (off by the projection's grid convergence, a
-  // fraction of a degree over a training area). `origin` must be the ground's origin.
+  // given an entity's AxesAt are in its grid axes (true north turned by the convergence there).
+  // `origin` must be the ground's origin.
   GeodeticFrame(const GeodeticOrigin& origin, std::shared_ptr<const GroundGeoreference> ground);
 
   const GeodeticOrigin& origin() const { return origin_; }
@@ -67,16 +67,30 @@ class GeodeticFrame {
   WorldCoordinates ToGeocentric(const LocalPoint& p) const;
   LocalPoint FromGeocentric(const WorldCoordinates& c) const;
 
-  // Velocities and other free vectors: (x, y, z) local to geocentric and back.
+  // Columns: the terrain's x (grid east), z (grid north) and y (up) at `at` in geocentric axes
+  // (row-major); the origin's east/north/up without an elevation file, or where the ground's
+  // projection cannot place `at`.
+  using Axes = std::array<double, 9>;
+  Axes AxesAt(const LocalPoint& at) const;
+
+  // Velocities and other free vectors: (x, y, z) local to geocentric and back. Without `axes`,
+  // in the axes at the origin; with them, in the terrain's axes at the entity (AxesAt).
   Vector3F VectorToGeocentric(const LocalPoint& v) const;
   LocalPoint VectorFromGeocentric(const Vector3F& v) const;
+  Vector3F VectorToGeocentric(const LocalPoint& v, const Axes& axes) const;
+  LocalPoint VectorFromGeocentric(const Vector3F& v, const Axes& axes) const;
 
   // DIS orientation (psi, theta, phi: Z, then Y, then X rotation from the geocentric axes to the
   // body axes x forward, y right, z down) of a local attitude, and back. Back, the heading is in
   // (-pi, pi], pitch in [-pi/2, pi/2], roll in (-pi, pi]; straight up or down (pitch +-90 deg)
-  // the heading is ambiguous and roll takes it all.
+  // the heading is ambiguous and roll takes it all. Without `axes`, relative to the axes at the
+  // origin; with them, to the terrain's axes at the entity's position (AxesAt): on an elevation
+  // file's ground +z is grid north there, which differs from true north by the projection's grid
+  // convergence (GridConvergenceRad), and up is the ellipsoid's normal there.
   EulerAngles ToDisOrientation(const LocalAttitude& a) const;
   LocalAttitude FromDisOrientation(const EulerAngles& e) const;
+  EulerAngles ToDisOrientation(const LocalAttitude& a, const Axes& axes) const;
+  LocalAttitude FromDisOrientation(const EulerAngles& e, const Axes& axes) const;
 
   // The same in double precision (the PDU carries floats); the same bits from the attitude's
   // trigonometry.
@@ -84,6 +98,15 @@ class GeodeticFrame {
   std::array<double, 3> ToDisAnglesRadOf(const AttitudeTrig& t) const;
   EulerAngles ToDisOrientationOf(const AttitudeTrig& t) const;
   LocalAttitude FromDisAnglesRad(double psi, double theta, double phi) const;
+  std::array<double, 3> ToDisAnglesRadOf(const AttitudeTrig& t, const Axes& axes) const;
+  EulerAngles ToDisOrientationOf(const AttitudeTrig& t, const Axes& axes) const;
+  LocalAttitude FromDisAnglesRad(double psi, double theta, double phi, const Axes& axes) const;
+
+  // The true bearing of the terrain's +z (grid north) at `at`, radians clockwise from true
+  // north (GeographicLib's meridian convergence gamma for a UTM ground): 0 on the tangent plane
+  // of an origin without an elevation file (its axes are the origin's everywhere), and where
+  // the ground's projection cannot place `at`.
+  double GridConvergenceRad(const LocalPoint& at) const;
 
  private:
   GeodeticOrigin origin_;

@@ -93,12 +93,14 @@ Result<EntityStatePdu> ToEntityState(const VehiclePose& pose, const AttitudeTrig
   pdu.force_id = pose.force_id;
   pdu.entity_type = pose.entity_type;
   pdu.alternative_entity_type = pose.entity_type;
-  pdu.linear_velocity = frame.VectorToGeocentric(pose.velocity_mps);
+  // Vectors and orientation in the terrain's axes at the entity (its grid north on a UTM ground).
+  const GeodeticFrame::Axes at = frame.AxesAt(pose.position_m);
+  pdu.linear_velocity = frame.VectorToGeocentric(pose.velocity_mps, at);
   pdu.location = frame.ToGeocentric(pose.position_m);
-  pdu.orientation = frame.ToDisOrientationOf(trig);
+  pdu.orientation = frame.ToDisOrientationOf(trig, at);
   pdu.appearance = pose.appearance;
   pdu.dead_reckoning.algorithm = static_cast<uint8_t>(pose.dead_reckoning);
-  pdu.dead_reckoning.linear_acceleration = frame.VectorToGeocentric(pose.acceleration_mps2);
+  pdu.dead_reckoning.linear_acceleration = frame.VectorToGeocentric(pose.acceleration_mps2, at);
   pdu.dead_reckoning.angular_velocity = {static_cast<float>(pose.angular_velocity_rad_s[0]),
                                          static_cast<float>(pose.angular_velocity_rad_s[1]),
                                          static_cast<float>(pose.angular_velocity_rad_s[2])};
@@ -136,9 +138,10 @@ Result<VehiclePose> FromEntityState(const EntityStatePdu& pdu, const GeodeticFra
     pose.marking.assign(chars.data(), n);
   }
   pose.position_m = frame.FromGeocentric(pdu.location);
-  pose.attitude = frame.FromDisOrientation(pdu.orientation);
-  pose.velocity_mps = frame.VectorFromGeocentric(pdu.linear_velocity);
-  pose.acceleration_mps2 = frame.VectorFromGeocentric(pdu.dead_reckoning.linear_acceleration);
+  const GeodeticFrame::Axes at = frame.AxesAt(pose.position_m);
+  pose.attitude = frame.FromDisOrientation(pdu.orientation, at);
+  pose.velocity_mps = frame.VectorFromGeocentric(pdu.linear_velocity, at);
+  pose.acceleration_mps2 = frame.VectorFromGeocentric(pdu.dead_reckoning.linear_acceleration, at);
   pose.angular_velocity_rad_s = {pdu.dead_reckoning.angular_velocity.x,
                                  pdu.dead_reckoning.angular_velocity.y,
                                  pdu.dead_reckoning.angular_velocity.z};

@@ -2,6 +2,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <utility>
@@ -26,7 +27,11 @@ int main(int argc, char** argv) {
   bool verbose = false;
   std::optional<uint64_t> seed;
   std::string hosts;
+  std::string exercise_path;
   app.add_option("--drill", drill_path, "drill TOML (configs/drills/*.toml)")->required();
+  app.add_option("--exercise", exercise_path,
+                 "run the drill on this exercise file in place of its own (e.g. "
+                 "configs/exercises/drill-geotiff.toml: the same drill on real ground)");
   app.add_option("--transport", transport, "override the exercise's transport URL");
   app.add_option("--run-dir", run_dir, "override the exercise's run_dir (emptied first)");
   app.add_option("--node-bin", node_bin, "the dt_node program")->capture_default_str();
@@ -42,6 +47,7 @@ int main(int argc, char** argv) {
   try {
     dt::DrillConfig drill = dt::LoadDrillConfig(drill_path);
     if (seed) dt::OverrideSeeds(drill, *seed);
+    if (!exercise_path.empty()) drill.exercise = std::filesystem::absolute(exercise_path);
     dt::ExerciseConfig exercise = dt::LoadExerciseConfig(drill.exercise);
     dt::ApplyOverrides(exercise, transport, run_dir);
     dt::ApplyHostsOverride(exercise, hosts);

@@ -199,6 +199,12 @@ DisConfig ReadDis(const TomlReader& r, const std::filesystem::path& base) {
   d.longitude_deg = r.Double("longitude_deg", 0.0, -180.0, 180.0);
   d.height_m = r.Double("height_m", 0.0, -12000.0, 100000.0);
   d.feature_period_ms = static_cast<int>(r.Int("feature_period_ms", 5000, 100, 3600000));
+  // At most a UDP datagram's payload over IPv4; at least a few Entity States, or bundling is moot.
+  d.bundle_max_bytes = static_cast<int>(r.Int("bundle_max_bytes", 0, 0, 65507));
+  if (d.bundle_max_bytes != 0 && d.bundle_max_bytes < 576) {
+    r.Fail("bundle_max_bytes",
+           fmt::format("{} bytes: 0 (off) or 576 to 65507", d.bundle_max_bytes));
+  }
   d.process = ReadProcess(r, base, false, 0.0, 0.0);
   return d;
 }
@@ -470,9 +476,10 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     c.view = std::move(view);
   }
   if (auto d = top.OptionalTable(
-          "dis", {"name", "site", "host", "bind_address", "udp_port", "destination",
-                  "interface_address", "multicast_ttl", "dis_exercise_id", "import_craters",
-                  "latitude_deg", "longitude_deg", "height_m", "feature_period_ms"})) {
+          "dis",
+          {"name", "site", "host", "bind_address", "udp_port", "destination", "interface_address",
+           "multicast_ttl", "dis_exercise_id", "import_craters", "latitude_deg", "longitude_deg",
+           "height_m", "feature_period_ms", "bundle_max_bytes"})) {
     c.dis = ReadDis(*d, base);
     if (c.elevation) {
       const bool typed = d->Has("latitude_deg") || d->Has("longitude_deg") || d->Has("height_m");

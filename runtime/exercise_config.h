@@ -81,7 +81,10 @@ struct DisConfig {
   double longitude_deg = 0.0;
   double height_m = 0.0;
   int feature_period_ms = 5000;  // every live feature's Object State is sent again this often
-  bool multicast() const;        // destination is in 224.0.0.0/4
+  // 0: one PDU per datagram (every DIS receiver reads it). Else PDUs bundled (IEEE 1278.2) into
+  // datagrams of at most this many bytes (docs/dis.md "Bundling").
+  int bundle_max_bytes = 0;
+  bool multicast() const;  // destination is in 224.0.0.0/4
 };
 
 // Protocol timing (docs/protocol.md); the values map onto ReplicaConfig.

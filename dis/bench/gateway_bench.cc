@@ -8,7 +8,8 @@
 // batch of raw pairs and a batch of gateway pairs, in alternating order; "ratio" is raw time ÷
 // gateway time, the gateway's PDUs/s ÷ raw pairs/s. The one-sided benchmarks below it (the
 // gateway's send or receive against a bare sendto or recv) are kept for comparison with earlier
-// figures. Manual time throughout: the thread's CPU time (a loopback sendto's delivery runs in
+// figures. BM_GatewayPairBundled is the same pair measure with the gateway's PDUs bundled. Manual
+// time throughout: the thread's CPU time (a loopback sendto's delivery runs in
 // the sender's thread), so other processes' turns on the shared machine do not count.
 #include <benchmark/benchmark.h>
 
@@ -17,6 +18,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <ctime>
 #include <memory>
 #include <vector>
@@ -182,6 +184,113 @@ void BM_GatewayPair(benchmark::State& state, Side side) {
 BENCHMARK_CAPTURE(BM_GatewayPair, out, Side::kOut)->UseManualTime();
 BENCHMARK_CAPTURE(BM_GatewayPair, in, Side::kIn)->UseManualTime();
 BENCHMARK_CAPTURE(BM_GatewayPair, in_bus, Side::kInBus)->UseManualTime();
+
+// The same pair measure with bundling on (IEEE 1278.2, docs/dis.md "Bundling"): the raw baseline
+// is unchanged (a sendto and a recv of one 144-byte PDU each), the gateway's side handles the
+// same 64 PDUs bundled. Out: bundle_max_bytes 1400 (9 Entity States a datagram), 64
+// OnVehicleState, a Flush, and a recv of each datagram. In: 8 raw sendto of a bundle of 8 outside
+// Entity States (1152 bytes), each followed by the gateway's Receive and OnDatagram.
+constexpr int kPerBundle = 8;
+static_assert(kBatch % kPerBundle == 0);
+
+void BM_GatewayPairBundled(benchmark::State& state, Side side) {
+  auto e = Loopback();
+  uint64_t published = 0;
+  GatewaySettings settings = Settings();
+  settings.bundle_max_bytes = 1400;
+  GatewayCore core(
+      settings, [&](std::span<const uint8_t> d) { return e->Send(d); },
+      [&](const VehicleStateFields& s) -> Status {
+        benchmark::DoNotOptimize(ToVehicleState(s));
+        ++published;
+        return Status();
+      });
+  const std::vector<uint8_t> bytes =
+      side == Side::kOut ? Encode(EntityStateOfVehicle(Tank(100.0), core.frame(), {3, 0}).value())
+                         : OutsideBytes(core.frame());
+  std::vector<uint8_t> bundle;  // kPerBundle outside entities, one datagram
+  for (int i = 0; i < kPerBundle; ++i) {
+    VehicleStateFields s = Tank(500.0 + i);
+    s.id = {31, 5, static_cast<uint16_t>(700 + i)};
+    const std::vector<uint8_t> pdu = Encode(EntityStateOfVehicle(s, core.frame(), {3, 0}).value());
+    bundle.insert(bundle.end(), pdu.begin(), pdu.end());
+  }
+  const VehicleStateFields states[2] = {Tank(100.0), Tank(102.0)};
+  std::vector<uint8_t> buffer(kMaxPduSize + 1);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(kPort);
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  auto send_raw = [&](const std::vector<uint8_t>& d) {
+    return ::sendto(e->fd(), d.data(), d.size(), 0, reinterpret_cast<const sockaddr*>(&to),
+                    sizeof to) == static_cast<ssize_t>(d.size());
+  };
+  auto raw_recv = [&] { return ::recv(e->fd(), buffer.data(), buffer.size(), MSG_TRUNC); };
+  double now_s = 0.0;
+  int64_t raw_lost = 0, received_pdus = 0, datagrams = 0;
+  const uint64_t sent_before = core.counters().entity_state_sent;
+  auto raw_batch = [&] {
+    const auto t0 = Clock::now();
+    for (int i = 0; i < kBatch; ++i) {
+      if (!send_raw(bytes) || raw_recv() <= 0) ++raw_lost;
+    }
+    return Clock::now() - t0;
+  };
+  auto gateway_batch = [&] {
+    const auto t0 = Clock::now();
+    if (side == Side::kOut) {
+      for (int i = 0; i < kBatch; ++i) {
+        now_s += 0.01;
+        core.OnVehicleState(kNode, states[i & 1], now_s);
+      }
+      core.Flush();
+      for (ssize_t n; (n = ::recv(e->fd(), buffer.data(), buffer.size(), MSG_DONTWAIT)) > 0;) {
+        received_pdus += n / static_cast<ssize_t>(kEntityStateSize);
+        ++datagrams;
+      }
+    } else {
+      for (int i = 0; i < kBatch / kPerBundle; ++i) {
+        if (!send_raw(bundle)) continue;
+        const auto datagram = e->Receive();
+        if (!datagram) continue;
+        ++datagrams;
+        core.OnDatagram(*datagram, 1.0);
+      }
+    }
+    return Clock::now() - t0;
+  };
+  double raw_s = 0.0, gateway_s = 0.0;
+  bool raw_first = true;
+  for (auto _ : state) {
+    double g = 0.0;
+    if (raw_first) {
+      raw_s += raw_batch();
+      g = gateway_batch();
+    } else {
+      g = gateway_batch();
+      raw_s += raw_batch();
+    }
+    raw_first = !raw_first;
+    gateway_s += g;
+    state.SetIterationTime(g);
+    while (e->Receive()) ++raw_lost;  // nothing should be left over
+  }
+  const double pdus = static_cast<double>(state.iterations() * kBatch);
+  state.SetItemsProcessed(state.iterations() * kBatch);
+  state.counters["raw_pair_ns"] = raw_s / pdus * 1e9;
+  state.counters["gateway_pdu_ns"] = gateway_s / pdus * 1e9;
+  state.counters["ratio"] = raw_s / gateway_s;
+  state.counters["pdus_per_datagram"] = pdus / static_cast<double>(datagrams);
+  state.counters["raw_lost"] = static_cast<double>(raw_lost);
+  const double done =
+      side == Side::kOut
+          ? static_cast<double>(std::min<uint64_t>(core.counters().entity_state_sent - sent_before,
+                                                   static_cast<uint64_t>(received_pdus)))
+          : static_cast<double>(published);
+  state.counters["lost"] = pdus - done;
+}
+BENCHMARK_CAPTURE(BM_GatewayPairBundled, out, Side::kOut)->UseManualTime();
+BENCHMARK_CAPTURE(BM_GatewayPairBundled, in, Side::kIn)->UseManualTime();
 
 // The one-sided figures of earlier runs: the gateway's send or receive against a bare sendto or
 // recv of the same bytes.

@@ -2,9 +2,13 @@
 // decodes Entity States others wrote, printing the checked fields as JSON for the outside-peer
 // tests (tshark_entity_state.py, opendis_entity_state.py).
 //   dis_sample_tool encode <out.bin> | pcap <out.pcap> | features-pcap <out.pcap> |
-//                   crater <out.bin> | decode <in.bin>
+//                   crater <out.bin> | bundle <out.bin> | bundle-pcap <out.pcap> |
+//                   decode <in.bin> | decode-bundle <in.bin>
 // features-pcap writes a crater, a bridge and a berm (Point, Point, Linear Object State) and
-// prints one JSON line per PDU.
+// prints one JSON line per PDU. bundle and bundle-pcap write one datagram bundling (IEEE
+// 1278.2) the sample Entity State, a crater, a berm and the Entity State again, and print one
+// JSON line per PDU (type, length, and for an Entity State its entity number). decode-bundle
+// reads every Entity State of a bundling datagram, one JSON line each; any PDU refused fails.
 #include <fmt/format.h>
 
 #include <cstdio>
@@ -139,7 +143,9 @@ bool WriteFile(const std::string& path, const std::vector<uint8_t>& bytes) {
 
 int main(int argc, char** argv) {
   if (argc != 3) {
-    std::fprintf(stderr, "usage: %s encode|pcap|features-pcap|crater <out> | decode <in.bin>\n",
+    std::fprintf(stderr,
+                 "usage: %s encode|pcap|features-pcap|crater|bundle|bundle-pcap <out> | "
+                 "decode|decode-bundle <in>\n",
                  argv[0]);
     return 2;
   }
@@ -195,6 +201,49 @@ int main(int argc, char** argv) {
       return 1;
     }
     return 0;
+  }
+  if (mode == "bundle" || mode == "bundle-pcap") {
+    std::vector<uint8_t> datagram;
+    auto add = [&](const std::vector<uint8_t>& pdu, int entity) {
+      datagram.insert(datagram.end(), pdu.begin(), pdu.end());
+      std::printf("{\"pdu_type\": %d, \"length\": %zu, \"entity\": %d}\n", pdu[2], pdu.size(),
+                  entity);
+    };
+    EntityStatePdu es = SamplePdu();
+    add(Encode(es), es.entity_id.entity);
+    const dt::FeatureId id{17, 23, 5};
+    for (const dt::FeatureParams& params : {dt::FeatureParams::Crater(300, 400, 6.0),
+                                            dt::FeatureParams::Berm(50, 60, 0.7, 40, 6, 2.5)}) {
+      const auto pdu = FeatureToDis(id, params, 12.0, 1, Frame(), {7, 0});
+      if (!pdu.ok()) {
+        std::fprintf(stderr, "%s\n", pdu.error().message.c_str());
+        return 1;
+      }
+      add(std::visit([](const auto& p) { return Encode(p); }, pdu.value()), -1);
+    }
+    ++es.entity_id.entity;
+    add(Encode(es), es.entity_id.entity);
+    if (!WriteFile(path, mode == "bundle-pcap" ? Pcap({datagram}) : datagram)) {
+      std::fprintf(stderr, "cannot write %s\n", path.c_str());
+      return 1;
+    }
+    return 0;
+  }
+  if (mode == "decode-bundle") {
+    std::ifstream in(path, std::ios::binary);
+    const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                     std::istreambuf_iterator<char>());
+    Decoder decoder(7);
+    int refused = 0;
+    decoder.DecodeBundle(bytes, [&](const DecodeResult& r) {
+      if (!r.ok()) {
+        std::fprintf(stderr, "refused: %s\n", r.error().message.c_str());
+        ++refused;
+      } else if (const auto* es = std::get_if<EntityStatePdu>(&r.pdu())) {
+        std::printf("%s\n", Json(*es).c_str());
+      }
+    });
+    return refused == 0 ? 0 : 1;
   }
   if (mode == "decode") {
     std::ifstream in(path, std::ios::binary);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <set>
 #include <vector>
 
 #include "dis/dis_codec.h"
@@ -36,7 +37,8 @@ VehicleStateFields Tank(double x_m) {
 }
 
 struct Harness {
-  explicit Harness(bool import_craters = false, bool with_author = false) {
+  explicit Harness(bool import_craters = false, bool with_author = false,
+                   size_t bundle_max_bytes = 0) {
     FeatureAuthor author;
     if (with_author) {
       author.create = [this](const FeatureParams& p) -> Result<FeatureId> {
@@ -48,8 +50,10 @@ struct Harness {
         return Status();
       };
     }
+    GatewaySettings settings = Settings(import_craters);
+    settings.bundle_max_bytes = bundle_max_bytes;
     core = std::make_unique<GatewayCore>(
-        Settings(import_craters),
+        std::move(settings),
         [this](std::span<const uint8_t> d) {
           sent.emplace_back(d.begin(), d.end());
           return true;
@@ -290,6 +294,95 @@ TEST(GatewayCoreTest, BadDisInputIsDroppedAndCountedNeverApplied) {
   EXPECT_NE(h.core->StatusLines().find("dis_in_rejected_foreign_exercise 1"), std::string::npos);
   h.core->OnDatagram(good, 2.0);
   EXPECT_EQ(h.published.size(), 1u);
+}
+
+// A datagram bundling PDUs (IEEE 1278.2): each imported on its own, a bad one dropped and counted
+// without losing the others, a truncated tail refused once.
+TEST(GatewayCoreTest, BundledInputIsTakenPduByPdu) {
+  Harness h;
+  auto outside = [&](uint32_t entity, double x_m) {
+    EntityStatePdu pdu = Outside(x_m, h.core->frame());
+    pdu.entity_id.entity = static_cast<uint16_t>(entity);
+    return Encode(pdu);
+  };
+  std::vector<uint8_t> bad = outside(2, 260.0);
+  bad[2] = 2;  // Fire
+  std::vector<uint8_t> datagram;
+  for (const auto& pdu : {outside(1, 250.0), bad, outside(3, 270.0), outside(4, 280.0)}) {
+    datagram.insert(datagram.end(), pdu.begin(), pdu.end());
+  }
+  datagram.resize(datagram.size() - 20);  // the last one cut short
+  h.core->OnDatagram(datagram, 1.0);
+  ASSERT_EQ(h.published.size(), 2u);
+  EXPECT_EQ(h.published[0].id.entity, 1u);
+  EXPECT_NEAR(h.published[0].location_m[0], 250.0, 1e-6);
+  EXPECT_EQ(h.published[1].id.entity, 3u);
+  EXPECT_NEAR(h.published[1].location_m[0], 270.0, 1e-6);
+  const DecodeCounters& c = h.core->decode_counters();
+  EXPECT_EQ(c.entity_state, 2u);
+  EXPECT_EQ(c.rejected_for(DecodeFailure::kUnsupportedPduType), 1u);
+  EXPECT_EQ(c.rejected_for(DecodeFailure::kLengthMismatch), 1u);
+  EXPECT_EQ(c.rejected_total(), 2u);
+}
+
+// Bundling on: Entity States wait in the bundle until it is full or flushed (Tick flushes too),
+// no datagram over the limit, every PDU in one; off, one PDU per datagram.
+TEST(GatewayCoreTest, BundledOutputFillsDatagramsUpToTheLimit) {
+  constexpr size_t kLimit = 1400;
+  Harness h(false, false, kLimit);
+  constexpr int kTanks = 20;
+  auto tank = [](int i) {
+    VehicleStateFields s = Tank(100.0 + i);
+    s.id.entity = static_cast<uint16_t>(100 + i);
+    return s;
+  };
+  for (int i = 0; i < kTanks; ++i) h.core->OnVehicleState(kNode, tank(i), 10.0);
+  const size_t per_datagram = kLimit / kEntityStateSize;  // 9
+  EXPECT_EQ(h.sent.size(), kTanks / per_datagram) << "only full bundles leave before a flush";
+  h.core->Flush();
+  h.core->Flush();  // nothing left: no empty datagram
+  ASSERT_EQ(h.sent.size(), (kTanks + per_datagram - 1) / per_datagram);
+  std::set<uint16_t> entities;
+  Decoder d(9);
+  for (const auto& datagram : h.sent) {
+    EXPECT_LE(datagram.size(), kLimit);
+    d.DecodeBundle(datagram, [&](const DecodeResult& r) {
+      ASSERT_TRUE(r.ok()) << r.error().message;
+      entities.insert(std::get<EntityStatePdu>(r.pdu()).entity_id.entity);
+    });
+  }
+  EXPECT_EQ(entities.size(), static_cast<size_t>(kTanks));
+  EXPECT_EQ(d.counters().rejected_total(), 0u);
+  EXPECT_EQ(h.core->counters().entity_state_sent, static_cast<uint64_t>(kTanks));
+  EXPECT_EQ(h.core->counters().datagrams_sent, h.sent.size());
+  EXPECT_NE(h.core->StatusLines().find("dis_datagrams_sent 3"), std::string::npos);
+  // A heartbeat from Tick leaves within the same Tick.
+  h.sent.clear();
+  h.core->Tick(h.live, h.terrain, 15.5);
+  EXPECT_EQ(h.sent.size(), (kTanks + per_datagram - 1) / per_datagram);
+
+  Harness off;
+  for (int i = 0; i < 3; ++i) off.core->OnVehicleState(kNode, tank(i), 10.0);
+  EXPECT_EQ(off.sent.size(), 3u);
+  for (const auto& datagram : off.sent) EXPECT_EQ(datagram.size(), kEntityStateSize);
+}
+
+// A refused bundle counts each of its PDUs as a failed send.
+TEST(GatewayCoreTest, ARefusedBundleCountsEveryPduFailed) {
+  GatewaySettings settings = Settings();
+  settings.bundle_max_bytes = 1400;
+  GatewayCore core(
+      settings, [](std::span<const uint8_t>) { return false; },
+      [](const VehicleStateFields&) { return Status(); });
+  for (int i = 0; i < 4; ++i) {
+    VehicleStateFields s = Tank(100.0);
+    s.id.entity = static_cast<uint16_t>(100 + i);
+    core.OnVehicleState(kNode, s, 10.0);
+  }
+  EXPECT_EQ(core.counters().send_failed, 0u);
+  core.Flush();
+  EXPECT_EQ(core.counters().send_failed, 4u);
+  EXPECT_EQ(core.counters().datagrams_sent, 0u);
 }
 
 TEST(GatewayCoreTest, FeaturesGoOutWithUpdateNumbersPeriodsAndRemoval) {

@@ -302,9 +302,29 @@ def main():
     after = poll("the gateway counting the bad datagrams", counted)
     if int(after["dis_in_vehicles_published"]) - int(before["dis_in_vehicles_published"]) != 0:
         failures.append("a bad datagram was published as a vehicle")
+
+    # (d) A datagram bundling PDUs (IEEE 1278.2): two opendis Entity States around one of an
+    # unknown type; both entities reach the nodes, the bad one is counted.
+    before = status("dis")
+    pair = [opendis_pdus.entity_state(DIS_EXERCISE, (31, 5, n), to_ecef(x + dx, y, z), 1,
+                                      orientation=(psi, theta, phi))
+            for n, dx in ((778, 10.0), (779, 20.0))]
+    bundle = pair[0] + unknown + pair[1]
+
+    def bundle_seen(node_name):
+        sock.sendto(bundle, ("127.0.0.1", 3000))
+        text = ctl(node_name, "vehicles")
+        return all(vehicle_line(text, "remote", f"31:5:{n}") for n in (778, 779))
+
+    for n in ("node-1", "node-2"):
+        poll(f"{n} listing both entities of a bundle", lambda: bundle_seen(n))
+    after = status("dis")
+    if int(after["dis_in_rejected_unsupported_pdu_type"]) <= int(
+            before["dis_in_rejected_unsupported_pdu_type"]):
+        failures.append("the bundle's bad PDU was not counted")
     return finish(failures, "tshark decoded the gateway's Entity State as node-1 reports it; "
                             "opendis's Entity State is a remote vehicle on both nodes; bad DIS "
-                            "input was counted, not applied")
+                            "input was counted, not applied; a bundle's entities were all taken")
 
 
 if __name__ == "__main__":

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """An independent DIS implementation (PyPI opendis) reads our Entity State, and writes one that
 our decoder and mapping accept with the same field values; it also reads our crater's Point
-Object State (its appearance as a float64 whose bits are our appearance record).
+Object State (its appearance as a float64 whose bits are our appearance record). Bundles
+(IEEE 1278.2): opendis reads every PDU of our bundling datagram once it is split by each header's
+length field (its createPdu reads one PDU, the first), and we read a bundle of its Entity States.
 
     opendis_entity_state.py <dis_sample_tool> <work dir>
 
@@ -124,6 +126,44 @@ def main():
         appearance_bits = struct.pack(">d", point.objectAppearance)
         check("appearance bits", appearance_bits,
               struct.pack(">IHH", sent["specific"], sent["general"], 0))
+    # 4. Bundles. opendis decodes one PDU per call (the first of a datagram); split by each
+    # header's length field (bytes 8-9), it reads every PDU of ours.
+    bundle = os.path.join(work, "bundle.bin")
+    parts = [json.loads(line) for line in subprocess.run(
+        [tool, "bundle", bundle], check=True, capture_output=True, text=True).stdout.splitlines()]
+    with open(bundle, "rb") as f:
+        datagram = f.read()
+    check("bundle size", len(datagram), sum(p["length"] for p in parts))
+    first = createPdu(datagram)
+    check("createPdu on a bundle: the first PDU's type", first.pduType, parts[0]["pdu_type"])
+    offset = 0
+    for i, part in enumerate(parts):
+        length = struct.unpack_from(">H", datagram, offset + 8)[0]
+        check(f"bundled PDU {i} length", length, part["length"])
+        piece = datagram[offset:offset + length]
+        offset += length
+        check(f"bundled PDU {i} type", piece[2], part["pdu_type"])
+        if part["pdu_type"] in (1, 43):  # opendis 1.0 cannot build a Linear Object State
+            pdu = createPdu(piece)
+            check(f"bundled PDU {i} type by opendis", pdu.pduType, part["pdu_type"])
+            check(f"bundled PDU {i} length by opendis", pdu.length, part["length"])
+            if part["pdu_type"] == 1:
+                check(f"bundled PDU {i} entity", pdu.entityID.entityID, part["entity"])
+    check("bundle walked to its end", offset, len(datagram))
+    # ... and we read a bundle of opendis's Entity States (opendis has no bundling of its own:
+    # concatenated here, as 1278.2 bundles are).
+    theirs_bundle = os.path.join(work, "theirs_bundle.bin")
+    with open(theirs_bundle, "wb") as f:
+        for entity in (801, 802, 803):
+            f.write(opendis_pdus.entity_state(7, (31, 5, entity), (-2706000.5, -4352000.25,
+                                                                   3784500.125), 2))
+    run = subprocess.run([tool, "decode-bundle", theirs_bundle], capture_output=True, text=True)
+    if run.returncode != 0:
+        failures.append(f"our decoder refused opendis's bundle: {run.stderr.strip()}")
+    else:
+        got = [json.loads(line)["entity"] for line in run.stdout.splitlines()]
+        check("entities of opendis's bundle", got, [801, 802, 803])
+
     for f in failures:
         print("FAIL:", f)
     if not failures:

@@ -1,8 +1,10 @@
 // A feature placed at a known latitude and longitude on ground from an elevation file goes out
 // on DIS within 1 m of that point, and comes back to the same terrain position (UTM and lat/lon
-// files).
+// files). A vehicle heading grid north on a UTM ground is reported at the true bearing of grid
+// north there (the meridian convergence).
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include <gtest/gtest.h>
 #include <GeographicLib/Geocentric.hpp>
@@ -10,6 +12,7 @@
 
 #include "dis/dis_codec.h"
 #include "dis/feature_mapping.h"
+#include "dis/vehicle_mapping.h"
 #include "geo/elevation_loader.h"
 #include "geo/test/test_rasters.h"
 
@@ -76,6 +79,74 @@ TEST_P(RealGroundDisTest, AFeatureAtAKnownLatLonIsThereOnDis) {
   ASSERT_TRUE(back.ok()) << back.error().message;
   EXPECT_NEAR(back.value().params.x_m, xz[0], 1e-3);
   EXPECT_NEAR(back.value().params.z_m, xz[1], 1e-3);
+}
+
+// 200 km east of UTM 33N's central meridian at 47 N the convergence is about 1.9 deg: an
+// orientation kept in the origin's east/north axes would be off by all of it.
+TEST(RealGroundDisOrientation, GridNorthIsReportedAtItsTrueBearing) {
+  const std::filesystem::path dir = dt::testing::FreshTestDir("real_ground_dis_orientation");
+  dt::testing::TestRaster r;
+  r.epsg = 32633;
+  r.cols = 200;
+  r.rows = 150;
+  r.geotransform = {700000.0, 10, 0, 5201500.0, 0, -10};
+  r.surface = [](double, double) { return 250.0; };
+  dt::testing::WriteTestRaster(dir / "g.tif", r);
+  const ElevationLayout layout = ProbeElevation({.file = dir / "g.tif"});
+  std::filesystem::remove_all(dir);
+  const GeodeticPoint o = layout.georeference->origin();
+  const GeodeticFrame frame({o.latitude_deg, o.longitude_deg, o.height_m}, layout.georeference);
+
+  VehiclePose pose;
+  pose.entity_id = {3, 4, 17};
+  pose.marking = "tank-17";
+  pose.position_m = {1500.0, 250.0, 1000.0};
+  pose.attitude.heading_rad = std::numbers::pi / 2;  // +z: grid north
+  pose.velocity_mps = {0.0, 0.0, 10.0};              // 10 m/s grid north
+  const auto pdu = ToEntityState(pose, frame, kContext);
+  ASSERT_TRUE(pdu.ok()) << pdu.error().message;
+  const DecodeResult decoded = DecodePdu(Encode(pdu.value()), kContext.exercise_id);
+  ASSERT_TRUE(decoded.ok());
+  const auto& es = std::get<EntityStatePdu>(decoded.pdu());
+
+  // GeographicLib's own UTM: the convergence gamma at the entity (grid north's bearing,
+  // clockwise from true north).
+  double lat = 0, lon = 0, h = 0;
+  std::vector<double> m(9);
+  GeographicLib::Geocentric::WGS84().Reverse(es.location.x, es.location.y, es.location.z, lat, lon,
+                                             h, m);
+  int zone = 0;
+  bool northp = false;
+  double easting = 0, northing = 0, gamma_deg = 0, k = 0;
+  GeographicLib::UTMUPS::Forward(lat, lon, zone, northp, easting, northing, gamma_deg, k, 33);
+  const double gamma_rad = gamma_deg * std::numbers::pi / 180.0;
+  ASSERT_GT(std::abs(gamma_rad), 0.03);  // large enough that the test tells
+  EXPECT_NEAR(frame.GridConvergenceRad(pose.position_m), gamma_rad, 1e-4);
+
+  // The body's forward axis (the first column of Rz(psi) Ry(theta)) in east/north/up there.
+  const double psi = es.orientation.psi, theta = es.orientation.theta;
+  const double f[3] = {std::cos(psi) * std::cos(theta), std::sin(psi) * std::cos(theta),
+                       -std::sin(theta)};
+  const double east = m[0] * f[0] + m[3] * f[1] + m[6] * f[2];
+  const double north = m[1] * f[0] + m[4] * f[1] + m[7] * f[2];
+  const double up = m[2] * f[0] + m[5] * f[1] + m[8] * f[2];
+  // True heading counter-clockwise from true north is -gamma; its bearing is gamma.
+  EXPECT_NEAR(std::atan2(east, north), gamma_rad, 0.01);
+  EXPECT_NEAR(std::atan2(east, north), gamma_rad, 1e-4) << "tighter than the goal";
+  EXPECT_NEAR(up, 0.0, 1e-5) << "level on the ellipsoid there";
+  // The velocity goes the same way.
+  const double ve =
+      m[0] * es.linear_velocity.x + m[3] * es.linear_velocity.y + m[6] * es.linear_velocity.z;
+  const double vn =
+      m[1] * es.linear_velocity.x + m[4] * es.linear_velocity.y + m[7] * es.linear_velocity.z;
+  EXPECT_NEAR(std::atan2(ve, vn), gamma_rad, 1e-4);
+
+  // And back: grid north again.
+  const auto back = FromEntityState(es, frame);
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_NEAR(back.value().attitude.heading_rad, std::numbers::pi / 2, 1e-5);
+  EXPECT_NEAR(back.value().velocity_mps.z_m, 10.0, 1e-4);
+  EXPECT_NEAR(back.value().velocity_mps.x_m, 0.0, 1e-4);
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -3,6 +3,9 @@
 datagram, and the checked fields (entity ID, location, dead-reckoning algorithm, ...) equal
 what dis_sample_tool encoded. It also reads the headers of our Point and Linear Object State
 PDUs (tshark 4.0 names them but does not decode their contents) without calling them malformed.
+A datagram bundling PDUs (IEEE 1278.2) is read without a malformed-packet warning, its first PDU
+right; tshark 4.0 dissects only that first PDU (the rest is not shown), so whatever more it
+dissects must be ours in order.
 
     tshark_entity_state.py <dis_sample_tool> <work dir>
 
@@ -110,6 +113,29 @@ def main():
     for name in ("Point Object State PDU", "Linear Object State PDU"):
         if name not in verbose:
             failures.append(f"tshark does not name a {name}")
+
+    # A bundle: one datagram holding an Entity State, a crater, a berm and an Entity State.
+    bundle = os.path.join(work, "bundle.pcap")
+    parts = [json.loads(line) for line in subprocess.run(
+        [tool, "bundle-pcap", bundle], check=True, capture_output=True,
+        text=True).stdout.splitlines()]
+    out = subprocess.run([tshark, "-r", bundle, "-d", "udp.port==3000,dis", "-T", "fields",
+                          "-E", "separator=;", "-E", "occurrence=a", "-E", "aggregator=,",
+                          "-e", "dis.pdu_type", "-e", "dis.pdu_length"],
+                         check=True, capture_output=True, text=True).stdout.strip().splitlines()
+    if len(out) != 1:
+        failures.append(f"bundle: tshark saw {len(out)} packets, expected 1")
+    else:
+        types, lengths = (column.split(",") for column in out[0].split(";"))
+        want = [(str(p["pdu_type"]), str(p["length"])) for p in parts]
+        dissected = list(zip(types, lengths))
+        print(f"tshark dissected {len(dissected)} of the bundle's {len(parts)} PDUs: {dissected}")
+        if not dissected or dissected != want[:len(dissected)]:
+            failures.append(f"bundle: tshark read {dissected}, sent {want}")
+    verbose = subprocess.run([tshark, "-r", bundle, "-V"], check=True, capture_output=True,
+                             text=True).stdout
+    if "Malformed" in verbose or "Expert Info (Error" in verbose:
+        failures.append("tshark reports the bundle malformed")
 
     for f in failures:
         print("FAIL:", f)

@@ -476,14 +476,18 @@ TEST(ExerciseConfigTest, ADisGatewayIsAMemberWithItsUdpSettingsAndOrigin) {
   EXPECT_FALSE(c.dis->multicast());
   EXPECT_EQ(c.dis->dis_exercise_id, 1);
   EXPECT_FALSE(c.dis->import_craters);
+  EXPECT_EQ(c.dis->bundle_max_bytes, 0);  // one PDU per datagram unless told
   EXPECT_DOUBLE_EQ(c.dis->latitude_deg, 36.6);
   EXPECT_DOUBLE_EQ(c.dis->longitude_deg, -121.9);
   EXPECT_EQ(c.FindProcess("dis"), &c.dis->process);
   ReplicaConfig rc = MakeReplicaConfig(c, *c.FindProcess("node-1"), NodeRole::kNode);
   EXPECT_EQ(rc.members.at(NodeAddress{1, 60}), NodeRole::kObserver);
-  c = ParseExerciseConfig(with_dis + "import_craters = true\ndestination = \"239.1.2.3\"\n",
+  c = ParseExerciseConfig(with_dis +
+                              "import_craters = true\ndestination = \"239.1.2.3\"\n"
+                              "bundle_max_bytes = 1400\n",
                           "ex.toml", "/base");
   EXPECT_TRUE(c.dis->multicast());
+  EXPECT_EQ(c.dis->bundle_max_bytes, 1400);
   rc = MakeReplicaConfig(c, *c.FindProcess("node-1"), NodeRole::kNode);
   EXPECT_EQ(rc.members.at(NodeAddress{1, 60}), NodeRole::kNode);
 
@@ -495,6 +499,8 @@ TEST(ExerciseConfigTest, ADisGatewayIsAMemberWithItsUdpSettingsAndOrigin) {
            {"destination = \"bogus\"", "dis.destination"},
            {"dis_exercise_id = 0", "dis.dis_exercise_id"},
            {"import_craters = 3", "dis.import_craters"},
+           {"bundle_max_bytes = 100", "dis.bundle_max_bytes"},
+           {"bundle_max_bytes = 70000", "dis.bundle_max_bytes"},
            {"udp_prot = 3000", "dis.udp_prot"}}) {
     const std::string k = bad.substr(0, bad.find(' '));
     const size_t at = with_dis.find("\n" + k + " = ");

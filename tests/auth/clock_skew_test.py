@@ -13,7 +13,10 @@ reading dt_launch's prefixed output line by line (readiness is a line read, neve
      quotes node-2's clock line, and exits non-zero.
 Everything is bounded in time; dt_launch (which stops its children by process group) is stopped
 by PID if it still runs; the work directory is removed at the end.
-Usage: clock_skew_test.py <dt_launch> <dt_node> <dt_server> <dt_ctl> <key file> <work dir>
+With a last argument `lan` the same runs in hosts mode (dt_launch --hosts lan, docs/deploy.md):
+each process on a network namespace of its own on one bridge, udpm at ttl=1, so node-2 is a host
+of its own whose clock is off (root only; run under tests/drills/run_hosts_drill.sh).
+Usage: clock_skew_test.py <dt_launch> <dt_node> <dt_server> <dt_ctl> <key file> <work dir> [lan]
 Exit 0: pass; 1: fail; 77: skipped (no faketime, or it does not move this machine's clock).
 """
 import os
@@ -137,7 +140,7 @@ def check_offset(who, seconds):
         raise Failure(f"{who}: offset {seconds} s, not about {SKEW_S} s")
 
 
-def run(launch_bin, node_bin, server_bin, ctl, key, work):
+def run(launch_bin, node_bin, server_bin, ctl, key, work, hosts):
     config = os.path.join(work, "clock-skew.toml")
     with open(config, "w") as f:
         f.write(EXERCISE.format(key=os.path.abspath(key), run_dir=os.path.join(work, "run")))
@@ -147,7 +150,8 @@ def run(launch_bin, node_bin, server_bin, ctl, key, work):
     os.chmod(wrapper, 0o755)
 
     launch = Launch([launch_bin, "--config", config, "--node-bin", wrapper, "--server-bin",
-                     server_bin, "--ready-timeout-s", str(READY_TIMEOUT_S), "--grace-ms", "5000"])
+                     server_bin, "--ready-timeout-s", str(READY_TIMEOUT_S), "--grace-ms", "5000"]
+                    + (["--hosts", hosts] if hosts else []))
     try:
         # a. Each other process names node-2, its address and its offset.
         for who in ("server", "node-1"):
@@ -207,22 +211,23 @@ def run(launch_bin, node_bin, server_bin, ctl, key, work):
 
 
 def main():
-    if len(sys.argv) != 7:
+    if len(sys.argv) not in (7, 8) or sys.argv[7:] not in ([], ["lan"]):
         print(__doc__, file=sys.stderr)
         return 2
-    launch_bin, node_bin, server_bin, ctl, key, work = sys.argv[1:]
+    launch_bin, node_bin, server_bin, ctl, key, work = sys.argv[1:7]
+    hosts = sys.argv[7] if len(sys.argv) == 8 else ""
     if not faketime_works():
         return SKIP
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     try:
-        run(launch_bin, node_bin, server_bin, ctl, key, work)
+        run(launch_bin, node_bin, server_bin, ctl, key, work, hosts)
     except Failure as e:
         print(f"FAIL: {e}")
         return 1
     finally:
         shutil.rmtree(work, ignore_errors=True)
-    print("clock_skew_test: pass")
+    print(f"clock_skew_test{' (hosts mode ' + hosts + ')' if hosts else ''}: pass")
     return 0
 
 

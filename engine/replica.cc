@@ -166,6 +166,8 @@ Status Replica::Flush() {
 }
 
 void Replica::Tick(int64_t now_ms) {
+  // The tick's PDUs (requests, summaries, re-sends) leave packed, at its end.
+  PduBus::Batch batch(bus_);
   now_ms_ = std::max(now_ms_, now_ms);
   Commit();
   if (signing_on_) {

@@ -101,6 +101,8 @@ void NodeApp::Start(int64_t now_ms) {
 }
 
 void NodeApp::Tick(int64_t now_ms, double dt_s) {
+  // The tick's changes (blade work, scenario steps) and vehicle states leave packed, at its end.
+  PduBus::Batch batch(*transport_.bus);
   now_ms_ = now_ms;
   replica_->Tick(now_ms);
   for (size_t i = 0; i < vehicles_.size(); ++i) {

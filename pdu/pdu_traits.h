@@ -9,6 +9,7 @@
 #include "base/demand.h"
 #include "base/feature_id.h"
 #include "dtpdu/anti_entropy_t.hpp"
+#include "dtpdu/batch_t.hpp"
 #include "dtpdu/construct_t.hpp"
 #include "dtpdu/destruct_t.hpp"
 #include "dtpdu/earth_move_t.hpp"
@@ -53,6 +54,12 @@ struct PduTraits<dtpdu::earth_move_t> {
 template <>
 struct PduTraits<dtpdu::vehicle_state_t> {
   static constexpr PduType kType = PduType::kVehicleState;
+};
+// Decoded and validated like the others, but no handler sees a batch: PduBus hands its members
+// on (pdu/batch.h).
+template <>
+struct PduTraits<dtpdu::batch_t> {
+  static constexpr PduType kType = PduType::kBatch;
 };
 
 template <typename Pdu>

@@ -22,6 +22,8 @@ std::string_view PduTypeName(PduType type) {
       return "VEHICLESTATE";
     case PduType::kEarthMove:
       return "EARTHMOVE";
+    case PduType::kBatch:
+      return "BATCH";
   }
   return "UNKNOWN";
 }

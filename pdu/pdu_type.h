@@ -14,7 +14,8 @@ namespace dt {
 // Version of the PDU layout carried in every header; a receiver drops any other version.
 // 2: the EarthMove PDU (226); a node of version 1 would miss blade work and stall on the change
 // numbers it takes, so the versions do not mix.
-inline constexpr uint8_t kProtocolVersion = 2;
+// 3: the Batch PDU (231): a node of version 2 hears no batch, so it would miss most changes.
+inline constexpr uint8_t kProtocolVersion = 3;
 
 // Wire values of header.pdu_type. DIS reserves 129..255 for experimental PDUs; 220..225 keep
 // clear of standard DIS traffic, and 226 follows them. Append, never renumber.
@@ -28,14 +29,17 @@ enum class PduType : uint8_t {
   kEarthMove = 226,  // blade work: additive post height changes (docs/pdu.md "EarthMove")
   // Shared vehicles (docs/pdu.md "VehicleState"); 226..229 are left to terrain PDUs.
   kVehicleState = 230,
+  // Several PDUs of one sender in one datagram (docs/pdu.md "Batch"); never a member of one.
+  kBatch = 231,
 };
 
-inline constexpr std::array<PduType, 8> kAllPduTypes = {
-    PduType::kConstruct, PduType::kUpdate,      PduType::kDestruct,     PduType::kMaxFeature,
-    PduType::kPlayback,  PduType::kAntiEntropy, PduType::kVehicleState, PduType::kEarthMove};
+inline constexpr std::array<PduType, 9> kAllPduTypes = {
+    PduType::kConstruct,    PduType::kUpdate,    PduType::kDestruct,
+    PduType::kMaxFeature,   PduType::kPlayback,  PduType::kAntiEntropy,
+    PduType::kVehicleState, PduType::kEarthMove, PduType::kBatch};
 
 // "CONSTRUCT", "UPDATE", "DESTRUCT", "MAXFEATURE", "PLAYBACK", "ANTIENTROPY", "VEHICLESTATE",
-// "EARTHMOVE".
+// "EARTHMOVE", "BATCH".
 std::string_view PduTypeName(PduType type);
 // The PduType with this wire value; nullopt if it names none.
 std::optional<PduType> PduTypeFromRaw(uint8_t raw);

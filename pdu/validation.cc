@@ -19,9 +19,11 @@ Rejection Reject(RejectReason reason, std::string detail) { return {reason, std:
 std::optional<Rejection> CheckHeader(const dtpdu::header_t& h, PduType expected, int64_t sender_seq,
                                      const ValidationContext& ctx) {
   if (h.protocol_version != kProtocolVersion) {
-    return Reject(
-        RejectReason::kWrongProtocolVersion,
-        fmt::format("protocol_version {} (expected {})", h.protocol_version, kProtocolVersion));
+    // The sender runs another release: its PDUs are dropped whole, never half-understood.
+    return Reject(RejectReason::kWrongProtocolVersion,
+                  fmt::format("protocol_version {}: the sender speaks wire format {}, this "
+                              "process speaks {} only (another release of dynterrain)",
+                              h.protocol_version, h.protocol_version, kProtocolVersion));
   }
   if (h.exercise_id != ctx.exercise_id) {
     return Reject(
@@ -394,6 +396,24 @@ std::optional<Rejection> Validate(const dtpdu::vehicle_state_t& pdu, const Valid
   return std::nullopt;
 }
 
+std::optional<Rejection> Validate(const dtpdu::batch_t& pdu, const ValidationContext& ctx) {
+  // A batch has no sender_seq of its own (its members have), so 1 passes the header's check.
+  if (auto r = CheckHeader(pdu.header, PduType::kBatch, 1, ctx)) return r;
+  if (pdu.num_members < 1) {
+    return Reject(RejectReason::kBadField, fmt::format("num_members {}", pdu.num_members));
+  }
+  for (size_t i = 0; i < pdu.members.size(); ++i) {
+    const auto& m = pdu.members[i];
+    const auto type = PduTypeFromRaw(m.pdu_type);
+    if (!type || *type == PduType::kBatch) {
+      return Reject(
+          RejectReason::kUnknownPduType,
+          fmt::format("member {} of {}: pdu_type {}", i + 1, pdu.members.size(), m.pdu_type));
+    }
+  }
+  return std::nullopt;
+}
+
 template <AnyPdu Pdu>
 std::optional<Rejection> DecodePdu(std::span<const uint8_t> bytes, Pdu& out) {
   if (bytes.size() > kMaxPduBytes) {
@@ -438,6 +458,7 @@ template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::pla
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::anti_entropy_t&);
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::vehicle_state_t&);
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::earth_move_t&);
+template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::batch_t&);
 
 uint64_t RejectCounters::total() const {
   uint64_t sum = 0;

@@ -99,6 +99,8 @@ std::optional<Rejection> Validate(const dtpdu::playback_t& pdu, const Validation
 std::optional<Rejection> Validate(const dtpdu::anti_entropy_t& pdu, const ValidationContext& ctx);
 std::optional<Rejection> Validate(const dtpdu::vehicle_state_t& pdu, const ValidationContext& ctx);
 std::optional<Rejection> Validate(const dtpdu::earth_move_t& pdu, const ValidationContext& ctx);
+// The batch itself: header, member count, member types. Its members: DecodeBatch (pdu/batch.h).
+std::optional<Rejection> Validate(const dtpdu::batch_t& pdu, const ValidationContext& ctx);
 
 // VehicleState limits beyond which a value is absurd for every vehicle type (out_of_range). A
 // vehicle type may not declare a top speed above the first (vehicle/dead_reckoning.cc checks).

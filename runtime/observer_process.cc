@@ -48,6 +48,7 @@ void ObserverProcess::Start(int64_t now_ms) {
 }
 
 void ObserverProcess::Tick(int64_t now_ms) {
+  PduBus::Batch batch(*transport_.bus);  // the tick's PDUs leave packed, at its end
   now_ms_ = now_ms;
   replica_->Tick(now_ms);
   OnTick(now_ms);

@@ -56,6 +56,8 @@ ProcessTransport MakeProcessTransport(const ExerciseConfig& exercise,
   bus.terrain_posts_z = exercise.terrain.posts_z;
   bus.auth.key = exercise.auth.key;
   bus.auth.clock_tolerance = std::chrono::milliseconds(exercise.auth.clock_tolerance_ms);
+  // Durable DDS keeps one instance per feature on the feature topics: features go one by one.
+  bus.batch = exercise.transport_url.find("durable=1") == std::string::npos;
   // A clock-skew warning names the host by the exercise's name for it, not only its address.
   std::vector<const ProcessConfig*> named = exercise.Processes();
   if (exercise.view) named.push_back(&exercise.view->process);

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "log/log.h"
+
 namespace dt {
 
 PduBus::PduBus(Transport& transport, PduBusConfig config)
@@ -14,6 +16,93 @@ PduBus::PduBus(Transport& transport, PduBusConfig config)
   }
   if (!config_.clock) throw std::invalid_argument("PduBus: clock is empty");
   if (config_.auth.key) auth_.emplace(config_.local, config_.auth);
+}
+
+Result<int> PduBus::HandleTimeout(int timeout_ms) {
+  if (timeout_ms != 0) Flush();  // nothing waits in a batch while the loop sleeps
+  Batch answers(*this);
+  return transport_.HandleTimeout(timeout_ms);
+}
+
+Status PduBus::Queue(PduType type) {
+  const size_t trailer = auth_ ? kAuthTrailerBytes : 0;
+  if (encode_buffer_.size() + trailer > kMaxPduBytes) {
+    return Error{fmt::format("{} PDU of {} bytes exceeds the {}-byte single-datagram limit",
+                             PduTypeName(type), encode_buffer_.size() + trailer, kMaxPduBytes)};
+  }
+  if (waiting_bytes_ + kBatchMemberBytes + encode_buffer_.size() + trailer > kMaxPduBytes) Flush();
+  if (waiting_count_ == waiting_.size()) waiting_.emplace_back();
+  Waiting& w = waiting_[waiting_count_++];
+  w.type = type;
+  w.bytes.assign(encode_buffer_.begin(), encode_buffer_.end());
+  waiting_bytes_ += kBatchMemberBytes + encode_buffer_.size();
+  return Status::Ok();
+}
+
+void PduBus::Flush() noexcept {
+  if (waiting_count_ == 0) return;
+  PduType type = waiting_[0].type;
+  if (waiting_count_ == 1) {
+    batch_buffer_.assign(waiting_[0].bytes.begin(), waiting_[0].bytes.end());
+  } else {
+    members_.clear();
+    for (size_t i = 0; i < waiting_count_; ++i) {
+      members_.push_back({waiting_[i].type, waiting_[i].bytes});
+    }
+    type = PduType::kBatch;
+    EncodeBatchInto(config_.exercise_id, config_.clock(), config_.local, members_, batch_buffer_);
+  }
+  const size_t members = waiting_count_;
+  waiting_count_ = 0;
+  waiting_bytes_ = kBatchBaseBytes;
+  if (auth_) auth_->Sign(batch_buffer_);
+  if (auto s = transport_.Publish(type, batch_buffer_); !s) {
+    ++send_failures_;
+    DT_LOG_WARN("sending {} PDU(s) in one datagram failed: {}", members, s.error().message);
+    return;
+  }
+  if (type == PduType::kBatch) ++batches_sent_;
+}
+
+void PduBus::ReceiveBatch(std::span<const uint8_t> bytes) noexcept {
+  if (!config_.deliver_own) {
+    if (const auto sender = PeekSender(bytes); sender && *sender == config_.local) {
+      ++own_echoes_;
+      return;
+    }
+  }
+  if (auth_) {
+    if (auto r = auth_->Verify(bytes, bytes)) {
+      reject_log_.Record(PduType::kBatch, *r);
+      return;
+    }
+  }
+  // Local: a handler may publish, and so flush, while the members are handed on.
+  std::vector<MemberPdu> members;
+  if (auto r = DecodeBatch(bytes, validation_context(), members)) {
+    Refuse(PduType::kBatch, bytes, *r);
+    return;
+  }
+  ++batches_received_;
+  for (const MemberPdu& m : members) {
+    std::visit(
+        [this](const auto& pdu) {
+          ++accepted_;
+          Deliver(pdu);
+        },
+        m);
+  }
+}
+
+void PduBus::Refuse(PduType channel, std::span<const uint8_t> bytes, const Rejection& r) noexcept {
+  reject_log_.Record(channel, r);
+  if (r.reason != RejectReason::kWrongProtocolVersion) return;
+  const std::optional<NodeAddress> sender = PeekSender(bytes);
+  if (!sender || !wrong_protocol_senders_.insert(*sender).second) return;
+  DT_LOG_ERROR(
+      "refusing every PDU of {}: {}. It cannot take part in this exercise until both run one "
+      "release (docs/pdu.md \"Protocol version\"); its PDUs are counted as rejected_{}",
+      sender->ToString(), r.detail, RejectReasonName(r.reason));
 }
 
 }  // namespace dt

@@ -6,12 +6,14 @@
 #include <deque>
 #include <functional>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <tuple>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "pdu/batch.h"
 #include "pdu/dis_time.h"
 #include "pdu/pdu_auth.h"
 #include "pdu/validation.h"
@@ -38,35 +40,71 @@ struct PduBusConfig {
   // received must carry a valid one; without (auth.key null) neither. Processes set it from the
   // exercise file's [auth] table.
   PduAuthConfig auth;
+  // Inside a PduBus::Batch, PDUs wait and go out packed into as few datagrams as fit
+  // (docs/pdu.md "Batch"). false: each goes alone even there, as for a durable DDS exercise, whose
+  // feature topics keep one instance per feature and so must carry features one by one.
+  bool batch = true;
 };
 
 // Publishes typed PDUs (stamping the header, sender and sender_seq) and subscribes typed
 // handlers. Every received message is authenticated (with a key), then decoded and validated; a
 // rejected one is dropped, counted per reason, logged rate-limited and never reaches a handler.
-// Same threading as Transport.
+// A batch (docs/pdu.md "Batch") is authenticated once, then taken whole, its members handed to
+// the handlers in order, or refused whole. Same threading as Transport.
 class PduBus {
  public:
+  // While one lives (they nest), PDUs published wait and go out packed into batches of at most
+  // kMaxPduBytes, one authentication trailer each; when the outermost ends, what waits is sent.
+  // A lone PDU goes out as itself, as without a batch. Processes hold one over each tick, and
+  // HandleTimeout over the dispatch of what it receives, so every PDU leaves within the tick it
+  // was made in.
+  class Batch {
+   public:
+    explicit Batch(PduBus& bus) : bus_(bus) { ++bus_.batch_depth_; }
+    ~Batch() {
+      if (--bus_.batch_depth_ == 0) bus_.Flush();
+    }
+    Batch(const Batch&) = delete;
+    Batch& operator=(const Batch&) = delete;
+
+   private:
+    PduBus& bus_;
+  };
+
   // Throws std::invalid_argument if terrain_size_x_m or terrain_size_z_m is not a positive finite
   // number, or for a bad authentication config (PduAuthenticator).
   PduBus(Transport& transport, PduBusConfig config);
 
   // Sets header (protocol version, exercise, type, time stamp), sender = local and the next
   // sender_seq, validates what will be sent (a bad PDU is refused, never sent), encodes, signs
-  // (with a key) and publishes. Returns the sender_seq used.
+  // (with a key) and publishes. Returns the sender_seq used. Inside a Batch the PDU waits for the
+  // batch's datagram: a carrier's refusal of that is logged and counted (send_failures), not
+  // returned; a PDU that cannot fit one datagram is refused here either way.
   template <AnyPdu Pdu>
   Result<int64_t> Publish(Pdu pdu);
+
+  // Sends what waits inside a Batch now (Batch and HandleTimeout call it).
+  void Flush() noexcept;
 
   // Adds a handler for validated PDUs of this type. Handlers must not throw.
   template <AnyPdu Pdu>
   void Subscribe(std::function<void(const Pdu&)> handler);
 
-  // Transport::HandleTimeout: dispatches received PDUs to the handlers.
-  Result<int> HandleTimeout(int timeout_ms) { return transport_.HandleTimeout(timeout_ms); }
+  // Transport::HandleTimeout: dispatches received PDUs to the handlers. Sends what waits in a
+  // batch before it waits for traffic, and what the handlers publish (answers) after, packed.
+  Result<int> HandleTimeout(int timeout_ms);
   int Fd() const { return transport_.Fd(); }
 
   const RejectCounters& rejects() const { return reject_log_.counters(); }
   uint64_t accepted() const { return accepted_; }
   uint64_t own_echoes() const { return own_echoes_; }
+  // Datagrams of several PDUs sent and taken; those refused are in rejects() (channel BATCH).
+  uint64_t batches_sent() const { return batches_sent_; }
+  uint64_t batches_received() const { return batches_received_; }
+  // Datagrams the carrier refused when a batch was flushed.
+  uint64_t send_failures() const { return send_failures_; }
+  // Senders refused for speaking another protocol version (each logged once, as an error).
+  const std::set<NodeAddress>& wrong_protocol_senders() const { return wrong_protocol_senders_; }
   int64_t last_sender_seq() const { return sender_seq_; }
   const PduBusConfig& config() const { return config_; }
   // The authenticator; null when the bus runs without a key.
@@ -83,6 +121,19 @@ class PduBus {
 
   template <AnyPdu Pdu>
   void Receive(std::span<const uint8_t> bytes) noexcept;
+  void ReceiveBatch(std::span<const uint8_t> bytes) noexcept;
+  template <AnyPdu Pdu>
+  void Deliver(const Pdu& pdu) noexcept;
+  // Counts and logs a refusal; a sender of another protocol version is named once, as an error.
+  void Refuse(PduType channel, std::span<const uint8_t> bytes, const Rejection& r) noexcept;
+  // Checks `encode_buffer_` (a PDU of `type`) against the datagram limit and queues it in the
+  // batch, flushing first when it would not fit.
+  Status Queue(PduType type);
+
+  struct Waiting {
+    PduType type = PduType::kConstruct;
+    std::vector<uint8_t> bytes;  // its LCM encoding; the vector is kept for the next batch
+  };
 
   Transport& transport_;
   PduBusConfig config_;
@@ -92,6 +143,18 @@ class PduBus {
   int64_t sender_seq_ = 0;
   uint64_t accepted_ = 0;
   uint64_t own_echoes_ = 0;
+  int batch_depth_ = 0;
+  std::vector<Waiting> waiting_;  // the first waiting_count_ wait
+  size_t waiting_count_ = 0;
+  size_t waiting_bytes_ = kBatchBaseBytes;  // the batch_t they would make
+  std::vector<BatchMember> members_;        // reused by Flush
+  // What Flush sends; apart from encode_buffer_, which holds the PDU that made it flush.
+  std::vector<uint8_t> batch_buffer_;
+  bool batch_subscribed_ = false;
+  uint64_t batches_sent_ = 0;
+  uint64_t batches_received_ = 0;
+  uint64_t send_failures_ = 0;
+  std::set<NodeAddress> wrong_protocol_senders_;
   std::tuple<Handlers<dtpdu::construct_t>, Handlers<dtpdu::update_t>, Handlers<dtpdu::destruct_t>,
              Handlers<dtpdu::max_feature_t>, Handlers<dtpdu::playback_t>,
              Handlers<dtpdu::anti_entropy_t>, Handlers<dtpdu::vehicle_state_t>,
@@ -118,6 +181,10 @@ Result<int64_t> PduBus::Publish(Pdu pdu) {
                              r->detail)};
   }
   EncodePduInto(pdu, encode_buffer_);
+  if (batch_depth_ > 0 && config_.batch) {
+    if (auto s = Queue(PduTraits<Pdu>::kType); !s) return s.error();
+    return ++sender_seq_;
+  }
   if (auth_) auth_->Sign(encode_buffer_);
   if (auto s = transport_.Publish(PduTraits<Pdu>::kType, encode_buffer_); !s) return s.error();
   return ++sender_seq_;
@@ -129,6 +196,11 @@ void PduBus::Subscribe(std::function<void(const Pdu&)> handler) {
   if (list.empty()) {
     transport_.Subscribe(PduTraits<Pdu>::kType,
                          [this](std::span<const uint8_t> bytes) { Receive<Pdu>(bytes); });
+  }
+  if (!batch_subscribed_) {
+    batch_subscribed_ = true;
+    transport_.Subscribe(PduType::kBatch,
+                         [this](std::span<const uint8_t> bytes) { ReceiveBatch(bytes); });
   }
   list.push_back(std::move(handler));
 }
@@ -151,10 +223,15 @@ void PduBus::Receive(std::span<const uint8_t> bytes) noexcept {
   }
   Pdu pdu;
   if (auto r = DecodeAndValidate(bytes, validation_context(), pdu)) {
-    reject_log_.Record(PduTraits<Pdu>::kType, *r);
+    Refuse(PduTraits<Pdu>::kType, bytes, *r);
     return;
   }
   ++accepted_;
+  Deliver(pdu);
+}
+
+template <AnyPdu Pdu>
+void PduBus::Deliver(const Pdu& pdu) noexcept {
   const auto& list = std::get<Handlers<Pdu>>(handlers_);
   for (size_t i = 0; i < list.size(); ++i) list[i](pdu);
 }

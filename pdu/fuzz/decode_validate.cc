@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <span>
 
+#include "pdu/batch.h"
 #include "pdu/conversion.h"
 #include "pdu/pdu_auth.h"
 #include "pdu/validation.h"
@@ -40,7 +41,29 @@ bool One(std::span<const uint8_t> bytes) {
   return true;
 }
 
+// A batch is taken whole or not at all: what is accepted re-encodes to the same bytes, and each
+// member, sent alone, would be accepted too.
+bool OneBatch(std::span<const uint8_t> bytes) {
+  std::vector<MemberPdu> members;
+  if (DecodeBatch(bytes, kContext, members)) return false;
+  dtpdu::batch_t batch;
+  if (DecodePdu(bytes, batch)) std::abort();
+  if (EncodePdu(batch) != std::vector<uint8_t>(bytes.begin(), bytes.end())) std::abort();
+  if (members.size() != batch.members.size() || members.empty()) std::abort();
+  for (size_t i = 0; i < members.size(); ++i) {
+    const bool alone = std::visit(
+        [&](const auto& pdu) {
+          const std::vector<uint8_t> encoded = EncodePdu(pdu);
+          return encoded == batch.members[i].bytes && One<std::decay_t<decltype(pdu)>>(encoded);
+        },
+        members[i]);
+    if (!alone) std::abort();
+  }
+  return true;
+}
+
 bool DecodeAs(uint8_t selector, std::span<const uint8_t> bytes) {
+  if (selector >= kFuzzBatch) return OneBatch(bytes);
   switch (selector % kFuzzTypes) {
     case 0:
       return One<dtpdu::construct_t>(bytes);

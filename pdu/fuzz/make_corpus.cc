@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "pdu/batch.h"
 #include "pdu/fuzz/decode_validate.h"
 #include "pdu/pdu_auth.h"
 #include "pdu/test/sample_pdus.h"
@@ -82,6 +83,41 @@ int main(int argc, char** argv) {
   old_magic[EncodePdu(sample::Playback()).size() + 3] = '1';  // DTA1: the HMAC trailer
   Write(dir, "signed_playback_old_trailer", kSigned + 4, old_magic);
   Family(dir, "antientropy_copies", 5, sample::AntiEntropyCopies());
+
+  // Batches (selector kFuzzBatch): taken whole, or refused whole for one bad member.
+  const auto batch = [](const std::vector<std::pair<PduType, std::vector<uint8_t>>>& m) {
+    std::vector<BatchMember> members;
+    for (const auto& [type, bytes] : m) members.push_back({type, bytes});
+    std::vector<uint8_t> out;
+    EncodeBatchInto(sample::kSampleExercise, 12345, {1, 2}, members, out);
+    return out;
+  };
+  const std::pair<PduType, std::vector<uint8_t>> update{PduType::kUpdate,
+                                                        EncodePdu(sample::Update())};
+  const std::pair<PduType, std::vector<uint8_t>> vehicle{PduType::kVehicleState,
+                                                         EncodePdu(sample::VehicleState())};
+  const auto good_batch = batch({update,
+                                 {PduType::kConstruct, EncodePdu(sample::Construct())},
+                                 vehicle,
+                                 {PduType::kEarthMove, EncodePdu(sample::EarthMovePdu())}});
+  Write(dir, "batch_valid", fuzz::kFuzzBatch, good_batch);
+  Write(dir, "batch_truncated", fuzz::kFuzzBatch, {good_batch.begin(), good_batch.end() - 1});
+  auto bad_member = sample::Construct();
+  bad_member.length_m[0] = -1;
+  Write(dir, "batch_bad_member", fuzz::kFuzzBatch,
+        batch({update, {PduType::kConstruct, EncodePdu(bad_member)}, vehicle}));
+  auto stranger = sample::Destruct();
+  stranger.sender.host = 3;
+  Write(dir, "batch_stranger_member", fuzz::kFuzzBatch,
+        batch({update, {PduType::kDestruct, EncodePdu(stranger)}}));
+  Write(dir, "batch_nested", fuzz::kFuzzBatch, batch({update, {PduType::kBatch, batch({update})}}));
+  Write(dir, "batch_mislabelled_member", fuzz::kFuzzBatch,
+        batch({{PduType::kDestruct, update.second}, vehicle}));
+  Write(dir, "batch_empty", fuzz::kFuzzBatch, batch({}));
+  auto old = batch({update, vehicle});
+  old[8] = kProtocolVersion - 1;  // header.protocol_version, right after the fingerprint
+  Write(dir, "batch_old_version", fuzz::kFuzzBatch, old);
+  Write(dir, "signed_batch_valid", fuzz::kFuzzBatch + kSigned, signed_pdu(good_batch));
 
   auto c = sample::Construct();
   c.position_m[0] = std::numeric_limits<double>::quiet_NaN();

@@ -13,6 +13,8 @@
 
 #include "dtpdu/anti_entropy_entry_t.hpp"
 #include "dtpdu/anti_entropy_t.hpp"
+#include "dtpdu/batch_member_t.hpp"
+#include "dtpdu/batch_t.hpp"
 #include "dtpdu/crater_vertex_edit_t.hpp"
 #include "dtpdu/entity_id_t.hpp"
 #include "dtpdu/entity_type_t.hpp"
@@ -152,6 +154,8 @@ TEST(Encoding, EveryLcmTypeHasItsOwnFingerprint) {
       {"entity_type_t", dtpdu::entity_type_t::getHash()},
       {"vehicle_state_t", dtpdu::vehicle_state_t::getHash()},
       {"earth_move_t", dtpdu::earth_move_t::getHash()},
+      {"batch_t", dtpdu::batch_t::getHash()},
+      {"batch_member_t", dtpdu::batch_member_t::getHash()},
   };
   // Every type of pdu/lcm is in the list, so a new one cannot escape the check.
   std::set<std::string> files;

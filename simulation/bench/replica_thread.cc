@@ -13,11 +13,12 @@
 namespace dt::bench {
 ReplicaThread::ReplicaThread(const std::string& url, const HeightGrid& ground, ReplicaConfig config,
                              ChangeStore* store, int64_t epoch_ns,
-                             std::shared_ptr<const ExerciseKey> key)
+                             std::shared_ptr<const ExerciseKey> key, bool batch)
     : epoch_ns_(epoch_ns) {
   transport_ = MakeTransport(url, kBenchExercise);
   PduBusConfig bc = BenchBusConfig(config.address, ground);
   bc.auth.key = std::move(key);
+  bc.batch = batch;
   bus_ = std::make_unique<PduBus>(*transport_, bc);
   config.store = store;
   replica_ = std::make_unique<Replica>(config, ground, *bus_);
@@ -72,6 +73,8 @@ void ReplicaThread::Loop() {
         (void)read(wake_fd_, &count, sizeof count);
       }
     }
+    // One round is a process's tick: what it publishes leaves packed at its end (PduBus::Batch).
+    PduBus::Batch tick(*bus_);
     const auto dispatched = bus_->HandleTimeout(0);
     replica_->Tick(NowMs());
     {

@@ -31,7 +31,7 @@ class ReplicaThread {
   // With a key the bus authenticates every PDU (pdu/pdu_auth.h).
   ReplicaThread(const std::string& url, const HeightGrid& ground, ReplicaConfig config,
                 ChangeStore* store, int64_t epoch_ns,
-                std::shared_ptr<const ExerciseKey> key = nullptr);
+                std::shared_ptr<const ExerciseKey> key = nullptr, bool batch = true);
   // Stops the loop, then destroys replica, bus and transport: a crash, its state is gone.
   ~ReplicaThread();
   ReplicaThread(const ReplicaThread&) = delete;

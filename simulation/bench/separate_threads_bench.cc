@@ -1,7 +1,8 @@
 // The protocol benchmarks with every replica on its own thread and its own udpm socket, as an
 // exercise runs them (one process per node): node A to node B throughput and a rejoin catch-up,
 // each against raw LCM over udpm with the receiver on its own thread, in the same run; and node
-// A to node B throughput and latency authenticated against unauthenticated.
+// A to node B throughput and latency authenticated against unauthenticated, and the latency of a
+// single change batched against unbatched.
 #include <algorithm>
 #include <future>
 #include <memory>
@@ -31,6 +32,8 @@ constexpr const char* kUdpmRaw = "udpm://239.255.76.67:7668?ttl=0";
 constexpr const char* kUdpmRawGroup = "udpm://239.255.76.67:7669?ttl=0";
 // The authenticated exercise of the auth-vs-plain run.
 constexpr const char* kUdpmAuth = "udpm://239.255.76.67:7670?ttl=0";
+// The unbatched exercise of the batched-vs-single latency run.
+constexpr const char* kUdpmSingle = "udpm://239.255.76.67:7671?ttl=0";
 const NodeAddress kA{1, 1}, kB{1, 2}, kServer{1, 100};
 constexpr int kBurst = 500;
 constexpr size_t kRawWindow = 256;  // the raw rejoin baseline's batch: the playback window
@@ -76,11 +79,12 @@ std::vector<std::vector<uint8_t>> Copies(const std::vector<uint8_t>& bytes, size
   return std::vector<std::vector<uint8_t>>(n, bytes);
 }
 
-// Per iteration: kBurst raw messages of a Construct's size from this thread to one receiver
-// thread, the same to three, then kBurst craters created on A's thread until B's thread has applied
-// them all (the server's thread stores and acknowledges them meanwhile). Wall time (manual) is the
-// engine's.
+// Per iteration: range(0) (the burst) raw messages of a Construct's size from this thread to one
+// receiver thread, the same to three, then as many craters created on A's thread until B's thread
+// has applied them all (the server's thread stores and acknowledges them meanwhile). Wall time
+// (manual) is the engine's.
 void BM_NodeToNodeThreads(benchmark::State& state) {
+  const auto burst = static_cast<int>(state.range(0));
   if (auto reason = testing::NetnsSkipReason()) {
     state.SkipWithError(("udpm runs only in a private network namespace: " + *reason).c_str());
     return;
@@ -103,20 +107,20 @@ void BM_NodeToNodeThreads(benchmark::State& state) {
   // B's and the server's, so raw LCM with the same deliveries.
   bench::ThreadedRawLcmLink raw(kUdpmRaw, ChannelName(1, PduType::kConstruct));
   bench::ThreadedRawLcmLink raw_group(kUdpmRawGroup, ChannelName(1, PduType::kConstruct), 3);
-  const auto messages = Copies(bench::BenchConstructBytes(kA), kBurst);
+  const auto messages = Copies(bench::BenchConstructBytes(kA), burst);
 
   int64_t raw_ns = 0, group_ns = 0, engine_ns = 0, raw_lost = 0, n = 0;
   for (auto _ : state) {
     int64_t t = SteadyNowNs();
-    raw_lost += raw.Transfer(messages, kBurst);
+    raw_lost += raw.Transfer(messages, burst);
     raw_ns += SteadyNowNs() - t;
     t = SteadyNowNs();
-    raw_lost += raw_group.Transfer(messages, kBurst);
+    raw_lost += raw_group.Transfer(messages, burst);
     group_ns += SteadyNowNs() - t;
 
-    const auto target = static_cast<size_t>(n + kBurst);
+    const auto target = static_cast<size_t>(n + burst);
     t = SteadyNowNs();
-    auto created = a->Post(CreateCraters(n, kBurst, &error));
+    auto created = a->Post(CreateCraters(n, burst, &error));
     auto applied = b->Post([target](Replica& r) { return r.live_feature_count() >= target; });
     if (!WaitFor(created, 10)) {
       state.SkipWithError("A did not create its burst within 10 s");
@@ -131,7 +135,7 @@ void BM_NodeToNodeThreads(benchmark::State& state) {
       return;
     }
     const int64_t dt_ns = applied.get() - t;
-    n += kBurst;
+    n += burst;
     engine_ns += dt_ns;
     state.SetIterationTime(static_cast<double>(dt_ns) / 1e9);
   }
@@ -162,10 +166,10 @@ void BM_NodeToNodeThreads(benchmark::State& state) {
 // authenticated.
 struct ThreadedExercise {
   ThreadedExercise(const std::string& url, const ReplicaConfig& rc, int64_t epoch,
-                   std::shared_ptr<const ExerciseKey> key) {
+                   std::shared_ptr<const ExerciseKey> key, bool batch = true) {
     auto start = [&](NodeAddress address, NodeRole role, ChangeStore* s) {
       return std::make_unique<ReplicaThread>(url, bench::BenchGround(), Config(rc, address, role),
-                                             s, epoch, key);
+                                             s, epoch, key, batch);
     };
     server = start(kServer, NodeRole::kServer, &store);
     a = start(kA, NodeRole::kNode, nullptr);
@@ -309,6 +313,56 @@ void BM_LatencyThreadsAuthVsPlain(benchmark::State& state) {
   if (!plain.Complete() || !authed.Complete()) state.SkipWithError("B does not hold every feature");
 }
 
+// Latency of a single change with batching (PduBus::Batch over each round) ÷ without (every PDU
+// alone, as before batches), one thread per replica, same run, interleaved as above. Counters:
+// percentiles of each, and single ÷ batched of the medians and 99th percentiles (1: batching
+// costs a lone change nothing; the goal is batched ÷ single <= 1.05, so these >= 0.95).
+void BM_LatencyThreadsBatchedVsSingle(benchmark::State& state) {
+  if (auto reason = testing::NetnsSkipReason()) {
+    state.SkipWithError(("udpm runs only in a private network namespace: " + *reason).c_str());
+    return;
+  }
+  const int64_t epoch = SteadyNowNs();
+  const ReplicaConfig rc = bench::FastAckConfig();
+  std::string error;  // before the threads, as above
+  ThreadedExercise single(kUdpmSingle, rc, epoch, nullptr, /*batch=*/false);
+  ThreadedExercise batched(kUdpm, rc, epoch, nullptr, /*batch=*/true);
+  if (!single.SignOn() || !batched.SignOn()) {
+    state.SkipWithError("A and B did not sign on");
+    return;
+  }
+  std::vector<double> single_us, batched_us;
+  int64_t i = 0;
+  for (auto _ : state) {
+    int64_t s = 0, b = 0;
+    if (i++ % 2 == 0) {
+      s = single.Burst(&error, 1);
+      b = s < 0 ? -1 : batched.Burst(&error, 1);
+    } else {
+      b = batched.Burst(&error, 1);
+      s = b < 0 ? -1 : single.Burst(&error, 1);
+    }
+    if (s < 0 || b < 0) {
+      state.SkipWithError(error.c_str());
+      return;
+    }
+    single_us.push_back(static_cast<double>(s) / 1000.0);
+    batched_us.push_back(static_cast<double>(b) / 1000.0);
+    state.SetIterationTime(static_cast<double>(s + b) / 1e9);
+  }
+  const double s50 = bench::Percentile(single_us, 0.50), b50 = bench::Percentile(batched_us, 0.50);
+  const double s99 = bench::Percentile(single_us, 0.99), b99 = bench::Percentile(batched_us, 0.99);
+  state.counters["single_p50_us"] = s50;
+  state.counters["batched_p50_us"] = b50;
+  state.counters["single_p99_us"] = s99;
+  state.counters["batched_p99_us"] = b99;
+  state.counters["after_over_before_p50"] = b50 / s50;
+  state.counters["after_over_before_p99"] = b99 / s99;
+  if (!single.Complete() || !batched.Complete()) {
+    state.SkipWithError("B does not hold every feature");
+  }
+}
+
 // range(0) features; range(1) = 0: origin A alive (asked first), 1: A gone, the server answers.
 // Protocol defaults (playback window 256) but for A's window of unacknowledged changes, raised
 // so the setup is quick. Setup (not timed): server, A and B sign on, B crashes, A creates the
@@ -407,7 +461,17 @@ void BM_RejoinThreads(benchmark::State& state) {
   state.counters["features_per_s"] = static_cast<double>(n) / (catch_up_s / iterations);
 }
 
-BENCHMARK(BM_NodeToNodeThreads)->UseManualTime()->Iterations(200)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NodeToNodeThreads)
+    ->ArgName("burst")
+    ->Arg(500)
+    ->Arg(100)
+    ->UseManualTime()
+    ->Iterations(200)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LatencyThreadsBatchedVsSingle)
+    ->UseManualTime()
+    ->Iterations(2000)
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_NodeToNodeThreadsAuthVsPlain)
     ->UseManualTime()
     ->Iterations(100)

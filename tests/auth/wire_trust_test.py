@@ -179,7 +179,7 @@ class Wire:
 
     def header(self, pdu_type):
         h = self.dtpdu.header_t()
-        h.protocol_version, h.exercise_id, h.pdu_type, h.timestamp_dis = 2, self.id, pdu_type, 1
+        h.protocol_version, h.exercise_id, h.pdu_type, h.timestamp_dis = 3, self.id, pdu_type, 1
         return h
 
     @staticmethod

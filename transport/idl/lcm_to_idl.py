@@ -28,6 +28,7 @@ TOP_LEVEL = {
     "anti_entropy_t": ("kAntiEntropy", []),
     "vehicle_state_t": ("kVehicleState", ["entity_id"]),
     "earth_move_t": ("kEarthMove", ["origin", "feature_number"]),
+    "batch_t": ("kBatch", []),
 }
 MAX_AUTH_BYTES = 128  # dt::dds_codec::kMaxAuthBytes
 

@@ -5,7 +5,8 @@ Generates the Python bindings with lcm-gen -p, loops the captured bytes through 
 memq instance (LCM's Python module, PyPI package `lcm`), decodes them with the generated
 dtpdu.construct_t and compares every checked field with the values the capture wrote; checks that
 the captured fingerprint names construct_t alone among the generated types (as a tool that picks
-the type by fingerprint, like lcm-spy, would look it up).
+the type by fingerprint, like lcm-spy, would look it up). Then decodes a captured Batch as
+docs/pdu.md "Batch" tells an LCM user to: batch_t, then each member by its pdu_type.
 Exit 0: pass; 1: mismatch; 77: skipped (no `lcm` Python module).
 Usage: decode_with_python.py <lcm-gen> <capture-program> <work-dir> <file.lcm>...
 """
@@ -92,6 +93,33 @@ def main():
         return 1
     print(f"OK: LCM's Python module decoded a {len(captured)}-byte Construct PDU; "
           f"{len(want)} fields match")
+    return check_batch(dtpdu, prefix + "_batch.bin", msg)
+
+
+def check_batch(dtpdu, path, construct):
+    """The recipe of docs/pdu.md "Batch": batch_t, then each member with the type it names."""
+    types = {220: dtpdu.construct_t, 221: dtpdu.update_t, 222: dtpdu.destruct_t,
+             223: dtpdu.max_feature_t, 224: dtpdu.playback_t, 225: dtpdu.anti_entropy_t,
+             226: dtpdu.earth_move_t, 230: dtpdu.vehicle_state_t}
+    with open(path, "rb") as f:
+        data = f.read()
+    batch = dtpdu.batch_t.decode(data)
+    if batch.header.pdu_type != 231 or [m.pdu_type for m in batch.members] != [220, 221]:
+        print(f"FAIL: batch of type {batch.header.pdu_type} with members "
+              f"{[m.pdu_type for m in batch.members]}, not 231 with [220, 221]")
+        return 1
+    members = [types[m.pdu_type].decode(bytes(m.bytes)) for m in batch.members]
+    if [p.sender_seq for p in members] != [construct.sender_seq + 1, construct.sender_seq + 2]:
+        print(f"FAIL: member sender_seq {[p.sender_seq for p in members]}")
+        return 1
+    if members[0].feature_number != construct.feature_number or \
+            list(members[0].position_m) != list(construct.position_m):
+        print("FAIL: the batched Construct's fields differ from the lone one's")
+        return 1
+    if any(p.encode() != bytes(m.bytes) for p, m in zip(members, batch.members)):
+        print("FAIL: a member re-encodes different bytes")
+        return 1
+    print(f"OK: decoded a {len(data)}-byte batch of {len(members)} PDUs member by member")
     return 0
 
 

@@ -1,7 +1,8 @@
 // pdu_capture: publishes one sample Construct PDU through PduBus over memq, captures the bytes
 // as received, and writes them to <out>.bin with the expected field values in <out>.json, for
 // the cross-language tests: decode_with_python.py (no key) and verify_mac_with_python.py (with a
-// key file: the bus signs, and the JSON also gives the trailer's fields).
+// key file: the bus signs, and the JSON also gives the trailer's fields). Then a Construct and an
+// Update published in one PduBus::Batch, captured as their batch in <out>_batch.bin.
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
@@ -23,7 +24,9 @@ int main(int argc, char** argv) {
   constexpr uint64_t kIncarnation = 1'764'000'000'123;
   constexpr int64_t kSendMs = 1'764'000'004'567;
   LcmTransport transport("memq://", sample::kSampleExercise);
-  std::vector<uint8_t> captured;
+  std::vector<uint8_t> captured, batch;
+  transport.Subscribe(PduType::kBatch,
+                      [&](std::span<const uint8_t> b) { batch.assign(b.begin(), b.end()); });
   transport.Subscribe(PduType::kConstruct,
                       [&](std::span<const uint8_t> b) { captured.assign(b.begin(), b.end()); });
   PduBusConfig config;
@@ -47,6 +50,17 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "capture failed\n");
     return 1;
   }
+  {
+    PduBus::Batch tick(bus);
+    if (!bus.Publish(pdu).ok() || !bus.Publish(sample::Update()).ok()) return 1;
+  }
+  if (!transport.HandleTimeout(1000).ok() || batch.empty()) {
+    std::fprintf(stderr, "batch capture failed\n");
+    return 1;
+  }
+  std::ofstream(std::string(argv[1]) + "_batch.bin", std::ios::binary)
+      .write(reinterpret_cast<const char*>(batch.data()),
+             static_cast<std::streamsize>(batch.size()));
   std::ofstream(std::string(argv[1]) + ".bin", std::ios::binary)
       .write(reinterpret_cast<const char*>(captured.data()),
              static_cast<std::streamsize>(captured.size()));

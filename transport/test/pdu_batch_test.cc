@@ -1,0 +1,216 @@
+// Tests batches on a PduBus over memq: a tick's PDUs packed into few datagrams, a lone PDU sent as
+// itself, a batch taken whole or refused whole, one trailer per datagram, and a sender of another
+// protocol version refused and named.
+#include <gtest/gtest.h>
+
+#include "pdu/batch.h"
+#include "pdu/test/sample_pdus.h"
+#include "transport/lcm_transport.h"
+#include "transport/pdu_bus.h"
+
+namespace dt {
+namespace {
+
+PduBusConfig Config(NodeAddress local, bool deliver_own) {
+  PduBusConfig c;
+  c.exercise_id = sample::kSampleExercise;
+  c.local = local;
+  c.terrain_size_x_m = c.terrain_size_z_m = sample::kSampleTerrainM;
+  c.deliver_own = deliver_own;
+  return c;
+}
+
+// Datagrams seen on each channel, and their largest size.
+struct Wire {
+  explicit Wire(Transport& t) {
+    for (PduType type : kAllPduTypes) {
+      t.Subscribe(type, [this, type](std::span<const uint8_t> bytes) {
+        ++datagrams[type];
+        largest = std::max(largest, bytes.size());
+      });
+    }
+  }
+  std::map<PduType, int> datagrams;
+  size_t largest = 0;
+};
+
+TEST(PduBatch, ATicksPdusLeavePackedInFewDatagramsAndArriveInOrder) {
+  LcmTransport t("memq://", sample::kSampleExercise);
+  Wire wire(t);
+  PduBus bus(t, Config({1, 2}, /*deliver_own=*/true));
+  std::vector<int64_t> seqs;
+  bus.Subscribe<dtpdu::update_t>([&](const dtpdu::update_t& u) { seqs.push_back(u.sender_seq); });
+  bus.Subscribe<dtpdu::destruct_t>(
+      [&](const dtpdu::destruct_t& d) { seqs.push_back(d.sender_seq); });
+  constexpr int kPdus = 40;
+  {
+    PduBus::Batch batch(bus);
+    for (int i = 0; i < kPdus; ++i) {
+      if (i % 5 == 4) {
+        ASSERT_TRUE(bus.Publish(sample::Destruct()).ok());
+      } else {
+        ASSERT_TRUE(bus.Publish(sample::Update()).ok());
+      }
+    }
+    // Full datagrams leave as they fill; the last one waits for the end of the tick.
+    ASSERT_TRUE(bus.HandleTimeout(0).ok());
+    EXPECT_LT(seqs.size(), static_cast<size_t>(kPdus));
+    EXPECT_GT(seqs.size(), 0u);
+  }
+  ASSERT_TRUE(bus.HandleTimeout(0).ok());
+  ASSERT_EQ(seqs.size(), static_cast<size_t>(kPdus));
+  for (int i = 0; i < kPdus; ++i) EXPECT_EQ(seqs[i], i + 1);
+  const size_t update_bytes = EncodePdu(sample::Update()).size();
+  const size_t per_datagram = (kMaxPduBytes - kBatchBaseBytes) / (update_bytes + kBatchMemberBytes);
+  EXPECT_LE(wire.datagrams[PduType::kBatch], static_cast<int>(kPdus / per_datagram + 1));
+  EXPECT_GE(wire.datagrams[PduType::kBatch], 2);
+  EXPECT_EQ(wire.datagrams[PduType::kUpdate] + wire.datagrams[PduType::kDestruct], 0);
+  EXPECT_LE(wire.largest, kMaxPduBytes);
+  EXPECT_EQ(bus.batches_sent(), static_cast<uint64_t>(wire.datagrams[PduType::kBatch]));
+  EXPECT_EQ(bus.batches_received(), bus.batches_sent());
+}
+
+TEST(PduBatch, ALonePduLeavesAsItselfAtTheEndOfItsTick) {
+  LcmTransport t("memq://", sample::kSampleExercise);
+  Wire wire(t);
+  PduBus bus(t, Config({1, 2}, /*deliver_own=*/true));
+  int got = 0;
+  bus.Subscribe<dtpdu::update_t>([&](const dtpdu::update_t&) { ++got; });
+  {
+    PduBus::Batch batch(bus);
+    ASSERT_TRUE(bus.Publish(sample::Update()).ok());
+  }
+  ASSERT_TRUE(bus.HandleTimeout(0).ok());
+  EXPECT_EQ(got, 1);
+  EXPECT_EQ(wire.datagrams[PduType::kUpdate], 1);
+  EXPECT_EQ(wire.datagrams[PduType::kBatch], 0);
+}
+
+TEST(PduBatch, WithoutBatchingEveryPduGoesAlone) {
+  LcmTransport t("memq://", sample::kSampleExercise);
+  Wire wire(t);
+  PduBusConfig c = Config({1, 2}, /*deliver_own=*/true);
+  c.batch = false;
+  PduBus bus(t, c);
+  {
+    PduBus::Batch batch(bus);
+    for (int i = 0; i < 3; ++i) ASSERT_TRUE(bus.Publish(sample::Update()).ok());
+  }
+  ASSERT_TRUE(bus.HandleTimeout(0).ok());
+  EXPECT_EQ(wire.datagrams[PduType::kUpdate], 3);
+  EXPECT_EQ(wire.datagrams[PduType::kBatch], 0);
+}
+
+// A batch from 1:2 (the samples' sender) of these members, published raw.
+std::vector<uint8_t> RawBatch(const std::vector<std::pair<PduType, std::vector<uint8_t>>>& m,
+                              NodeAddress sender = {1, 2}) {
+  std::vector<BatchMember> members;
+  for (const auto& [type, bytes] : m) members.push_back({type, bytes});
+  std::vector<uint8_t> out;
+  EncodeBatchInto(sample::kSampleExercise, 1, sender, members, out);
+  return out;
+}
+
+struct Receiver {
+  explicit Receiver(Transport& t) : bus(t, Config({9, 9}, /*deliver_own=*/false)) {
+    bus.Subscribe<dtpdu::update_t>([this](const dtpdu::update_t&) { ++got; });
+    bus.Subscribe<dtpdu::construct_t>([this](const dtpdu::construct_t&) { ++got; });
+    bus.Subscribe<dtpdu::destruct_t>([this](const dtpdu::destruct_t&) { ++got; });
+  }
+  PduBus bus;
+  int got = 0;
+};
+
+TEST(PduBatch, AGoodBatchIsTakenWhole) {
+  LcmTransport t("memq://", sample::kSampleExercise);
+  Receiver r(t);
+  ASSERT_TRUE(
+      t.Publish(PduType::kBatch, RawBatch({{PduType::kUpdate, EncodePdu(sample::Update())},
+                                           {PduType::kConstruct, EncodePdu(sample::Construct())}}))
+          .ok());
+  ASSERT_TRUE(r.bus.HandleTimeout(0).ok());
+  EXPECT_EQ(r.got, 2);
+  EXPECT_EQ(r.bus.rejects().total(), 0u);
+}
+
+TEST(PduBatch, ABatchWithOneBadMemberIsRefusedWholeAndCounted) {
+  LcmTransport t("memq://", sample::kSampleExercise);
+  Receiver r(t);
+  auto bad = sample::Construct();
+  bad.length_m[0] = -1;  // out_of_range
+  auto stranger = sample::Destruct();
+  stranger.sender.host = 3;  // not the batch's sender
+  auto nested = RawBatch({{PduType::kUpdate, EncodePdu(sample::Update())}});
+  const auto good = EncodePdu(sample::Update());
+  for (const auto& [member, reason] :
+       std::vector<std::pair<std::pair<PduType, std::vector<uint8_t>>, RejectReason>>{
+           {{PduType::kConstruct, EncodePdu(bad)}, RejectReason::kOutOfRange},
+           {{PduType::kDestruct, EncodePdu(stranger)}, RejectReason::kSenderMismatch},
+           {{PduType::kBatch, nested}, RejectReason::kUnknownPduType},
+           {{PduType::kDestruct, EncodePdu(sample::Update())}, RejectReason::kWrongFingerprint},
+       }) {
+    const uint64_t before = r.bus.rejects().count(reason);
+    ASSERT_TRUE(t.Publish(PduType::kBatch,
+                          RawBatch({{PduType::kUpdate, good}, member, {PduType::kUpdate, good}}))
+                    .ok());
+    ASSERT_TRUE(r.bus.HandleTimeout(0).ok());
+    EXPECT_EQ(r.got, 0) << RejectReasonName(reason);
+    EXPECT_EQ(r.bus.rejects().count(reason), before + 1) << RejectReasonName(reason);
+  }
+  EXPECT_EQ(r.bus.accepted(), 0u);
+  EXPECT_EQ(r.bus.batches_received(), 0u);
+}
+
+TEST(PduBatch, OneTrailerPerDatagramAndATamperedBatchIsRefusedWhole) {
+  LcmTransport t("memq://", sample::kSampleExercise);
+  auto key = std::make_shared<const ExerciseKey>(std::vector<uint8_t>(32, 7));
+  PduBusConfig sc = Config({1, 2}, false);
+  sc.auth.key = key;
+  PduBus sender(t, sc);
+  PduBusConfig rc = Config({9, 9}, false);
+  rc.auth.key = key;
+  PduBus receiver(t, rc);
+  int got = 0;
+  receiver.Subscribe<dtpdu::update_t>([&](const dtpdu::update_t&) { ++got; });
+  std::vector<std::vector<uint8_t>> datagrams;
+  t.Subscribe(PduType::kBatch,
+              [&](std::span<const uint8_t> b) { datagrams.emplace_back(b.begin(), b.end()); });
+  {
+    PduBus::Batch batch(sender);
+    for (int i = 0; i < 5; ++i) ASSERT_TRUE(sender.Publish(sample::Update()).ok());
+  }
+  ASSERT_TRUE(receiver.HandleTimeout(0).ok());
+  EXPECT_EQ(got, 5);
+  ASSERT_EQ(datagrams.size(), 1u);
+  ASSERT_NE(sender.authenticator(), nullptr);
+  EXPECT_EQ(sender.authenticator()->last_sequence(), 1u);  // one trailer for five PDUs
+  // The same datagram with one byte of a member changed: refused whole by its MAC.
+  std::vector<uint8_t> tampered = datagrams[0];
+  tampered[kBatchBaseBytes + kBatchMemberBytes + 40] ^= 1;
+  ASSERT_TRUE(t.Publish(PduType::kBatch, tampered).ok());
+  ASSERT_TRUE(receiver.HandleTimeout(0).ok());
+  EXPECT_EQ(got, 5);
+  EXPECT_EQ(receiver.rejects().count(RejectReason::kBadMac), 1u);
+}
+
+TEST(PduBatch, ASenderOfThePreviousProtocolVersionIsRefusedAndNamedOnce) {
+  LcmTransport t("memq://", sample::kSampleExercise);
+  Receiver r(t);
+  auto old = sample::Update();
+  old.header.protocol_version = kProtocolVersion - 1;
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(t.Publish(PduType::kUpdate, EncodePdu(old)).ok());
+  ASSERT_TRUE(r.bus.HandleTimeout(0).ok());
+  EXPECT_EQ(r.got, 0);
+  EXPECT_EQ(r.bus.rejects().count(RejectReason::kWrongProtocolVersion), 3u);
+  EXPECT_EQ(r.bus.wrong_protocol_senders(), (std::set<NodeAddress>{{1, 2}}));
+  dtpdu::update_t decoded;
+  auto rej = DecodeAndValidate(EncodePdu(old), sample::Context(), decoded);
+  ASSERT_TRUE(rej.has_value());
+  EXPECT_NE(rej->detail.find(fmt::format("wire format {}", kProtocolVersion - 1)),
+            std::string::npos)
+      << rej->detail;
+  EXPECT_NE(rej->detail.find("another release"), std::string::npos) << rej->detail;
+}
+
+}  // namespace
+}  // namespace dt

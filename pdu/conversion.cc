@@ -228,10 +228,12 @@ Result<FeaturePdu> FromEarthMove(const dtpdu::earth_move_t& pdu) {
   if (!stamp) return stamp.error();
   f.change = stamp.value();
   f.params.type = FeatureType::kEarthMove;
-  if (pdu.first_post_i < 0 || pdu.first_post_i >= kMaxPostsPerSide || pdu.first_post_j < 0 ||
-      pdu.first_post_j >= kMaxPostsPerSide) {
+  // Any grid's posts, elevation grounds beyond kMaxPostsPerSide included; whether the posts lie on
+  // this exercise's grid is the bus's check (terrain_posts_x/z).
+  if (pdu.first_post_i < 0 || pdu.first_post_i >= kMaxGridPostsPerSide || pdu.first_post_j < 0 ||
+      pdu.first_post_j >= kMaxGridPostsPerSide) {
     return Error{fmt::format("first post ({}, {}) is outside [0, {})", pdu.first_post_i,
-                             pdu.first_post_j, kMaxPostsPerSide)};
+                             pdu.first_post_j, kMaxGridPostsPerSide)};
   }
   if (pdu.columns < 1 || pdu.columns > kMaxEarthMoveSpanPosts || pdu.rows < 1 ||
       pdu.rows > kMaxEarthMoveSpanPosts) {
@@ -261,8 +263,8 @@ Result<FeaturePdu> FromEarthMove(const dtpdu::earth_move_t& pdu) {
       return Error{fmt::format("changed_mask sets more posts than num_posts = {}", pdu.num_posts)};
     }
     const int i = pdu.first_post_i + k % pdu.columns, j = pdu.first_post_j + k / pdu.columns;
-    if (i >= kMaxPostsPerSide || j >= kMaxPostsPerSide) {
-      return Error{fmt::format("post ({}, {}) is outside [0, {})", i, j, kMaxPostsPerSide)};
+    if (i >= kMaxGridPostsPerSide || j >= kMaxGridPostsPerSide) {
+      return Error{fmt::format("post ({}, {}) is outside [0, {})", i, j, kMaxGridPostsPerSide)};
     }
     f.params.post_deltas.push_back(
         {static_cast<uint16_t>(i), static_cast<uint16_t>(j), pdu.delta_mm[next++]});

@@ -290,8 +290,8 @@ FeatureParams FeatureParams::EarthMove(std::vector<PostDelta> post_deltas) {
 
 namespace {
 
-// Post indices of an earth move are below the largest grid's side.
-constexpr int kMaxEarthMovePostIndex = kMaxPostsPerSide;
+// Post indices of an earth move are below the largest grid's side (an elevation ground's).
+constexpr int kMaxEarthMovePostIndex = kMaxGridPostsPerSide;
 
 Status ValidateEarthMove(const FeatureParams& p) {
   if (auto s = CheckZero(FeatureType::kEarthMove, {{"x_m", p.x_m},

@@ -195,7 +195,8 @@ with sync_playwright() as pw:
         far = browser.new_page(viewport={"width": 1040, "height": 560})
         far.on("pageerror", lambda e: errors.append(str(e)))
         far.goto(f"http://127.0.0.1:{LARGE_PORT}/#3d=50000,50000,0.5,0.6,30000")
-        wait(far, "window.dtView3d.windows >= 1")
+        # A window arrives, then the next frame draws it (and fills `drawn`).
+        wait(far, "window.dtView3d.windows >= 1 && 'step' in window.dtView3d.drawn")
         d = far.evaluate("window.dtView3d.drawn")
         if d["posts"] > 257 * 257:
             fail(f"a far view of a large terrain drew {d['posts']} posts")

@@ -82,6 +82,13 @@ IN_VIEW = """() => {
   return n;
 }"""
 
+# What is in view, what the last frame drew and the owners' pixels, read in one task of the page.
+READ_MARKERS = f"""() => ({{
+  in_view: ({IN_VIEW})(),
+  drawn: Object.assign({{}}, window.dtView.drawn),
+  pixels: ({COUNT_PIXELS})(),
+}})"""
+
 with sync_playwright() as pw:
     browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
                                  # WebGL on SwiftShader where there is no GPU, for the 3D view;
@@ -115,15 +122,22 @@ with sync_playwright() as pw:
                 break
             page.mouse.wheel(0, -120)
             page.wait_for_timeout(30)
-        page.wait_for_function("window.dtView.drawn.mode === 'markers'", timeout=5000)
-        page.wait_for_timeout(200)
-        in_view = page.evaluate(IN_VIEW)
-        drawn = page.evaluate("window.dtView.drawn")
-        pixels = page.evaluate(COUNT_PIXELS)
+        # The vehicles move: one may cross into view and turn the markers back into cells between
+        # the zoom and the reads. The reads are one task of the page (no frame between them); if
+        # it drew cells, zoom in one more step and read again.
+        for _ in range(10):
+            page.wait_for_function("window.dtView.drawn.mode === 'markers'", timeout=5000)
+            read = page.evaluate(READ_MARKERS)
+            if read["drawn"]["mode"] == "markers":
+                break
+            page.mouse.wheel(0, -120)
+        else:
+            fail("the page went back to cells each of 10 times it was read zoomed in")
+        in_view, drawn, pixels = read["in_view"], read["drawn"], read["pixels"]
         page.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-markers.png"))
         print(f"zoomed in: {in_view} vehicles in view, drawn {drawn}, owner pixels {pixels}")
-        # The view moves with the vehicles between the two reads: allow the few that crossed its
-        # edge meanwhile.
+        # The model takes messages between the last frame and the read: allow the few vehicles that
+        # crossed the view's edge meanwhile.
         if in_view < 10 or abs(drawn["marks"] - in_view) > max(5, in_view // 20):
             fail(f"{in_view} vehicles in view, {drawn['marks']} markers drawn")
         live_marks = drawn["marks"] - drawn["dead"]

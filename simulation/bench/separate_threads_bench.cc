@@ -270,6 +270,33 @@ void BM_NodeToNodeThreadsAuthVsPlain(benchmark::State& state) {
   if (!plain.Complete() || !authed.Complete()) state.SkipWithError("B does not hold every feature");
 }
 
+// Per iteration one crater from A to B in each of x and y (which goes first alternating), timed
+// from before it is handed to A's thread until B's thread has applied it, in microseconds. False
+// (the benchmark skipped with the error) when either fails; `error` is the caller's, declared
+// before the threads.
+bool TimeSingleChanges(benchmark::State& state, ThreadedExercise& x, ThreadedExercise& y,
+                       std::string* error, std::vector<double>* x_us, std::vector<double>* y_us) {
+  int64_t i = 0;
+  for (auto _ : state) {
+    int64_t tx = 0, ty = 0;
+    if (i++ % 2 == 0) {
+      tx = x.Burst(error, 1);
+      ty = tx < 0 ? -1 : y.Burst(error, 1);
+    } else {
+      ty = y.Burst(error, 1);
+      tx = ty < 0 ? -1 : x.Burst(error, 1);
+    }
+    if (tx < 0 || ty < 0) {
+      state.SkipWithError(error->c_str());
+      return false;
+    }
+    x_us->push_back(static_cast<double>(tx) / 1000.0);
+    y_us->push_back(static_cast<double>(ty) / 1000.0);
+    state.SetIterationTime(static_cast<double>(tx + ty) / 1e9);
+  }
+  return true;
+}
+
 // Latency authenticated against unauthenticated with one thread per replica, same run,
 // interleaved: the two exercises above; per iteration one crater from A to B in each (the order
 // alternating), timed from before it is handed to A's thread until B's thread has applied it.
@@ -291,24 +318,7 @@ void BM_LatencyThreadsAuthVsPlain(benchmark::State& state) {
     return;
   }
   std::vector<double> plain_us, auth_us;
-  int64_t i = 0;
-  for (auto _ : state) {
-    int64_t p = 0, a = 0;
-    if (i++ % 2 == 0) {
-      p = plain.Burst(&error, 1);
-      a = p < 0 ? -1 : authed.Burst(&error, 1);
-    } else {
-      a = authed.Burst(&error, 1);
-      p = a < 0 ? -1 : plain.Burst(&error, 1);
-    }
-    if (p < 0 || a < 0) {
-      state.SkipWithError(error.c_str());
-      return;
-    }
-    plain_us.push_back(static_cast<double>(p) / 1000.0);
-    auth_us.push_back(static_cast<double>(a) / 1000.0);
-    state.SetIterationTime(static_cast<double>(p + a) / 1e9);
-  }
+  if (!TimeSingleChanges(state, plain, authed, &error, &plain_us, &auth_us)) return;
   bench::ReportAuthLatencyRatios(state, plain_us, auth_us);
   if (!plain.Complete() || !authed.Complete()) state.SkipWithError("B does not hold every feature");
 }
@@ -332,24 +342,7 @@ void BM_LatencyThreadsBatchedVsSingle(benchmark::State& state) {
     return;
   }
   std::vector<double> single_us, batched_us;
-  int64_t i = 0;
-  for (auto _ : state) {
-    int64_t s = 0, b = 0;
-    if (i++ % 2 == 0) {
-      s = single.Burst(&error, 1);
-      b = s < 0 ? -1 : batched.Burst(&error, 1);
-    } else {
-      b = batched.Burst(&error, 1);
-      s = b < 0 ? -1 : single.Burst(&error, 1);
-    }
-    if (s < 0 || b < 0) {
-      state.SkipWithError(error.c_str());
-      return;
-    }
-    single_us.push_back(static_cast<double>(s) / 1000.0);
-    batched_us.push_back(static_cast<double>(b) / 1000.0);
-    state.SetIterationTime(static_cast<double>(s + b) / 1e9);
-  }
+  if (!TimeSingleChanges(state, single, batched, &error, &single_us, &batched_us)) return;
   const double s50 = bench::Percentile(single_us, 0.50), b50 = bench::Percentile(batched_us, 0.50);
   const double s99 = bench::Percentile(single_us, 0.99), b99 = bench::Percentile(batched_us, 0.99);
   state.counters["single_p50_us"] = s50;

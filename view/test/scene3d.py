@@ -8,8 +8,6 @@ picture depends on the camera alone.
 
   scene3d.serve(port, web_dir, size_m, spacing_m) -> server (shutdown() stops it)
 """
-import base64
-import hashlib
 import http.server
 import json
 import math
@@ -18,6 +16,8 @@ import threading
 import urllib.parse
 
 import numpy as np
+
+import websocket_upgrade
 
 OWNERS = ["node-1", "node-2", "node-3"]
 DECK_THICKNESS_M = 0.5
@@ -136,18 +136,6 @@ def vehicles():
     return out
 
 
-def _frame(text):
-    data = text.encode()
-    n = len(data)
-    head = bytes([0x81])
-    if n < 126:
-        head += bytes([n])
-    elif n < 65536:
-        head += bytes([126]) + n.to_bytes(2, "big")
-    else:
-        head += bytes([127]) + n.to_bytes(8, "big")
-    return head + data
-
 
 def snapshot(size_m):
     import time
@@ -179,17 +167,9 @@ def serve(port, web_dir, size_m, spacing_m):
                 return
             if path != "/ws":
                 return super().do_GET()
-            key = self.headers["Sec-WebSocket-Key"]
-            accept = base64.b64encode(hashlib.sha1(
-                (key + "258EAFA5-E914-47DA-95CA-C5AB0DC85B11").encode()).digest()).decode()
-            self.send_response(101)
-            self.send_header("Upgrade", "websocket")
-            self.send_header("Connection", "Upgrade")
-            self.send_header("Sec-WebSocket-Accept", accept)
-            self.end_headers()
-            self.wfile.flush()
+            websocket_upgrade.accept(self)
             try:
-                self.connection.sendall(_frame(snapshot(size_m)))
+                self.connection.sendall(websocket_upgrade.frame(snapshot(size_m)))
                 while self.connection.recv(4096):  # until the page goes
                     pass
             except OSError:

@@ -8,8 +8,6 @@ nodes that would drive them. The deltas of one period of the vehicles' motion ar
 sent in a loop, each with a fresh seq and t_ms, so the feed itself costs little CPU and the page's
 measured frame rate and lag are the page's.
 """
-import base64
-import hashlib
 import http.server
 import json
 import math
@@ -21,6 +19,7 @@ import threading
 import time
 
 import scene3d
+import websocket_upgrade
 
 OWNERS = ["node-1", "node-2", "node-3"]
 TYPES = ["tank", "truck", "jeep"]
@@ -93,17 +92,6 @@ class Feed:
                 f'"vehicles":{body}}}')
 
 
-def _frame(text):
-    data = text.encode()
-    n = len(data)
-    if n < 126:
-        head = bytes([0x81, n])
-    elif n < 1 << 16:
-        head = bytes([0x81, 126]) + n.to_bytes(2, "big")
-    else:
-        head = bytes([0x81, 127]) + n.to_bytes(8, "big")
-    return head + data
-
 
 def serve(port, web_dir, vehicles, features):
     """Serves on 127.0.0.1:port in a thread of its own; returns the server (shutdown() stops it)."""
@@ -129,27 +117,19 @@ def serve(port, web_dir, vehicles, features):
                 return
             if self.path != "/ws":
                 return super().do_GET()
-            key = self.headers["Sec-WebSocket-Key"]
-            accept = base64.b64encode(hashlib.sha1(
-                (key + "258EAFA5-E914-47DA-95CA-C5AB0DC85B11").encode()).digest()).decode()
-            self.send_response(101)
-            self.send_header("Upgrade", "websocket")
-            self.send_header("Connection", "Upgrade")
-            self.send_header("Sec-WebSocket-Accept", accept)
-            self.end_headers()
-            self.wfile.flush()
+            websocket_upgrade.accept(self)
             with feed_lock:
                 if "feed" not in feeds:
                     feeds["feed"] = Feed(vehicles, features)
                 feed = feeds["feed"]
             try:
                 sock = self.connection
-                sock.sendall(_frame(feed.snapshot()))
+                sock.sendall(websocket_upgrade.frame(feed.snapshot()))
                 next_at = time.monotonic()
                 while True:
                     next_at += 1.0 / TICK_HZ
                     text = feed.delta()
-                    sock.sendall(_frame(text))
+                    sock.sendall(websocket_upgrade.frame(text))
                     feed.sent_bytes += len(text)
                     time.sleep(max(0.0, next_at - time.monotonic()))
             except (BrokenPipeError, ConnectionResetError, socket.timeout, OSError):

@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <ctime>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "dis/dis_codec.h"
@@ -92,6 +93,31 @@ int Drain(UdpEndpoint& e) {
 // Which side of the gateway a pair benchmark runs.
 enum class Side { kOut, kIn, kInBus };
 
+// Per iteration one raw batch and one gateway batch, which goes first alternating so both see
+// the same machine; the iteration's time is the gateway's. `after` runs after each iteration.
+// Returns the raw and the gateway seconds, summed.
+template <typename RawBatch, typename GatewayBatch, typename After>
+std::pair<double, double> TimeAlternating(benchmark::State& state, RawBatch raw_batch,
+                                          GatewayBatch gateway_batch, After after) {
+  double raw_s = 0.0, gateway_s = 0.0;
+  bool raw_first = true;
+  for (auto _ : state) {
+    double g = 0.0;
+    if (raw_first) {
+      raw_s += raw_batch();
+      g = gateway_batch();
+    } else {
+      g = gateway_batch();
+      raw_s += raw_batch();
+    }
+    raw_first = !raw_first;
+    gateway_s += g;
+    state.SetIterationTime(g);
+    after();
+  }
+  return {raw_s, gateway_s};
+}
+
 void BM_GatewayPair(benchmark::State& state, Side side) {
   auto e = Loopback();
   auto memq = MakeTransport("memq://", 1);
@@ -152,23 +178,10 @@ void BM_GatewayPair(benchmark::State& state, Side side) {
     }
     return Clock::now() - t0;
   };
-  double raw_s = 0.0, gateway_s = 0.0;
-  bool raw_first = true;
-  for (auto _ : state) {
-    double g = 0.0;
-    if (raw_first) {
-      raw_s += raw_batch();
-      g = gateway_batch();
-    } else {
-      g = gateway_batch();
-      raw_s += raw_batch();
-    }
-    raw_first = !raw_first;
-    gateway_s += g;
-    state.SetIterationTime(g);
+  const auto [raw_s, gateway_s] = TimeAlternating(state, raw_batch, gateway_batch, [&] {
     if (side == Side::kInBus) (void)bus.HandleTimeout(0);
     while (e->Receive()) ++lost;  // nothing should be left over
-  }
+  });
   const double pairs = static_cast<double>(state.iterations() * kBatch);
   state.SetItemsProcessed(state.iterations() * kBatch);
   state.counters["raw_pair_ns"] = raw_s / pairs * 1e9;
@@ -259,22 +272,9 @@ void BM_GatewayPairBundled(benchmark::State& state, Side side) {
     }
     return Clock::now() - t0;
   };
-  double raw_s = 0.0, gateway_s = 0.0;
-  bool raw_first = true;
-  for (auto _ : state) {
-    double g = 0.0;
-    if (raw_first) {
-      raw_s += raw_batch();
-      g = gateway_batch();
-    } else {
-      g = gateway_batch();
-      raw_s += raw_batch();
-    }
-    raw_first = !raw_first;
-    gateway_s += g;
-    state.SetIterationTime(g);
+  const auto [raw_s, gateway_s] = TimeAlternating(state, raw_batch, gateway_batch, [&] {
     while (e->Receive()) ++raw_lost;  // nothing should be left over
-  }
+  });
   const double pdus = static_cast<double>(state.iterations() * kBatch);
   state.SetItemsProcessed(state.iterations() * kBatch);
   state.counters["raw_pair_ns"] = raw_s / pdus * 1e9;

@@ -120,8 +120,12 @@ void ViewApp::OnTick(int64_t now_ms) {
   vehicles_->Tick(replica_->terrain(), static_cast<double>(now_ms) / 1000.0);
   const std::vector<VehicleView> vehicles = vehicles_->Vehicles();
   web_->Publish([&] {
-    nlohmann::json delta = model_->Update(WallMs(), rows, vehicles, relief_version_);
-    return delta.is_null() ? std::string() : delta.dump();
+    // The JSON delta first (new vehicles' rows name the slots), then the moves in binary.
+    std::vector<WebServer::Message> out(2);
+    out[1].binary = true;
+    nlohmann::json delta = model_->Update(WallMs(), rows, vehicles, relief_version_, &out[1].data);
+    if (!delta.is_null()) out[0].data = delta.dump();
+    return out;
   });
   // After the delta: the outlines reach the pages without waiting for the render (OSMesa, on
   // the CPU), whose new version goes out with the next delta.

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "vehicle/bridge_solids.h"
+#include "view/vehicle_frame.h"
 
 namespace dt {
 namespace {
@@ -36,6 +37,13 @@ nlohmann::json BridgePlanJson(const FeatureParams& p) {
                    {"corners", std::move(corners)}});
   }
   return out;
+}
+
+// A vehicle's row with its slot: [id, owner, type, x, z, heading, speed, alive, slot].
+nlohmann::json VehicleRow(const VehicleView& v, uint32_t slot) {
+  nlohmann::json row = v.ToJson();
+  row.push_back(slot);
+  return row;
 }
 
 }  // namespace
@@ -247,7 +255,8 @@ void ViewModel::NoteDiffering(int64_t now_ms, const std::vector<ProcessRow>& row
 }
 
 nlohmann::json ViewModel::Update(int64_t now_ms, const std::vector<ProcessRow>& processes,
-                                 const std::vector<VehicleView>& vehicles, int relief_version) {
+                                 const std::vector<VehicleView>& vehicles, int relief_version,
+                                 std::string* vehicle_frame) {
   std::vector<Event> events;
   std::set<FeatureId> touched;
   bool bridge = false;
@@ -312,13 +321,28 @@ nlohmann::json ViewModel::Update(int64_t now_ms, const std::vector<ProcessRow>& 
   }
   // Only the vehicles that moved or changed, and the IDs of those no longer listed.
   nlohmann::json moved = nlohmann::json::array(), gone = nlohmann::json::array();
+  std::vector<std::pair<uint32_t, const VehicleView*>> framed;
   const uint64_t listing = ++listings_;
   for (const VehicleView& v : vehicles) {
     auto [it, fresh] = vehicles_.try_emplace(v.id);
-    it->second.listed_at = listing;
-    if (fresh || !(it->second.view == v)) {
-      it->second.view = v;
-      moved.push_back(v.ToJson());
+    HeldVehicle& held = it->second;
+    held.listed_at = listing;
+    if (fresh) {
+      if (free_slots_.empty()) {
+        held.slot = next_slot_++;
+      } else {
+        held.slot = free_slots_.back();
+        free_slots_.pop_back();
+      }
+    }
+    if (!fresh && held.view == v) continue;
+    // A new vehicle, or one whose owner or type changed, needs its row; a move only its record.
+    const bool known = !fresh && held.view.owner == v.owner && held.view.type == v.type;
+    held.view = v;
+    if (vehicle_frame != nullptr && known) {
+      framed.emplace_back(held.slot, &v);
+    } else {
+      moved.push_back(VehicleRow(v, held.slot));
     }
   }
   for (auto it = vehicles_.begin(); it != vehicles_.end();) {
@@ -327,6 +351,7 @@ nlohmann::json ViewModel::Update(int64_t now_ms, const std::vector<ProcessRow>& 
       continue;
     }
     gone.push_back(it->first);
+    free_slots_.push_back(it->second.slot);
     it = vehicles_.erase(it);
   }
   if (!moved.empty()) delta["vehicles"] = std::move(moved);
@@ -335,8 +360,15 @@ nlohmann::json ViewModel::Update(int64_t now_ms, const std::vector<ProcessRow>& 
     delta["relief"] = relief_version;
     relief_version_ = relief_version;
   }
-  if (delta.size() == 2) return nullptr;  // only type and time: nothing changed
-  delta["seq"] = ++seq_;
+  if (vehicle_frame != nullptr) vehicle_frame->clear();
+  if (delta.size() == 2 && framed.empty()) return nullptr;  // nothing changed
+  ++seq_;
+  if (!framed.empty()) {
+    *vehicle_frame = VehicleFrameHeader(seq_, now_ms, static_cast<uint32_t>(framed.size()));
+    for (const auto& [slot, v] : framed) AppendVehicleRecord(*vehicle_frame, slot, *v);
+  }
+  if (delta.size() == 2) return nullptr;  // the vehicles' moves only: the frame says them
+  delta["seq"] = seq_;
   return delta;
 }
 
@@ -353,7 +385,11 @@ SnapshotCopy ViewModel::Copy() const {
   for (const ProcessRow& r : processes_) rows.push_back(r.ToJson());
   c.processes = rows.dump();
   c.vehicles.reserve(vehicles_.size());
-  for (const auto& [id, v] : vehicles_) c.vehicles.push_back(v.view);
+  c.slots.reserve(vehicles_.size());
+  for (const auto& [id, v] : vehicles_) {
+    c.vehicles.push_back(v.view);
+    c.slots.push_back(v.slot);
+  }
   return c;
 }
 
@@ -375,7 +411,7 @@ std::string SnapshotCopy::Text(int64_t now_ms, const nlohmann::json& extra) cons
   out += R"(],"events":)" + events + R"(,"processes":)" + processes + R"(,"vehicles":[)";
   for (size_t i = 0; i < vehicles.size(); ++i) {
     if (i != 0) out += ',';
-    out += vehicles[i].ToJson().dump();
+    out += VehicleRow(vehicles[i], slots[i]).dump();
   }
   out += R"(],"relief":)" + std::to_string(relief_version) + '}';
   return out;

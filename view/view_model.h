@@ -36,6 +36,7 @@ struct SnapshotCopy {
   std::string events;                                        // a JSON array
   std::string processes;                                     // a JSON array
   std::vector<VehicleView> vehicles;
+  std::vector<uint32_t> slots;  // each vehicle's slot in the binary vehicle message
   // The snapshot message: `extra`'s members (the exercise) first, then the copy's.
   std::string Text(int64_t now_ms, const nlohmann::json& extra) const;
 };
@@ -54,8 +55,13 @@ class ViewModel {
   // rows, vehicles). Returns the delta message for the pages, or null when nothing changed: the
   // features, processes and vehicles that changed, the feature and vehicle IDs gone.
   // `now_ms` is wall-clock (epoch) milliseconds: the page measures its latency against it.
+  // A vehicle is a row with its slot, [id, owner, type, x, z, heading, speed, alive, slot]. Given
+  // `vehicle_frame`, the vehicles the page already knows that only moved (or died) go there
+  // instead, as the binary vehicle message (view/vehicle_frame.h; empty when none moved), and the
+  // JSON keeps the new ones; the two share the tick's seq, the JSON going first.
   nlohmann::json Update(int64_t now_ms, const std::vector<ProcessRow>& processes,
-                        const std::vector<VehicleView>& vehicles, int relief_version);
+                        const std::vector<VehicleView>& vehicles, int relief_version,
+                        std::string* vehicle_frame = nullptr);
   // Everything a page opened now needs: every live feature with its history, the event log, the
   // latest process rows and vehicles. Copy() is what the lock that orders snapshots with the
   // deltas must cover; Snapshot() is Copy().Text() read back (for tests).
@@ -122,8 +128,12 @@ class ViewModel {
   struct HeldVehicle {
     VehicleView view;
     uint64_t listed_at = 0;
+    uint32_t slot = 0;
   };
   std::unordered_map<std::string, HeldVehicle> vehicles_;
+  // Slots of vehicles gone, used again first: the page's arrays stay as long as the most listed.
+  std::vector<uint32_t> free_slots_;
+  uint32_t next_slot_ = 0;
   uint64_t listings_ = 0;
   // Held features that are bridges: a bridge change re-places every bridge, and only bridges.
   std::set<FeatureId> bridges_;

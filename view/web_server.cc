@@ -97,6 +97,11 @@ int WebServer::HandleTerrain3d(mg_connection* conn, void* self_ptr) {
   return 200;
 }
 
+void WebServer::Write(mg_connection* conn, const Message& m) {
+  mg_websocket_write(conn, m.binary ? MG_WEBSOCKET_OPCODE_BINARY : MG_WEBSOCKET_OPCODE_TEXT,
+                     m.data.data(), m.data.size());
+}
+
 int WebServer::WsConnect(const mg_connection*, void*) { return 0; }  // every page is accepted
 
 void WebServer::WsReady(mg_connection* conn, void* self_ptr) {
@@ -112,9 +117,7 @@ void WebServer::WsReady(mg_connection* conn, void* self_ptr) {
   const std::string snapshot = write();
   mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_TEXT, snapshot.data(), snapshot.size());
   std::lock_guard lock(self->mu_);
-  for (const std::string& delta : self->opening_[conn]) {
-    mg_websocket_write(conn, MG_WEBSOCKET_OPCODE_TEXT, delta.data(), delta.size());
-  }
+  for (const Message& m : self->opening_[conn]) Write(conn, m);
   self->opening_.erase(conn);
   self->pages_.insert(conn);
 }
@@ -137,14 +140,13 @@ void WebServer::WsClose(const mg_connection* conn, void* self_ptr) {
   self->opening_.erase(const_cast<mg_connection*>(conn));
 }
 
-void WebServer::Publish(const std::function<std::string()>& make) {
+void WebServer::Publish(const std::function<std::vector<Message>()>& make) {
   std::lock_guard lock(mu_);
-  const std::string text = make();
-  if (text.empty()) return;
-  for (mg_connection* c : pages_) {
-    mg_websocket_write(c, MG_WEBSOCKET_OPCODE_TEXT, text.data(), text.size());
+  for (Message& m : make()) {
+    if (m.data.empty()) continue;
+    for (mg_connection* c : pages_) Write(c, m);
+    for (auto& [c, waiting] : opening_) waiting.push_back(m);
   }
-  for (auto& [c, waiting] : opening_) waiting.push_back(text);
 }
 
 void WebServer::SetRelief(std::string png_bytes) {

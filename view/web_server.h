@@ -20,6 +20,11 @@ namespace dt {
 
 class WebServer {
  public:
+  // One WebSocket message: text (JSON) or binary (docs/view.md "The binary vehicle message").
+  struct Message {
+    std::string data;
+    bool binary = false;
+  };
   struct Handlers {
     // The snapshot a page that just connected receives, in two steps: `snapshot` is called under
     // the publish lock and copies what the page needs (quickly: the view's loop waits for it);
@@ -42,14 +47,15 @@ class WebServer {
   WebServer(const WebServer&) = delete;
   WebServer& operator=(const WebServer&) = delete;
 
-  // Under the publish lock: `make` builds the delta (it may update what snapshot() reads); a
-  // non-empty result goes to every page.
-  void Publish(const std::function<std::string()>& make);
+  // Under the publish lock: `make` builds the tick's messages (it may update what snapshot()
+  // reads); each non-empty one goes to every page, in order.
+  void Publish(const std::function<std::vector<Message>()>& make);
   // The relief image served at /relief.png.
   void SetRelief(std::string png_bytes);
   size_t pages() const;
 
  private:
+  static void Write(mg_connection* conn, const Message& m);
   static int HandleFile(mg_connection* conn, void* self);
   static int HandleRelief(mg_connection* conn, void* self);
   static int HandleTerrain3d(mg_connection* conn, void* self);
@@ -63,7 +69,7 @@ class WebServer {
   mutable std::mutex mu_;  // pages_ and everything Publish's and snapshot's callbacks touch
   std::set<mg_connection*> pages_;
   // Pages whose snapshot is being written, and the deltas published since their copy.
-  std::map<mg_connection*, std::vector<std::string>> opening_;
+  std::map<mg_connection*, std::vector<Message>> opening_;
   std::mutex relief_mu_;
   std::string relief_;
   mg_context* ctx_ = nullptr;

@@ -1,6 +1,9 @@
 """A stand-in for dt_view at exercise scale: serves the page's files (view/web) and one WebSocket,
 /ws, that sends a snapshot and then deltas at the view's tick rate, in dt_view's message format
-(docs/view.md "Messages"), for N vehicles of three owners wandering on circles and M features.
+(docs/view.md "Messages"), for N vehicles of three owners wandering on circles and M features: the
+vehicles' moves as dt_view sends them, in the binary vehicle message (docs/view.md "The binary
+vehicle message"), or as JSON rows with json_vehicles (the format before it, for comparison).
+/relief.png is a shaded picture of scene3d.py's ground, so the map shows terrain under the vehicles.
 
 GET /terrain3d answers scene3d.py's ground over the same 1000 m, so the 3D view can be timed with
 the same vehicles. Used by view_scale_test.py to load the page with 9000 or 30 000 vehicles without running the
@@ -15,8 +18,12 @@ import os
 import random
 import socket
 import socketserver
+import struct
 import threading
 import time
+import zlib
+
+import numpy as np
 
 import scene3d
 import websocket_upgrade
@@ -42,7 +49,33 @@ def _vehicle(i, k):
     a = phase + 2 * math.pi * k / PERIOD_TICKS
     owner = OWNERS[i % len(OWNERS)]
     return [f"{owner}/{i // len(OWNERS)}", owner, TYPES[i % 3], round(cx + r * math.cos(a), 2),
-            round(cz + r * math.sin(a), 2), round(a + math.pi / 2, 3), 6.0, i % 10 != 9]
+            round(cz + r * math.sin(a), 2), round(a + math.pi / 2, 3), 6.0, i % 10 != 9, i]
+
+
+def _record(row):
+    """A vehicle's 16 bytes in the binary vehicle message (view/vehicle_frame.h)."""
+    slot = row[8] | (0 if row[7] else 0x80000000)
+    heading = math.remainder(row[5], 2 * math.pi)
+    return struct.pack("<Iffhh", slot, row[3], row[4], round(heading * 10000), round(row[6] * 100))
+
+
+def relief_png(size_px=256):
+    """scene3d.py's ground and earthworks, shaded from the north-west, north up, as a PNG."""
+    m = np.linspace(0, SIZE_M, size_px)
+    X, Z = np.meshgrid(m, m[::-1])
+    h = scene3d.ground(X, Z) + scene3d.earthworks(X, Z)
+    gz, gx = np.gradient(h, SIZE_M / size_px)
+    shade = np.clip(0.6 + 0.35 * (-gx * 0.7 - gz * 0.7) / np.sqrt(1 + gx * gx + gz * gz), 0, 1)
+    t = (h - h.min()) / max(float(np.ptp(h)), 1.0)
+    rgb = np.stack([(70 + 90 * t) * shade, (100 + 70 * t) * shade, (60 + 40 * t) * shade], -1)
+    raw = b"".join(b"\0" + row.tobytes() for row in np.clip(rgb, 0, 255).astype(np.uint8))
+
+    def chunk(kind, data):
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+    return (b"\x89PNG\r\n\x1a\n" +
+            chunk(b"IHDR", struct.pack(">IIBBBBB", size_px, size_px, 8, 2, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
 
 
 def _feature(i, per_side):
@@ -58,14 +91,18 @@ def _feature(i, per_side):
 
 
 class Feed:
-    def __init__(self, vehicles, features):
+    def __init__(self, vehicles, features, json_vehicles=False):
         self.n = vehicles
+        self.json_vehicles = json_vehicles
         per_side = max(1, math.ceil(math.sqrt(features)))
         self.features = [_feature(i, per_side) for i in range(features)]
         self.bodies = []
         for k in range(PERIOD_TICKS):
             moved = [_vehicle(i, k) for i in range(k % MOVED_PER_TICK, vehicles, MOVED_PER_TICK)]
-            self.bodies.append(json.dumps(moved, separators=(",", ":")))
+            if json_vehicles:
+                self.bodies.append((len(moved), json.dumps(moved, separators=(",", ":"))))
+            else:
+                self.bodies.append((len(moved), b"".join(_record(v) for v in moved)))
         self.seq = 0
         self.tick = 0
         self.sent_bytes = 0
@@ -81,22 +118,26 @@ class Feed:
         return json.dumps({"type": "snapshot", "seq": self.seq, "t_ms": int(time.time() * 1000),
                            "exercise": exercise, "features": self.features, "events": [],
                            "processes": processes,
-                           "vehicles": [_vehicle(i, 0) for i in range(self.n)], "relief": -1},
+                           "vehicles": [_vehicle(i, 0) for i in range(self.n)], "relief": 0},
                           separators=(",", ":"))
 
     def delta(self):
+        """The tick's message: the moves in binary (or a JSON delta with json_vehicles)."""
         self.seq += 1
         self.tick += 1
-        body = self.bodies[self.tick % PERIOD_TICKS]
-        return (f'{{"type":"delta","seq":{self.seq},"t_ms":{int(time.time() * 1000)},'
-                f'"vehicles":{body}}}')
+        count, body = self.bodies[self.tick % PERIOD_TICKS]
+        t_ms = int(time.time() * 1000)
+        if self.json_vehicles:
+            return f'{{"type":"delta","seq":{self.seq},"t_ms":{t_ms},"vehicles":{body}}}'
+        return struct.pack("<4sIdII", b"DTV1", self.seq, float(t_ms), count, 0) + body
 
 
 
-def serve(port, web_dir, vehicles, features):
+def serve(port, web_dir, vehicles, features, json_vehicles=False):
     """Serves on 127.0.0.1:port in a thread of its own; returns the server (shutdown() stops it)."""
     feed_lock = threading.Lock()
     feeds = {}
+    relief = relief_png()
 
     class Handler(http.server.SimpleHTTPRequestHandler):
         def __init__(self, *args, **kwargs):
@@ -107,6 +148,13 @@ def serve(port, web_dir, vehicles, features):
 
         def do_GET(self):
             path, _, query = self.path.partition("?")
+            if path == "/relief.png":
+                self.send_response(200)
+                self.send_header("Content-Type", "image/png")
+                self.send_header("Content-Length", str(len(relief)))
+                self.end_headers()
+                self.wfile.write(relief)
+                return
             if path == "/terrain3d":  # the 3D view's window: scene3d's ground, 129 posts a side
                 body = json.dumps(scene3d.window(query, SIZE_M, SIZE_M / 128)).encode()
                 self.send_response(200)
@@ -120,7 +168,7 @@ def serve(port, web_dir, vehicles, features):
             websocket_upgrade.accept(self)
             with feed_lock:
                 if "feed" not in feeds:
-                    feeds["feed"] = Feed(vehicles, features)
+                    feeds["feed"] = Feed(vehicles, features, json_vehicles)
                 feed = feeds["feed"]
             try:
                 sock = self.connection

@@ -2,8 +2,11 @@
 // feature with its history; a delta holds exactly what changed, and nothing when nothing did.
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 #include "engine/test/replica_test_config.h"
 #include "vehicle/bridge_solids.h"
+#include "view/vehicle_frame.h"
 #include "view/view_model.h"
 
 namespace dt {
@@ -186,7 +189,7 @@ TEST_F(ViewModelTest, ProcessesGoingSilentAndComingBackAreEvents) {
   d = model.Update(4, {row}, {v}, 1);
   ASSERT_EQ(d["vehicles"].size(), 1u);
   EXPECT_EQ(d["vehicles"][0],
-            nlohmann::json::array({"node-a/0", "node-a", "tank", 10.0, 20.0, 0.5, 3.0, true}));
+            nlohmann::json::array({"node-a/0", "node-a", "tank", 10.0, 20.0, 0.5, 3.0, true, 0}));
   EXPECT_TRUE(model.Update(5, {row}, {v}, 1).is_null());
 }
 
@@ -267,6 +270,74 @@ TEST_F(ViewModelTest, AVehicleDeltaCarriesTheVehiclesThatChangedAndTheIdsGone) {
   d = model.Update(7, {}, {}, 1);
   EXPECT_EQ(d["vehicles_removed"], nlohmann::json::array({"node-b/0"}));
   EXPECT_EQ(model.Snapshot(8)["vehicles"].size(), 0u);
+}
+
+// With a frame asked for, a vehicle the page knows that only moved goes out in the binary
+// message under the tick's seq, its slot the one its row named; new vehicles keep their JSON row;
+// a gone vehicle's slot is given to the next new one.
+TEST_F(ViewModelTest, MovesOfKnownVehiclesGoToTheBinaryFrameUnderTheirSlots) {
+  cluster_.Start(kView, NodeRole::kObserver);
+  ViewModel model(View(), Names());
+  VehicleView a{"node-a/0", "node-a", "tank", 10, 20, 0.5, 3, true};
+  VehicleView b{"node-b/0", "node-b", "jeep", 50, 60, 1.0, 5, true};
+  std::string frame = "stale";
+  nlohmann::json d = model.Update(1, {}, {a, b}, 1, &frame);
+  EXPECT_TRUE(frame.empty());
+  ASSERT_EQ(d["vehicles"].size(), 2u);
+  const uint32_t slot_b = d["vehicles"][1][8];
+  EXPECT_NE(d["vehicles"][0][8], d["vehicles"][1][8]);
+  b.x_m = 51.25;
+  b.heading_rad = 1.0 + 2 * std::numbers::pi;  // sent as its angle in (-pi, pi]
+  b.alive = false;
+  d = model.Update(2, {}, {a, b}, 1, &frame);
+  EXPECT_TRUE(d.is_null());  // the move alone: no JSON
+  auto decoded = DecodeVehicleFrame(frame);
+  ASSERT_TRUE(decoded.ok()) << decoded.error().message;
+  EXPECT_EQ(decoded.value().seq, model.seq());
+  EXPECT_EQ(decoded.value().t_ms, 2);
+  ASSERT_EQ(decoded.value().records.size(), 1u);
+  const VehicleRecord& r = decoded.value().records[0];
+  EXPECT_EQ(r.slot, slot_b);
+  EXPECT_DOUBLE_EQ(r.x_m, 51.25);
+  EXPECT_DOUBLE_EQ(r.z_m, 60.0);
+  EXPECT_NEAR(r.heading_rad, 1.0, 1e-4);
+  EXPECT_DOUBLE_EQ(r.speed_mps, 5.0);
+  EXPECT_FALSE(r.alive);
+  // A changes owner (its row again), B is gone, C is new (a fresh slot: B's is freed after the
+  // tick's new vehicles); the JSON and the empty frame share the seq.
+  a.owner = "node-b";
+  VehicleView c{"node-a/1", "node-a", "truck", 5, 5, 0, 0, true};
+  d = model.Update(3, {}, {a, c}, 1, &frame);
+  EXPECT_TRUE(frame.empty());
+  ASSERT_EQ(d["vehicles"].size(), 2u);
+  EXPECT_EQ(d["vehicles"][0][1], "node-b");
+  EXPECT_EQ(d["vehicles"][1][0], "node-a/1");
+  const uint32_t slot_c = d["vehicles"][1][8];
+  EXPECT_NE(slot_c, slot_b);
+  EXPECT_EQ(d["vehicles_removed"], nlohmann::json::array({"node-b/0"}));
+  EXPECT_EQ(d["seq"], model.seq());
+  // The next new vehicle takes B's slot.
+  VehicleView e{"node-a/2", "node-a", "jeep", 7, 7, 0, 0, true};
+  d = model.Update(4, {}, {a, c, e}, 1, &frame);
+  ASSERT_EQ(d["vehicles"].size(), 1u);
+  EXPECT_EQ(d["vehicles"][0][8], slot_b);
+  // The snapshot names every vehicle's slot.
+  const nlohmann::json s = model.Snapshot(5);
+  ASSERT_EQ(s["vehicles"].size(), 3u);
+  for (const auto& row : s["vehicles"]) {
+    EXPECT_EQ(row[8], row[0] == "node-a/1" ? slot_c : row[0] == "node-a/2" ? slot_b : 0u);
+  }
+}
+
+TEST(VehicleFrameTest, AFrameOfTheWrongSizeOrHeaderIsRefusedNamingIt) {
+  std::string frame = VehicleFrameHeader(7, 1000, 2);
+  AppendVehicleRecord(frame, 3, VehicleView{"x", "o", "tank", 1, 2, 0, 0, true});
+  auto r = DecodeVehicleFrame(frame);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("2 records need 56 bytes, not 40"), std::string::npos)
+      << r.error().message;
+  frame[0] = 'X';
+  EXPECT_FALSE(DecodeVehicleFrame(frame).ok());
 }
 
 TEST_F(ViewModelTest, ABridgeChangeResendsTheBridgesItRePlacesAndNothingElse) {

@@ -6,13 +6,15 @@ many vehicles) sends a snapshot and 30 deltas a second for N vehicles of three o
 features. Asserted: the page's model holds all N; at the whole terrain every one is drawn (the
 page's count of what it drew) and the canvas holds owner-colour pixels for every mark it drew and
 for every owner; zoomed in, the vehicles in view (counted here from the page's model and view) are
-drawn one marker each, and the pixels hold them. Printed, not asserted (speed is a benchmark's to
+drawn one marker each, and the pixels hold them; at the whole terrain most of the terrain is left
+uncovered by the vehicles' drawing (the relief and features readable). Printed, not asserted (speed is a benchmark's to
 measure): frames per second, the worst frame and the page's lag behind its messages over 10 s of
-panning and zooming, and the feed's bytes per second; then the 3D view's frames per second with
+panning and zooming, and the WebSocket's bytes per second (the vehicles' moves in the binary
+message, or with `json` as JSON rows, the format before it); then the 3D view's frames per second with
 every vehicle on the feed's terrain window. Exits 77 (skipped) when playwright or
 chromium is not installed. Run inside tests/run_in_netns.sh.
 
-  view_scale_test.py <vehicles> <features> <run_dir> [<seconds of panning>]
+  view_scale_test.py <vehicles> <features> <run_dir> [<seconds of panning> [json]]
 """
 import os
 import sys
@@ -45,9 +47,15 @@ if not os.access(CHROMIUM, os.X_OK):
 
 vehicles, features, run_dir = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
 pan_s = float(sys.argv[4]) if len(sys.argv) > 4 else 10.0
+json_vehicles = len(sys.argv) > 5 and sys.argv[5] == "json"
 os.makedirs(run_dir, exist_ok=True)
 built = time.monotonic()
-server = synthetic_feed.serve(PORT, os.path.join(HERE, "../web"), vehicles, features)
+server = synthetic_feed.serve(PORT, os.path.join(HERE, "../web"), vehicles, features,
+                              json_vehicles)
+# At the whole terrain, at least this share of it must show through the vehicles' drawing: the
+# cells' glyphs leave the relief readable (the filled and outlined cells before them covered
+# about half of it).
+UNCOVERED_MIN = 0.75
 
 # Owner-colour pixels of the overlay canvas: exact matches (fills are opaque, edges blend), per
 # owner, with the page's own colours.
@@ -66,6 +74,23 @@ COUNT_PIXELS = """() => {
     }
   }
   return counts;
+}"""
+
+# The share of the terrain's area, on a grid of points every 3 pixels, where the overlay canvas
+# (vehicles, and features when many) leaves the relief uncovered (alpha 0).
+UNCOVERED = """() => {
+  const st = window.dtView.state, v = st.view, c = document.getElementById('overlay');
+  const s = Math.max(v.w / c.clientWidth, v.h / c.clientHeight);
+  const ox = v.x + (v.w - c.clientWidth * s) / 2, oy = v.y + (v.h - c.clientHeight * s) / 2;
+  const x0 = Math.max(0, Math.ceil(-ox / s)), y0 = Math.max(0, Math.ceil(-oy / s));
+  const x1 = Math.min(c.width, Math.floor((st.size_x - ox) / s)),
+        y1 = Math.min(c.height, Math.floor((st.size_z - oy) / s));
+  const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+  let n = 0, clear = 0;
+  for (let y = y0; y < y1; y += 3) for (let x = x0; x < x1; x += 3) {
+    ++n; if (d[(y * c.width + x) * 4 + 3] === 0) ++clear;
+  }
+  return {points: n, uncovered: clear / Math.max(n, 1)};
 }"""
 
 # The vehicles in the page's view, counted from its model and view box here (as the SVG's
@@ -106,8 +131,13 @@ with sync_playwright() as pw:
                                f" && window.dtView.drawn.features === {features}", timeout=20000)
         drawn = page.evaluate("window.dtView.drawn")
         pixels = page.evaluate(COUNT_PIXELS)
+        ground = page.evaluate(UNCOVERED)
         page.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-whole.png"))
-        print(f"whole terrain: model {held} vehicles, drawn {drawn}, owner pixels {pixels}")
+        print(f"whole terrain: model {held} vehicles, drawn {drawn}, owner pixels {pixels}, "
+              f"terrain uncovered {100 * ground['uncovered']:.1f} % of {ground['points']} points")
+        if ground["points"] < 10000 or ground["uncovered"] < UNCOVERED_MIN:
+            fail(f"the vehicles' drawing leaves {100 * ground['uncovered']:.1f} % of the terrain "
+                 f"uncovered ({ground['points']} points), not {100 * UNCOVERED_MIN:.0f} %")
         # Each mark (a marker, or a cell's square of at least 4 x 4 pixels) shows at least 4 pure
         # pixels of its owner's colour; every owner shows.
         if sum(pixels.values()) < 4 * drawn["marks"] or min(pixels.values()) == 0:
@@ -150,6 +180,7 @@ with sync_playwright() as pw:
             page.mouse.wheel(0, 120)
             page.wait_for_timeout(10)
         page.evaluate("""() => { const d = window.dtView; d.maxLagMs = 0; d.frameMs = [];
+            d.wsBytes0 = d.wsBytes; d.wsAt0 = performance.now();
             d.cost = {messages: 0, applyMs: 0, draws: 0, drawMs: 0};
             d.lags = []; let last = performance.now();
             const rec = (t) => { d.frameMs.push(t - last); last = t; d.lags.push(d.lagMs);
@@ -171,12 +202,15 @@ with sync_playwright() as pw:
             const total = f.reduce((a, b) => a + b, 0);
             return {frames: f.length, fps: 1000 * f.length / total, worst: Math.max(...f),
                     lag_median: lags[Math.floor(lags.length / 2)], lag_max: d.maxLagMs,
-                    mode: d.drawn.mode, cost: d.cost, ms: total}; }""")
+                    mode: d.drawn.mode, cost: d.cost, ms: total,
+                    ws_Bps: 1000 * (d.wsBytes - d.wsBytes0) / (performance.now() - d.wsAt0)}; }""")
         load = os.getloadavg()
         print(f"{vehicles} vehicles, {features} features, {pan_s:.0f} s of panning and zooming: "
               f"{stats['fps']:.1f} fps over {stats['frames']} frames, worst frame "
               f"{stats['worst']:.0f} ms, lag median {stats['lag_median']} ms max "
-              f"{stats['lag_max']} ms, feed {rate / 1e6:.2f} MB/s, load average "
+              f"{stats['lag_max']} ms, WebSocket {stats['ws_Bps'] / 1e6:.2f} MB/s received "
+              f"({rate / 1e6:.2f} MB/s sent, {'JSON' if json_vehicles else 'binary'} vehicles), "
+              f"load average "
               f"{load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
         c = stats["cost"]
         print(f"the page's time over {stats['ms'] / 1000:.1f} s: {c['messages']} messages applied "

@@ -1,5 +1,5 @@
 """The server side of a WebSocket for the view's test servers (synthetic_feed.py, scene3d.py):
-the upgrade of an HTTP request and unmasked text frames from the server (RFC 6455)."""
+the upgrade of an HTTP request and unmasked text or binary frames from the server (RFC 6455)."""
 import base64
 import hashlib
 
@@ -16,14 +16,16 @@ def accept(handler):
     handler.wfile.flush()
 
 
-def frame(text):
-    """One final text frame holding `text`."""
-    data = text.encode()
+def frame(message):
+    """One final frame holding `message`: text for a str, binary for bytes."""
+    binary = isinstance(message, (bytes, bytearray))
+    data = bytes(message) if binary else message.encode()
+    op = 0x82 if binary else 0x81
     n = len(data)
     if n < 126:
-        head = bytes([0x81, n])
+        head = bytes([op, n])
     elif n < 1 << 16:
-        head = bytes([0x81, 126]) + n.to_bytes(2, "big")
+        head = bytes([op, 126]) + n.to_bytes(2, "big")
     else:
-        head = bytes([0x81, 127]) + n.to_bytes(8, "big")
+        head = bytes([op, 127]) + n.to_bytes(8, "big")
     return head + data

@@ -2,13 +2,14 @@
 "use strict";
 const SVG = "http://www.w3.org/2000/svg";
 const state = {
-  size_x: 1000, size_z: 1000, exercise: null, seq: 0, features: new Map(), processes: [], vehicles: new Map(),
+  size_x: 1000, size_z: 1000, exercise: null, seq: 0, features: new Map(), processes: [],
+  vehicles: new VehicleTable(),
   selected: null, view: null, ws: null, req: 0,
 };
 // For tests and for the curious: when each feature was first drawn (Date.now()), and the
 // sequence of the last message applied.
 window.dtView = { state, drawnAt: {}, appliedSeq: 0, snapshotAt: 0, deltas: 0, frames: 0,
-                  lagMs: 0, maxLagMs: 0, drawn: null, terrainVersion: 0,
+                  lagMs: 0, maxLagMs: 0, drawn: null, terrainVersion: 0, wsBytes: 0,
                   // The page's own time: applying messages (parse included) and drawing.
                   cost: { messages: 0, applyMs: 0, draws: 0, drawMs: 0 }, ownerRgb: (n) => ownerRgb(n), vehicleOf };
 
@@ -111,12 +112,14 @@ function removeFeature(id) {
 // ---- vehicles (and features when there are many) on a canvas over the map ----
 // One SVG element per vehicle stalls the page at thousands; the canvas is redrawn at most once
 // per animation frame, from the page's model (docs/view.md "Drawing at scale").
-// A vehicle is kept as its message row, [id, owner, type, x, z, heading, speed, alive].
+// Vehicles are kept in a VehicleTable (vehicle_table.js); a row, as tests read one, is
+// [id, owner, type, x, z, heading, speed, alive, slot].
 function vehicleOf([id, owner, type, x, z, heading, speed, alive]) {
   return { id, owner, type, x, z, heading, speed, alive };
 }
 const MARKER_PX = 7;          // a marker's half length on the screen, whatever the zoom
 const CELL_PX = 14;           // an aggregate cell's side
+const GLYPH_MAX_PX = 6;       // the largest cell's glyph: (6 / 14)² of the ground at most
 const MARKERS_MAX = 3000;     // more visible than this: per-cell counts
 const MARKER_COVER_MAX = 0.12;  // nor when markers would cover more of the map than this
 const FEATURE_SVG_MAX = 2000;   // more features than this: drawn on the canvas too
@@ -148,7 +151,7 @@ function transform() {
   return { W, H, s, ox: v.x + (v.w - W * s) / 2, oy: v.y + (v.h - H * s) / 2 };
 }
 function featuresOnCanvas() { return state.features.size > FEATURE_SVG_MAX; }
-function setVehicle(row) { state.vehicles.set(row[0], row); frame.dirty = true; }
+function setVehicle(row) { state.vehicles.setRow(row); frame.dirty = true; }
 function removeVehicle(id) { state.vehicles.delete(id); frame.dirty = true; }
 
 // Features as a few batched paths, culled to the rectangle [x0, x1] x [y0, y1] (map y).
@@ -260,92 +263,89 @@ function drawFeatureCache(now, t) {
 
 // The vehicles in view: each as an oriented marker in its owner's colour (dead: grey with a red
 // cross) while they are few enough to leave the ground readable; otherwise one square per cell
-// of the screen in the colour of the owner with most vehicles there, sized by the count, with a
-// red corner when any of them is dead.
-// `under` draws what lies beneath the markers (the features): before the markers, but after the
-// cells, whose translucent squares would otherwise veil the features at the whole map.
+// of the screen a small opaque square (2 to 6 pixels of a 14-pixel cell, by the count) in the
+// colour of the owner with most vehicles there, with a red dot when any of them is dead: the
+// relief shows around the glyphs, and the features are drawn over them.
+// `under` draws the features: before the markers, after the cells' glyphs.
+let visibleSlots = new Uint32Array(1024);
 function drawVehicles(t, under) {
-  const visible = [];
+  const tb = state.vehicles, X = tb.x, Z = tb.z, used = tb.used, sz = state.size_z;
+  if (visibleSlots.length < tb.cap) visibleSlots = new Uint32Array(tb.cap);
+  const vis = visibleSlots;
+  let n = 0;
   const x0 = t.ox, y0 = t.oy, x1 = t.ox + t.W * t.s, y1 = t.oy + t.H * t.s;
-  for (const v of state.vehicles.values()) {
-    const y = state.size_z - v[4];
-    if (v[3] >= x0 && v[3] <= x1 && y >= y0 && y <= y1) visible.push(v);
+  for (let s = 0; s < tb.end; ++s) {
+    if (!used[s]) continue;
+    const y = sz - Z[s];
+    if (X[s] >= x0 && X[s] <= x1 && y >= y0 && y <= y1) vis[n++] = s;
   }
-  const cover = visible.length * MARKER_PX * MARKER_PX * 1.4 / (t.W * t.H);
-  const drawn = { mode: "markers", vehicles: visible.length, marks: 0, dead: 0 };
-  if (visible.length <= MARKERS_MAX && cover <= MARKER_COVER_MAX) {
+  const cover = n * MARKER_PX * MARKER_PX * 1.4 / (t.W * t.H);
+  const drawn = { mode: "markers", vehicles: n, marks: 0, dead: 0 };
+  if (n <= MARKERS_MAX && cover <= MARKER_COVER_MAX) {
     under();
     const byOwner = new Map(), dead = new Path2D(), crosses = new Path2D();
     const s = MARKER_PX;
-    for (const v of visible) {
-      const x = (v[3] - t.ox) / t.s, y = (state.size_z - v[4] - t.oy) / t.s;
-      const c = Math.cos(-v[5]), n = Math.sin(-v[5]);
-      const pt = (a, b) => [x + a * c - b * n, y + a * n + b * c];
+    for (let i = 0; i < n; ++i) {
+      const v = vis[i];
+      const x = (X[v] - t.ox) / t.s, y = (sz - Z[v] - t.oy) / t.s;
+      const c = Math.cos(-tb.heading[v]), k = Math.sin(-tb.heading[v]);
       let path = dead;
-      if (v[7]) {
-        path = byOwner.get(v[1]);
-        if (!path) { path = new Path2D(); byOwner.set(v[1], path); }
+      if (tb.alive[v]) {
+        path = byOwner.get(tb.owner[v]);
+        if (!path) { path = new Path2D(); byOwner.set(tb.owner[v], path); }
       } else {
         crosses.moveTo(x - s, y - s); crosses.lineTo(x + s, y + s);
         crosses.moveTo(x - s, y + s); crosses.lineTo(x + s, y - s);
         ++drawn.dead;
       }
-      const [ax, ay] = pt(s, 0), [bx, by] = pt(-s * 0.7, s * 0.6), [cx, cy] = pt(-s * 0.7, -s * 0.6);
-      path.moveTo(ax, ay); path.lineTo(bx, by); path.lineTo(cx, cy); path.closePath();
+      path.moveTo(x + s * c, y + s * k);
+      path.lineTo(x - s * 0.7 * c - s * 0.6 * k, y - s * 0.7 * k + s * 0.6 * c);
+      path.lineTo(x - s * 0.7 * c + s * 0.6 * k, y - s * 0.7 * k - s * 0.6 * c);
+      path.closePath();
     }
     ctx.lineWidth = 1; ctx.strokeStyle = "#000";
     for (const [owner, path] of byOwner) {
-      ctx.fillStyle = css(ownerRgb(owner)); ctx.fill(path); ctx.stroke(path);
+      ctx.fillStyle = css(ownerRgb(tb.owners[owner])); ctx.fill(path); ctx.stroke(path);
     }
     ctx.fillStyle = "#666"; ctx.fill(dead); ctx.stroke(dead);
     ctx.strokeStyle = "#ff3b2b"; ctx.lineWidth = 2; ctx.stroke(crosses);
-    drawn.marks = visible.length;
+    drawn.marks = n;
   } else {
     drawn.mode = "cells";
     // Counts per cell and owner in typed arrays: no allocation per vehicle at 30 000 a frame.
     const cols = Math.ceil(t.W / CELL_PX), rows = Math.ceil(t.H / CELL_PX);
-    const owners = [], ownerIndex = new Map();
-    for (const v of visible) {
-      if (!ownerIndex.has(v[1])) { ownerIndex.set(v[1], owners.length); owners.push(v[1]); }
-    }
-    const k = owners.length, counts = new Uint32Array(cols * rows * k);
+    const k = tb.owners.length, counts = new Uint32Array(cols * rows * k);
     const totals = new Uint32Array(cols * rows), dead = new Uint32Array(cols * rows);
-    for (const v of visible) {
-      const i = Math.min(cols - 1, Math.floor((v[3] - t.ox) / t.s / CELL_PX)),
-            j = Math.min(rows - 1, Math.floor((state.size_z - v[4] - t.oy) / t.s / CELL_PX));
-      const cell = j * cols + i;
+    for (let i = 0; i < n; ++i) {
+      const v = vis[i];
+      const ci = Math.min(cols - 1, Math.floor((X[v] - t.ox) / t.s / CELL_PX)),
+            cj = Math.min(rows - 1, Math.floor((sz - Z[v] - t.oy) / t.s / CELL_PX));
+      const cell = cj * cols + ci;
       ++totals[cell];
-      ++counts[cell * k + ownerIndex.get(v[1])];
-      if (!v[7]) ++dead[cell];
+      ++counts[cell * k + tb.owner[v]];
+      if (!tb.alive[v]) ++dead[cell];
     }
     let most = 1;
     for (let c = 0; c < totals.length; ++c) most = Math.max(most, totals[c]);
-    const byOwner = owners.map(() => new Path2D()), deadMarks = new Path2D();
+    const byOwner = tb.owners.map(() => new Path2D()), deadMarks = new Path2D();
     let cells = 0;
     for (let c = 0; c < totals.length; ++c) {
       if (!totals[c]) continue;
       ++cells;
       let owner = 0;
       for (let o = 1; o < k; ++o) if (counts[c * k + o] > counts[c * k + owner]) owner = o;
-      // Between 4 px and the cell less a 4 px gap, by the square root of the count: the ground
-      // shows between cells however dense they are.
-      const side = Math.round(4 + (CELL_PX - 8) * Math.sqrt(totals[c] / most));
+      // A square of 2 to GLYPH_MAX_PX pixels, by the square root of the count: at most a fifth of
+      // the cell, so the relief and the features stay readable however dense the vehicles.
+      const side = Math.round(2 + (GLYPH_MAX_PX - 2) * Math.sqrt(totals[c] / most));
       const x = (c % cols) * CELL_PX + Math.round((CELL_PX - side) / 2),
             y = Math.floor(c / cols) * CELL_PX + Math.round((CELL_PX - side) / 2);
       byOwner[owner].rect(x, y, side, side);
-      if (dead[c]) { deadMarks.rect(x + side - 3, y, 3, 3); drawn.dead += dead[c]; }
+      if (dead[c]) { deadMarks.rect(x + side, y - 2, 2, 2); drawn.dead += dead[c]; }
     }
-    // Outlined in the owner's colour over a faint fill: the relief and the features show through
-    // the cells (docs/view.md "Drawing at scale").
-    ctx.lineWidth = 2;
-    owners.forEach((o, i) => {
-      const [r, g, b] = ownerRgb(o);
-      ctx.fillStyle = `rgba(${r},${g},${b},0.3)`; ctx.fill(byOwner[i]);
-      ctx.strokeStyle = css([r, g, b]); ctx.stroke(byOwner[i]);
-    });
+    tb.owners.forEach((o, i) => { ctx.fillStyle = css(ownerRgb(o)); ctx.fill(byOwner[i]); });
     ctx.fillStyle = "#ff3b2b"; ctx.fill(deadMarks);
     drawn.marks = cells;
-    under();
+    under();  // the features above the glyphs (docs/view.md "Drawing at scale")
   }
   return drawn;
 }
@@ -504,6 +504,7 @@ function onSnapshot(s) {
   processesDirty = true;
   state.vehicles.clear();
   s.vehicles.forEach(setVehicle);
+  frame.dirty = true;
   setRelief(s.relief);
   ++window.dtView.terrainVersion;
   if (s.exercise.commands) setUpOperator(s.exercise.nodes);
@@ -526,7 +527,24 @@ function onDelta(d) {
 // work per frame does not grow with the message rate (docs/view.md "Drawing at scale").
 const inbox = [];
 let processesDirty = false;
-function onMessage(ev) { inbox.push(ev.data); }
+function onMessage(ev) {
+  inbox.push(ev.data);
+  window.dtView.wsBytes += typeof ev.data === "string" ? ev.data.length : ev.data.byteLength;
+}
+// The binary vehicle message: the moves of vehicles the page knows, by slot.
+function applyVehicleFrame(buf) {
+  const h = state.vehicles.applyFrame(buf);
+  if (!h) return;
+  frame.dirty = true;
+  window.dtView.deltas++;
+  window.dtView.appliedSeq = Math.max(window.dtView.appliedSeq, h.seq);
+  noteLag(h.t_ms);
+}
+function noteLag(t_ms) {
+  const lag = Date.now() - t_ms;
+  window.dtView.lagMs = lag;
+  window.dtView.maxLagMs = Math.max(window.dtView.maxLagMs || 0, lag);
+}
 function applyMessage(m) {
   if (m.type === "snapshot") onSnapshot(m);
   else if (m.type === "delta") onDelta(m);
@@ -535,18 +553,17 @@ function applyMessage(m) {
     window.dtView.lastReply = m;
   }
   if (m.seq !== undefined) window.dtView.appliedSeq = m.seq;
-  if (m.t_ms !== undefined) {
-    const lag = Date.now() - m.t_ms;
-    window.dtView.lagMs = lag;
-    window.dtView.maxLagMs = Math.max(window.dtView.maxLagMs || 0, lag);
-  }
+  if (m.t_ms !== undefined) noteLag(m.t_ms);
 }
 function tick(now) {
   const cost = window.dtView.cost;
   const t0 = performance.now();
   if (inbox.length) {
     const batch = inbox.splice(0, inbox.length);
-    for (const text of batch) applyMessage(JSON.parse(text));
+    for (const m of batch) {
+      if (typeof m === "string") applyMessage(JSON.parse(m));
+      else applyVehicleFrame(m);
+    }
     cost.messages += batch.length;
     if (processesDirty) { drawProcesses(); processesDirty = false; }
     $("stats").textContent = `${state.features.size} features, ${state.vehicles.size} vehicles,` +
@@ -572,6 +589,7 @@ function tick(now) {
 requestAnimationFrame(tick);
 function connect() {
   const ws = new WebSocket(`ws://${location.host}/ws`);
+  ws.binaryType = "arraybuffer";
   state.ws = ws;
   ws.onopen = () => { $("connection").textContent = "live"; $("connection").className = "good"; };
   ws.onmessage = onMessage;

@@ -7,7 +7,11 @@ const SKY = [0.53, 0.66, 0.80];
 const SUN = norm([0.45, 0.8, 0.35]);
 const POSTS = 129;            // samples per side asked of dt_view (it sends at most 257)
 const REFETCH_MS = 500;       // a changed terrain is asked again at most this often
-const SIMPLE_ABOVE = 1000;    // vehicles drawn as points above this many
+const NEAR_MAX = 250;         // vehicles drawn as shapes at most: the nearest; the rest as points
+const NEAR_M = 600;           // and only those nearer the eye than this, when there are more
+const VEHICLE_REDRAW_MS = 100;  // a frame for the vehicles' moves alone at most this often
+const MAX_PIXELS = 400000;    // the canvas's backing store at most: a CPU rasteriser's fill rate
+const HIDDEN_Y = -1e9;        // an instance not drawn (no vehicle in its slot, or off the window)
 const VEHICLE_L = 7, VEHICLE_W = 3.2, VEHICLE_H = 2.4;  // metres, before the zoom's scale
 const v3 = {
   on: false, gl: null, cam: { x: 500, z: 500, yaw: 0.6, pitch: 0.55, dist: 600, follow: null },
@@ -41,12 +45,19 @@ function mul(a, b) {
 // The terrain's frame is x east, z north, y up (docs/conventions.md): GL's z is the terrain's -z,
 // so the picture is not mirrored.
 const VS = `#version 300 es
-uniform mat4 mvp; uniform float scale; uniform float pointPx;
+uniform mat4 mvp; uniform float scale; uniform float pointPx; uniform vec3 eye; uniform float nearM;
 in vec3 pos; in vec3 nrm; in vec3 col;
 in vec4 inst; in vec3 instCol;  // vehicles: x, y, z, heading; colour (zero for the meshes)
 out vec3 vCol; out float vLight;
 void main() {
   vec3 p = pos, n = nrm, c = col;
+  if (inst.y < ${HIDDEN_Y / 2}.0 || pointPx > 0.0 &&
+      distance(vec3(inst.x, inst.y, -inst.z), eye) < nearM) {  // not drawn, or drawn as a shape
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+    gl_PointSize = 0.0;
+    vCol = vec3(0.0); vLight = 0.0;
+    return;
+  }
   if (pointPx > 0.0) {  // a vehicle as one point: its place, lifted by its height
     gl_Position = mvp * vec4(inst.x, inst.y + scale * ${VEHICLE_H}, -inst.z, 1.0);
     gl_PointSize = pointPx;
@@ -183,19 +194,33 @@ function setUp() {
   if (!gl) { v3.error = "this browser has no WebGL 2"; return false; }
   v3.gl = gl;
   v3.prog = compile(gl);
-  v3.loc = { mvp: gl.getUniformLocation(v3.prog, "mvp"), scale: gl.getUniformLocation(v3.prog, "scale"),
-             pointPx: gl.getUniformLocation(v3.prog, "pointPx") };
-  v3.instances = gl.createBuffer();
+  v3.loc = {};
+  for (const u of ["mvp", "scale", "pointPx", "eye", "nearM"]) v3.loc[u] = gl.getUniformLocation(v3.prog, u);
   const inst = gl.getAttribLocation(v3.prog, "inst"), col = gl.getAttribLocation(v3.prog, "instCol");
-  // The shape's vertices, and per instance the vehicle's place and colour (also drawn as points).
+  // The shape's vertices, and per instance the vehicle's place and colour: every slot's instance
+  // in one buffer (drawn as points), the nearest vehicles' in another (drawn as shapes).
   const shape = vehicleShape();
-  v3.vehicle = upload(gl, shape.verts, shape.idx);
-  gl.bindVertexArray(v3.vehicle.vao);
+  const withInstances = (buffer) => {
+    const m = upload(gl, shape.verts, shape.idx);
+    gl.bindVertexArray(m.vao);
+    gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+    gl.enableVertexAttribArray(inst); gl.vertexAttribPointer(inst, 4, gl.FLOAT, false, 28, 0);
+    gl.vertexAttribDivisor(inst, 1);
+    gl.enableVertexAttribArray(col); gl.vertexAttribPointer(col, 3, gl.FLOAT, false, 28, 16);
+    gl.vertexAttribDivisor(col, 1);
+    gl.bindVertexArray(null);
+    return m;
+  };
+  v3.instances = gl.createBuffer();
+  v3.nearInstances = gl.createBuffer();
+  v3.near = withInstances(v3.nearInstances);
+  // The points: the same buffer read per vertex, not per instance, so all are one plain draw (a
+  // CPU rasteriser runs an instanced draw instance by instance: 9000 points took it 130 ms).
+  v3.points = gl.createVertexArray();
+  gl.bindVertexArray(v3.points);
   gl.bindBuffer(gl.ARRAY_BUFFER, v3.instances);
   gl.enableVertexAttribArray(inst); gl.vertexAttribPointer(inst, 4, gl.FLOAT, false, 28, 0);
-  gl.vertexAttribDivisor(inst, 1);
   gl.enableVertexAttribArray(col); gl.vertexAttribPointer(col, 3, gl.FLOAT, false, 28, 16);
-  gl.vertexAttribDivisor(col, 1);
   gl.bindVertexArray(null);
   return true;
 }
@@ -261,24 +286,73 @@ function heightAt(x, z) {
   return y;
 }
 
-// The vehicles as instances (x, y, z, heading, r, g, b), rebuilt when a message moved one.
+// The vehicles as instances (x, y, z, heading, r, g, b), one per slot of the page's vehicle
+// table: the slots a message moved are rewritten and the range they span uploaded; the whole
+// buffer only when the terrain window (the heights) or the table's size changed.
+function instanceOf(tb, s, data, shown) {
+  const o = s * 7;
+  const y = tb.used[s] ? heightAt(tb.x[s], tb.z[s]) : null;
+  const was = shown[s];
+  shown[s] = y === null ? 0 : 1;
+  v3.vehicleCount += shown[s] - was;
+  if (y === null) { data[o + 1] = HIDDEN_Y; return; }
+  const c = tb.alive[s] ? window.dtView.ownerRgb(tb.owners[tb.owner[s]]) : [70, 70, 70];
+  data[o] = tb.x[s]; data[o + 1] = y; data[o + 2] = tb.z[s]; data[o + 3] = tb.heading[s];
+  data[o + 4] = c[0] / 255; data[o + 5] = c[1] / 255; data[o + 6] = c[2] / 255;
+}
 function updateVehicles() {
-  const dv = window.dtView, at = dv.deltas + (dv.snapshotAt || 0);
-  if (at === v3.vehiclesAt) return;
-  v3.vehiclesAt = at;
-  const list = dv.state.vehicles, data = new Float32Array(list.size * 7);
+  const tb = window.dtView.state.vehicles, gl = v3.gl;
+  gl.bindBuffer(gl.ARRAY_BUFFER, v3.instances);
+  if (v3.vehiclesAt === -1 || !v3.inst || v3.inst.length !== tb.cap * 7) {
+    v3.inst = new Float32Array(tb.cap * 7).fill(HIDDEN_Y);
+    v3.shown = new Uint8Array(tb.cap);
+    v3.vehicleCount = 0;
+    tb.takeChanged(() => {});
+    for (let s = 0; s < tb.end; ++s) instanceOf(tb, s, v3.inst, v3.shown);
+    gl.bufferData(gl.ARRAY_BUFFER, v3.inst, gl.DYNAMIC_DRAW);
+    v3.vehiclesAt = 0;
+    v3.uploaded = tb.cap;
+    return;
+  }
+  let lo = Infinity, hi = -1;
+  tb.takeChanged((s) => { instanceOf(tb, s, v3.inst, v3.shown); lo = Math.min(lo, s); hi = Math.max(hi, s); });
+  if (hi >= lo) {
+    gl.bufferSubData(gl.ARRAY_BUFFER, lo * 28, v3.inst, lo * 7, (hi - lo + 1) * 7);
+    v3.uploaded += hi - lo + 1;
+  }
+}
+
+// Level of detail: shapes for the nearest vehicles (all of them while they are NEAR_MAX or fewer),
+// points for the rest; returns the radius from the eye inside which vehicles are shapes.
+function nearVehicles(eye) {
+  const tb = window.dtView.state.vehicles, data = v3.inst, shown = v3.shown;
+  const all = v3.vehicleCount <= NEAR_MAX;
+  const limit = all ? Infinity : NEAR_M * NEAR_M;
+  if (!v3.nearD || v3.nearD.length < tb.cap) {
+    v3.nearD = new Float32Array(tb.cap); v3.nearS = new Uint32Array(tb.cap);
+  }
   let n = 0;
-  for (const r of list.values()) {
-    const y = heightAt(r[3], r[4]);
-    if (y === null) continue;
-    const c = r[7] ? dv.ownerRgb(r[1]) : [70, 70, 70];
-    data.set([r[3], y, r[4], r[5], c[0] / 255, c[1] / 255, c[2] / 255], n * 7);
-    ++n;
+  for (let s = 0; s < tb.end; ++s) {
+    if (!shown[s]) continue;
+    const o = s * 7, dx = data[o] - eye[0], dy = data[o + 1] - eye[1], dz = -data[o + 2] - eye[2];
+    const d = dx * dx + dy * dy + dz * dz;
+    if (d < limit) { v3.nearD[n] = d; v3.nearS[n] = s; ++n; }
+  }
+  let radius2 = limit;
+  if (n > NEAR_MAX) radius2 = v3.nearD.slice(0, n).sort()[NEAR_MAX];
+  const near = v3.nearBuf && v3.nearBuf.length >= NEAR_MAX * 7 ? v3.nearBuf
+    : (v3.nearBuf = new Float32Array(NEAR_MAX * 7));
+  let k = 0;
+  for (let i = 0; i < n && k < NEAR_MAX; ++i) {
+    if (v3.nearD[i] >= radius2) continue;
+    near.set(data.subarray(v3.nearS[i] * 7, v3.nearS[i] * 7 + 7), k * 7);
+    ++k;
   }
   const gl = v3.gl;
-  gl.bindBuffer(gl.ARRAY_BUFFER, v3.instances);
-  gl.bufferData(gl.ARRAY_BUFFER, data.subarray(0, n * 7), gl.DYNAMIC_DRAW);
-  v3.vehicleCount = n;
+  gl.bindBuffer(gl.ARRAY_BUFFER, v3.nearInstances);
+  gl.bufferData(gl.ARRAY_BUFFER, near.subarray(0, k * 7), gl.DYNAMIC_DRAW);
+  v3.nearCount = k;
+  return all ? Infinity : Math.sqrt(radius2);
 }
 
 function draw(now) {
@@ -294,18 +368,25 @@ function draw(now) {
   const W = canvas.clientWidth, H = canvas.clientHeight;
   // Drawn only when something it shows changed (the camera, the window, a vehicle, the size):
   // the work follows the messages and the operator, not the display's rate.
+  // The vehicles' moves alone redraw at most every VEHICLE_REDRAW_MS: the page keeps applying its
+  // messages (and stays current) however slowly the rasteriser draws.
   const dv = window.dtView;
-  const key = [cam.x, cam.z, cam.yaw, cam.pitch, cam.dist, v3.windows, dv.deltas, dv.snapshotAt,
-               W, H].join();
-  if (key === v3.drawnKey) return;
+  const key = [cam.x, cam.z, cam.yaw, cam.pitch, cam.dist, v3.windows, dv.snapshotAt, W, H].join();
+  const moved = dv.deltas !== v3.drawnDeltas && now - (v3.drawnAt || 0) >= VEHICLE_REDRAW_MS;
+  if (key === v3.drawnKey && !moved) return;
   v3.drawnKey = key;
+  v3.drawnDeltas = dv.deltas;
+  v3.drawnAt = now;
   ++v3.frames;
   if (now - (v3.fpsFrom || 0) >= 1000) {
     v3.fps = v3.fpsFrom ? Math.round((v3.frames - v3.fpsFrames) * 1000 / (now - v3.fpsFrom)) : 0;
     v3.fpsFrom = now; v3.fpsFrames = v3.frames;
   }
-  if (canvas.width !== W || canvas.height !== H) { canvas.width = W; canvas.height = H; }
-  gl.viewport(0, 0, W, H);
+  // Fewer pixels than the screen's on a large canvas: the picture scaled up, not a stalled page.
+  const k = Math.min(1, Math.sqrt(MAX_PIXELS / Math.max(1, W * H)));
+  const PW = Math.round(W * k), PH = Math.round(H * k);
+  if (canvas.width !== PW || canvas.height !== PH) { canvas.width = PW; canvas.height = PH; }
+  gl.viewport(0, 0, PW, PH);
   gl.clearColor(SKY[0], SKY[1], SKY[2], 1);
   gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
   if (!v3.win) return;
@@ -320,25 +401,35 @@ function draw(now) {
                   lookAt(eye, at, [0, 1, 0]));
   gl.uniformMatrix4fv(v3.loc.mvp, false, mvp);
   gl.uniform1f(v3.loc.scale, 0);
+  gl.uniform1f(v3.loc.nearM, 0);
+  gl.uniform3fv(v3.loc.eye, eye);
   for (const m of [v3.ground, v3.bridges]) {
     if (!m) continue;
     gl.bindVertexArray(m.vao);
     gl.drawElements(gl.TRIANGLES, m.count, gl.UNSIGNED_INT, 0);
   }
   updateVehicles();
+  const nearM = nearVehicles(eye);
   // Vehicles at their size up close, larger when far so a marker stays a few pixels.
   gl.uniform1f(v3.loc.scale, Math.max(1, cam.dist / 250));
-  // Many vehicles: one point each (a shape of 72 vertices each costs a CPU rasteriser too much at
-  // thousands); few: the hull and turret.
-  const points = v3.vehicleCount > SIMPLE_ABOVE;
-  gl.uniform1f(v3.loc.pointPx, points ? 5 : 0);
-  gl.bindVertexArray(v3.vehicle.vao);
-  if (points) gl.drawArraysInstanced(gl.POINTS, 0, 1, v3.vehicleCount);
-  else gl.drawElementsInstanced(gl.TRIANGLES, v3.vehicle.count, gl.UNSIGNED_INT, 0, v3.vehicleCount);
+  gl.uniform1f(v3.loc.pointPx, 0);
+  if (v3.nearCount) {
+    gl.bindVertexArray(v3.near.vao);
+    gl.drawElementsInstanced(gl.TRIANGLES, v3.near.count, gl.UNSIGNED_INT, 0, v3.nearCount);
+  }
+  // The rest as one point each (a shape of 72 vertices each costs a CPU rasteriser too much at
+  // thousands); the shader leaves out those inside nearM, drawn as shapes.
+  const points = v3.vehicleCount - v3.nearCount;
+  if (points > 0) {
+    gl.uniform1f(v3.loc.pointPx, 5);
+    gl.uniform1f(v3.loc.nearM, nearM === Infinity ? 1e30 : nearM);
+    gl.bindVertexArray(v3.points);
+    gl.drawArrays(gl.POINTS, 0, window.dtView.state.vehicles.end);
+  }
   gl.uniform1f(v3.loc.pointPx, 0);
   gl.bindVertexArray(null);
   v3.drawn = { posts: v3.win.nx * v3.win.nz, step: v3.win.step, solids: v3.win.solids.length,
-               vehicles: v3.vehicleCount };
+               vehicles: v3.vehicleCount, shapes: v3.nearCount, points, pixels: PW * PH };
   $("help3d").textContent = `3D: ${v3.fps} fps, ${v3.win.nx}×${v3.win.nz} posts every ` +
     `${v3.win.step} m, ${v3.win.solids.length} bridge solids, ${v3.vehicleCount} vehicles` +
     (cam.follow ? `, following ${cam.follow}` : "") + (v3.error ? ` (${v3.error})` : "");
@@ -348,6 +439,7 @@ function show(on) {
   if (on && !v3.gl && !setUp()) { $("help3d").textContent = v3.error; }
   v3.on = on && !!v3.gl;
   v3.drawnKey = "";
+  v3.vehiclesAt = -1;  // the table's moves were not followed while hidden
   $("mapbox").classList.toggle("three", v3.on);
   $("toggle3d").textContent = v3.on ? "2D" : "3D";
   if (v3.on) requestAnimationFrame(draw);

@@ -135,7 +135,9 @@ with sync_playwright() as pw:
         page.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-whole.png"))
         print(f"whole terrain: model {held} vehicles, drawn {drawn}, owner pixels {pixels}, "
               f"terrain uncovered {100 * ground['uncovered']:.1f} % of {ground['points']} points")
-        if ground["points"] < 10000 or ground["uncovered"] < UNCOVERED_MIN:
+        # With more than 2000 features the canvas holds them too (their density picture covers
+        # the ground at 10^5): the check is of the vehicles' drawing alone.
+        if features <= 2000 and (ground["points"] < 10000 or ground["uncovered"] < UNCOVERED_MIN):
             fail(f"the vehicles' drawing leaves {100 * ground['uncovered']:.1f} % of the terrain "
                  f"uncovered ({ground['points']} points), not {100 * UNCOVERED_MIN:.0f} %")
         # Each mark (a marker, or a cell's square of at least 4 x 4 pixels) shows at least 4 pure
@@ -232,15 +234,23 @@ with sync_playwright() as pw:
                                  f"window.dtView3d.drawn.vehicles === {vehicles}", timeout=60000)
             if p3.evaluate("window.dtView3d.error"):
                 fail(f"the 3D view: {p3.evaluate('window.dtView3d.error')}")
-            p3.evaluate("window.dtView.maxLagMs = 0")
+            # The camera turns a little every animation frame (a redraw each), as the operator
+            # turning it would; the frames drawn, the page's animation frames and its lag.
+            p3.evaluate("""() => { const v = window.dtView3d; v.spinning = true; v.raf = 0;
+              const spin = () => { v.cam.yaw += 0.002; ++v.raf;
+                                   if (v.spinning) requestAnimationFrame(spin); };
+              requestAnimationFrame(spin); window.dtView.maxLagMs = 0; }""")
             f0, t0 = p3.evaluate("window.dtView3d.frames"), time.monotonic()
             p3.wait_for_timeout(5000)
-            fps3d = (p3.evaluate("window.dtView3d.frames") - f0) / (time.monotonic() - t0)
-            d3 = p3.evaluate("window.dtView3d.drawn")
+            r = p3.evaluate("""() => { const v = window.dtView3d; v.spinning = false;
+              return {frames: v.frames, raf: v.raf, lag: window.dtView.maxLagMs, drawn: v.drawn}; }""")
+            dt = time.monotonic() - t0
+            d3 = r["drawn"]
             load = os.getloadavg()
-            print(f"3D view, {d3['vehicles']} vehicles drawn on {d3['posts']} posts: {fps3d:.1f} "
-                  f"fps, lag max {p3.evaluate('window.dtView.maxLagMs')} ms, load average "
-                  f"{load[0]:.2f}")
+            print(f"3D view, {d3['vehicles']} vehicles ({d3['shapes']} shapes, {d3['points']} points)"
+                  f" on {d3['posts']} posts, {d3['pixels']} pixels, the camera turning: "
+                  f"{(r['frames'] - f0) / dt:.1f} fps, animation frames {r['raf'] / dt:.1f}/s, "
+                  f"lag max {r['lag']} ms, load average {load[0]:.2f}")
             p3.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-3d.png"))
         finally:
             browser3d.close()

@@ -329,6 +329,10 @@ function drawVehicles(t, under) {
     for (let c = 0; c < totals.length; ++c) most = Math.max(most, totals[c]);
     const byOwner = tb.owners.map(() => new Path2D()), deadMarks = new Path2D();
     let cells = 0;
+    // Features as a density picture (too many to draw one by one) would hide every glyph: under
+    // them then; features as shapes go above the glyphs.
+    const featuresFirst = featuresOnCanvas() && featureCache.mode === "density";
+    if (featuresFirst) under();
     for (let c = 0; c < totals.length; ++c) {
       if (!totals[c]) continue;
       ++cells;
@@ -345,7 +349,7 @@ function drawVehicles(t, under) {
     tb.owners.forEach((o, i) => { ctx.fillStyle = css(ownerRgb(o)); ctx.fill(byOwner[i]); });
     ctx.fillStyle = "#ff3b2b"; ctx.fill(deadMarks);
     drawn.marks = cells;
-    under();  // the features above the glyphs (docs/view.md "Drawing at scale")
+    if (!featuresFirst) under();  // the features above the glyphs (docs/view.md "Drawing at scale")
   }
   return drawn;
 }

@@ -56,10 +56,11 @@ struct WanderCommand {
 // type's full turn rate and 30 % of its top speed until it faces
 // inwards again, then starts a new leg.
 //
-// It also looks at the terrain ahead, as a driver would: an earthwork (crater, berm, ditch) whose
-// bounds, widened by half its width and a metre, lie across its path within `avoid_ahead_m()` of
-// its centre is an obstacle; it slows to 30 % of its top speed and turns at its full rate away
-// from the nearest one, on the side first chosen, until the path is clear. One already under it
+// It also looks at the terrain ahead, as a driver would: an earthwork (crater, berm, ditch), taken
+// as a disc (a crater's own, else the one round its bounds), that comes within half its width and
+// a metre of its path within `avoid_ahead_m()` is an obstacle; it slows to 30 % of its top speed
+// (less where its full turn rate's circle would not pass the nearest one) and turns at its full
+// rate away from it, on the side first chosen, until the path is clear. One already under it
 // is not avoided (it drives out), and after kAvoidGiveUpS of turning it crawls on straight at
 // 10 % of its top speed until the path clears. Bridges are not obstacles: they are driven over.
 // A clear path is looked at every 0.2 s, a blocked one every tick.

@@ -109,7 +109,7 @@ void NodeApp::Tick(int64_t now_ms, double dt_s) {
     SimulatedVehicle& v = vehicles_[i];
     // A wanderer steers until its vehicle can no longer be driven (destroyed, immobilised).
     if (autonomy_[i] && v.alive() && v.damage_name() == "none") {
-      const WanderCommand c = autonomy_[i]->Next(v.pose(), dt_s);
+      const WanderCommand c = autonomy_[i]->Next(v.pose(), dt_s, replica_->terrain());
       if (c.speed_mps != v.commanded_speed_mps() ||
           c.heading_rate_rad_s != v.commanded_rate_rad_s()) {
         (void)v.Command(c.speed_mps, c.heading_rate_rad_s);

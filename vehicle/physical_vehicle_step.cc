@@ -550,6 +550,9 @@ void PhysicalVehicle::CheckDamage(PhysicalReport& report) {
   // Static stability: past it the vehicle is destroyed, and its wreck goes on as a box under
   // gravity (GatherWreckTouches) until it comes to rest on what is below it.
   // |pitch| > limit is |forward.y| > sin(limit); |roll| > limit is |left.y| > tan(limit) up.y.
+  // A wreck is past caring: its message would be formatted, and dropped, every step it lies
+  // tipped.
+  if (!alive()) return;
   const Matrix3d& Rn = Rotation();
   const double up_y = Rn(1, 1);
   if (up_y <= 0.0 || std::abs(Rn(1, 0)) > sin_pitch_limit_ ||

@@ -25,6 +25,7 @@ Result<SimulatedVehicle> SimulatedVehicle::Make(const PhysicalVehicleType& type,
     if (!v) return v.error();
     out.physical_.emplace(std::move(v).value());
   }
+  out.pose_ = out.ComputePose();
   return out;
 }
 
@@ -46,6 +47,7 @@ Result<VehicleEvents> SimulatedVehicle::Advance(const Terrain& terrain, double d
   if (light_) {
     Result<LightReport> r = light_->Advance(terrain, dt_s);
     if (!r) return r.error();
+    pose_ = ComputePose();
     const LightReport& l = r.value();
     if (l.event == BridgeEvent::kMounted) e.mounted = l.bridge;
     if (l.event == BridgeEvent::kDroveOff) e.drove_off = l.bridge;
@@ -54,8 +56,11 @@ Result<VehicleEvents> SimulatedVehicle::Advance(const Terrain& terrain, double d
     if (e.died) e.cause = "fell off a bridge tilted past the type's limits";
     return e;
   }
+  const bool was_asleep = physical_->asleep();
   Result<PhysicalReport> r = physical_->Advance(terrain, dt_s);
   if (!r) return r.error();
+  // Asleep through the whole call (too short to wake and fall asleep again), it did not move.
+  if (!was_asleep || !physical_->asleep() || dt_s >= kSleepAfterS) pose_ = ComputePose();
   const PhysicalReport& p = r.value();
   e.mounted = p.mounted;
   e.drove_off = p.drove_off;
@@ -65,7 +70,7 @@ Result<VehicleEvents> SimulatedVehicle::Advance(const Terrain& terrain, double d
   return e;
 }
 
-VehiclePose SimulatedVehicle::pose() const {
+VehiclePose SimulatedVehicle::ComputePose() const {
   if (light_) {
     const Vehicle& v = light_->vehicle();
     return {v.x_m(),       v.z_m(),      v.elevation_m(), v.heading_rad(),

@@ -52,7 +52,9 @@ class SimulatedVehicle {
   double commanded_rate_rad_s() const;
   Result<VehicleEvents> Advance(const Terrain& terrain, double dt_s);
 
-  VehiclePose pose() const;
+  // Computed once per Advance (a group's tick asks it of each vehicle three times: steering,
+  // observing its motion, sending its state).
+  const VehiclePose& pose() const { return pose_; }
   bool alive() const;
   // kNone, kImmobilised or kDestroyed (the light model: kNone or kDestroyed).
   Damage damage() const;
@@ -65,6 +67,8 @@ class SimulatedVehicle {
 
  private:
   explicit SimulatedVehicle(const PhysicalVehicleType& type) : type_(type) {}
+  VehiclePose ComputePose() const;
+  VehiclePose pose_;
   PhysicalVehicleType type_;
   std::optional<PhysicalVehicle> physical_;
   std::optional<LightVehicle> light_;

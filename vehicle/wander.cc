@@ -4,6 +4,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "terrain/crater.h"
+#include "terrain/feature.h"
+
 namespace dt {
 namespace {
 
@@ -19,7 +22,33 @@ constexpr double kSteerTimeS = 0.5;  // the turn rate that closes a heading erro
 // if the next one is lost, a receiver extrapolates for seconds (docs/performance.md).
 constexpr double kSpeedRampMps2 = 2.0;
 
+// Obstacles: seen this many seconds of driving ahead (plus a length and a turning circle), passed
+// with this much room beside the hull; turning away from them this long at most, then crawling.
+constexpr double kAvoidSeeS = 2.0;
+constexpr double kAvoidRoomM = 1.0;
+constexpr double kAvoidGiveUpS = 8.0;
+constexpr double kAvoidSpeed = 0.3;  // of the type's top speed
+constexpr double kCrawlSpeed = 0.1;  // of the type's top speed
+// A clear path is looked at again after this long (a group's vehicles in turn); one with an
+// obstacle every tick.
+constexpr double kLookPeriodS = 0.2;
+
 double WrapPi(double a) { return std::remainder(a, 2 * std::numbers::pi); }
+
+// An obstacle as a disc: a crater's own, else the one round its bounds.
+void Disc(const Feature& f, double& x_m, double& z_m, double& radius_m) {
+  if (f.type() == FeatureType::kCrater) {
+    const auto& c = static_cast<const Crater&>(f);
+    x_m = c.x_m();
+    z_m = c.z_m();
+    radius_m = c.radius_m();
+    return;
+  }
+  const Rect b = f.Bounds();
+  x_m = (b.min_x + b.max_x) / 2;
+  z_m = (b.min_z + b.max_z) / 2;
+  radius_m = std::hypot(b.max_x - b.min_x, b.max_z - b.min_z) / 2;
+}
 
 }  // namespace
 
@@ -50,8 +79,14 @@ WanderStart DrawWanderStart(const WanderArea& clear, WanderRandom& random) {
 
 Wanderer::Wanderer(const VehicleType& type, const WanderArea& area, double terrain_size_x_m,
                    double terrain_size_z_m, uint64_t seed)
-    : max_speed_mps_(type.max_speed_mps), max_rate_rad_s_(type.max_turn_rate_rad_s), random_(seed) {
+    : max_speed_mps_(type.max_speed_mps),
+      max_rate_rad_s_(type.max_turn_rate_rad_s),
+      length_m_(type.length_m),
+      half_width_m_(type.width_m / 2),
+      random_(seed),
+      look_in_s_(kLookPeriodS * static_cast<double>(seed % 6) / 6.0) {
   const double turn_radius_m = kTurnBackSpeed * max_speed_mps_ / std::max(max_rate_rad_s_, 1e-6);
+  turn_radius_m_ = turn_radius_m;
   lookahead_m_ = 2 * turn_radius_m + type.length_m + kLegSpeedMax * max_speed_mps_ * kReactionS;
   edge_margin_m_ = 2 * turn_radius_m + type.length_m;
   // The area less the margin at the terrain's edge; a point at its middle if nothing is left.
@@ -82,7 +117,54 @@ bool Wanderer::Inside(double x_m, double z_m) const {
          z_m <= clear_.z_max_m;
 }
 
-WanderCommand Wanderer::Next(const VehiclePose& pose, double dt_s) {
+double Wanderer::avoid_ahead_m(double speed_mps) const {
+  return length_m_ + turn_radius_m_ + std::abs(speed_mps) * kAvoidSeeS;
+}
+
+bool Wanderer::ObstacleAhead(const VehiclePose& pose, double ahead_m, const Terrain& terrain,
+                             double& at_x_m, double& at_z_m, double& turn_radius_m) const {
+  const HeightGrid& g = terrain.ground();
+  const double ux = std::cos(pose.heading_rad), uz = std::sin(pose.heading_rad);
+  const double ax = pose.x_m, az = pose.z_m;
+  const double bx = ax + ux * ahead_m, bz = az + uz * ahead_m;
+  const double room_m = half_width_m_ + kAvoidRoomM;
+  const Rect path =
+      Rect{std::min(ax, bx), std::min(az, bz), std::max(ax, bx), std::max(az, bz)}.Expanded(room_m);
+  const double sx = g.size_x_m(), sz = g.size_z_m();
+  const SquareIndex lo =
+      g.SquareAt(std::clamp(path.min_x, 0.0, sx), std::clamp(path.min_z, 0.0, sz));
+  const SquareIndex hi =
+      g.SquareAt(std::clamp(path.max_x, 0.0, sx), std::clamp(path.max_z, 0.0, sz));
+  double nearest_m = INFINITY;
+  for (int j = lo.j; j <= hi.j; ++j) {
+    for (int i = lo.i; i <= hi.i; ++i) {
+      if (terrain.SquareBits({i, j}) == 0) continue;
+      for (const Feature* f : terrain.FeaturesInSquare({i, j})) {
+        if (f->type() == FeatureType::kBridge || !f->Bounds().Intersects(path)) continue;
+        double cx = 0.0, cz = 0.0, radius_m = 0.0;
+        Disc(*f, cx, cz, radius_m);
+        // Along the path to the point nearest the disc's centre, and across from it. One behind
+        // or beside (passing it, or driving out of one it is on) is no obstacle.
+        const double along_m = (cx - ax) * ux + (cz - az) * uz;
+        const double across_m = std::abs((cz - az) * ux - (cx - ax) * uz);
+        if (along_m <= 0.0 || along_m > ahead_m + radius_m || across_m >= radius_m + room_m ||
+            std::hypot(cx - ax, cz - az) <= radius_m)
+          continue;
+        if (along_m < nearest_m) {
+          nearest_m = along_m;
+          at_x_m = cx;
+          at_z_m = cz;
+          // The widest turn that passes it: one that moves `need` sideways in `along` ahead.
+          const double need_m = radius_m + room_m - across_m;
+          turn_radius_m = along_m * along_m / (2.0 * need_m);
+        }
+      }
+    }
+  }
+  return nearest_m < INFINITY;
+}
+
+WanderCommand Wanderer::Next(const VehiclePose& pose, double dt_s, const Terrain& terrain) {
   const double ax = std::cos(pose.heading_rad), az = std::sin(pose.heading_rad);
   const bool ahead_clear = Inside(pose.x_m + ax * lookahead_m_, pose.z_m + az * lookahead_m_);
   const double to_centre = std::atan2((clear_.z_min_m + clear_.z_max_m) / 2 - pose.z_m,
@@ -109,10 +191,38 @@ WanderCommand Wanderer::Next(const VehiclePose& pose, double dt_s) {
     if (leg_left_s_ <= 0.0) NewLeg();
     wanted = leg_;
   }
-  // Slowing for a turn back may take longer than the ramp allows: it is not ramped down.
+  double obstacle_x = 0.0, obstacle_z = 0.0, turn_radius_m = 0.0;
+  const double ahead_m = avoid_ahead_m(std::max(pose.speed_mps, speed_mps_));
+  look_in_s_ -= dt_s;
+  const bool look = avoid_s_ > 0.0 || look_in_s_ <= 0.0;
+  if (look && look_in_s_ <= 0.0) look_in_s_ += kLookPeriodS;
+  if (look && ObstacleAhead(pose, ahead_m, terrain, obstacle_x, obstacle_z, turn_radius_m)) {
+    if (avoid_s_ == 0.0) {
+      // Away from the obstacle's centre; the side is kept while avoiding, so two obstacles
+      // either side cannot make it hesitate between them.
+      const double left = ax * (obstacle_z - pose.z_m) - az * (obstacle_x - pose.x_m);
+      avoid_sign_ = left > 0.0 ? -1.0 : 1.0;
+    }
+    avoid_s_ += dt_s;
+    if (avoid_s_ > kAvoidGiveUpS) {
+      wanted.speed_mps = std::min(wanted.speed_mps, kCrawlSpeed * max_speed_mps_);
+      if (!turning_back_) wanted.heading_rate_rad_s = 0.0;
+    } else {
+      // Slow enough that the full turn rate's circle passes it, but never below a crawl.
+      const double passing_mps =
+          std::max(kCrawlSpeed * max_speed_mps_, turn_radius_m * max_rate_rad_s_);
+      wanted.speed_mps = std::min({wanted.speed_mps, kAvoidSpeed * max_speed_mps_, passing_mps});
+      wanted.heading_rate_rad_s = avoid_sign_ * max_rate_rad_s_;
+    }
+  } else {
+    avoid_s_ = 0.0;
+  }
+  // Slowing for a turn back or an obstacle may take longer than the ramp allows: it is not
+  // ramped down.
   const double step = kSpeedRampMps2 * dt_s;
-  speed_mps_ = turning_back_ ? std::min(wanted.speed_mps, speed_mps_ + step)
-                             : std::clamp(wanted.speed_mps, speed_mps_ - step, speed_mps_ + step);
+  speed_mps_ = turning_back_ || avoid_s_ > 0.0
+                   ? std::min(wanted.speed_mps, speed_mps_ + step)
+                   : std::clamp(wanted.speed_mps, speed_mps_ - step, speed_mps_ + step);
   return {speed_mps_, wanted.heading_rate_rad_s};
 }
 

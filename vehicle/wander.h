@@ -4,6 +4,8 @@
 
 #include <cstdint>
 
+#include "base/rect.h"
+#include "terrain/terrain.h"
 #include "vehicle/simulated_vehicle.h"
 #include "vehicle/vehicle_type.h"
 
@@ -52,8 +54,17 @@ struct WanderCommand {
 // that point leaves the area, or comes within `edge_margin_m()` (a turning circle and a length) of
 // the terrain's edge, it turns towards the area's centre, on the side it first turned to, at the
 // type's full turn rate and 30 % of its top speed until it faces
-// inwards again, then starts a new leg. The same seed, type, area and sequence of poses and time
-// steps give the same commands.
+// inwards again, then starts a new leg.
+//
+// It also looks at the terrain ahead, as a driver would: an earthwork (crater, berm, ditch), taken
+// as a disc (a crater's own, else the one round its bounds), that comes within half its width and
+// a metre of its path within `avoid_ahead_m()` is an obstacle; it slows to 30 % of its top speed
+// (less where its full turn rate's circle would not pass the nearest one) and turns at its full
+// rate away from it, on the side first chosen, until the path is clear. One already under it
+// is not avoided (it drives out), and after kAvoidGiveUpS of turning it crawls on straight at
+// 10 % of its top speed until the path clears. Bridges are not obstacles: they are driven over.
+// A clear path is looked at every 0.2 s, a blocked one every tick.
+// The same seed, type, area, terrain and sequence of poses and time steps give the same commands.
 class Wanderer {
  public:
   // `area` must lie inside [0, terrain_size_x_m] x [0, terrain_size_z_m] (the exercise file's
@@ -61,8 +72,8 @@ class Wanderer {
   Wanderer(const VehicleType& type, const WanderArea& area, double terrain_size_x_m,
            double terrain_size_z_m, uint64_t seed);
 
-  // The command for the tick of dt_s that starts at `pose`.
-  WanderCommand Next(const VehiclePose& pose, double dt_s);
+  // The command for the tick of dt_s that starts at `pose` on `terrain`.
+  WanderCommand Next(const VehiclePose& pose, double dt_s, const Terrain& terrain);
 
   // Only the clear part of the area is wandered: the area less edge_margin_m() at the terrain's
   // edge (a point at its centre if nothing is left).
@@ -70,21 +81,32 @@ class Wanderer {
   double lookahead_m() const { return lookahead_m_; }
   double edge_margin_m() const { return edge_margin_m_; }
   bool turning_back() const { return turning_back_; }
+  // True while the last Next steered around an obstacle (or crawled on after giving up).
+  bool avoiding() const { return avoid_s_ > 0.0; }
+  // How far ahead of its centre it looks for obstacles at `speed_mps`.
+  double avoid_ahead_m(double speed_mps) const;
 
  private:
   void NewLeg();
   bool Inside(double x_m, double z_m) const;
+  // The nearest obstacle across the path ahead (false: none): its centre, and the radius of the
+  // widest turn that passes it.
+  bool ObstacleAhead(const VehiclePose& pose, double ahead_m, const Terrain& terrain,
+                     double& at_x_m, double& at_z_m, double& turn_radius_m) const;
 
   double max_speed_mps_, max_rate_rad_s_;
+  double length_m_, half_width_m_, turn_radius_m_;
   double lookahead_m_, edge_margin_m_;
   WanderArea clear_;
   WanderRandom random_;
   WanderCommand leg_;
   double leg_left_s_ = 0.0;
   bool turning_back_ = false;
-  double turn_sign_ = 1.0;
-  double speed_mps_ = 0.0;  // commanded last, ramped at 2 m/s^2 except when slowing to turn back //
-                            // of the turn back: +1 counter-clockwise
+  double turn_sign_ = 1.0;  // of the turn back: +1 counter-clockwise
+  double speed_mps_ = 0.0;  // commanded last, ramped at 2 m/s^2 except when slowing down
+  double avoid_s_ = 0.0;    // time spent avoiding the obstacles ahead (0: the path is clear)
+  double avoid_sign_ = 1.0;
+  double look_in_s_ = 0.0;  // until the path ahead is looked at again
 };
 
 }  // namespace dt

@@ -103,7 +103,7 @@ class VehicleFleet {
     for (size_t i = 0; i < vehicles_.size(); ++i) {
       SimulatedVehicle& v = vehicles_[i];
       if (v.alive()) {
-        const WanderCommand c = wanderers_[i].Next(v.pose(), kTickS);
+        const WanderCommand c = wanderers_[i].Next(v.pose(), kTickS, terrain);
         if (c.speed_mps != v.commanded_speed_mps() ||
             c.heading_rate_rad_s != v.commanded_rate_rad_s()) {
           (void)v.Command(c.speed_mps, c.heading_rate_rad_s);

@@ -187,7 +187,7 @@ void BM_GroupTick(benchmark::State& state) {
     for (size_t i = 0; i < group.size(); ++i) {
       SimulatedVehicle& v = group[i];
       if (v.alive() && v.damage() == Damage::kNone) {
-        const WanderCommand c = wanderers[i].Next(v.pose(), kTickS);
+        const WanderCommand c = wanderers[i].Next(v.pose(), kTickS, *f.terrain);
         if (c.speed_mps != v.commanded_speed_mps() ||
             c.heading_rate_rad_s != v.commanded_rate_rad_s()) {
           (void)v.Command(c.speed_mps, c.heading_rate_rad_s);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -65,7 +66,7 @@ WanderRun Wander(const char* type_name, VehicleModel model, const WanderArea& ar
     for (int i = 0; i < count; ++i) {
       SimulatedVehicle& v = vehicles[static_cast<size_t>(i)];
       const VehiclePose before = v.pose();
-      const WanderCommand c = wanderers[static_cast<size_t>(i)].Next(before, kTick);
+      const WanderCommand c = wanderers[static_cast<size_t>(i)].Next(before, kTick, terrain);
       EXPECT_TRUE(v.Command(c.speed_mps, c.heading_rate_rad_s).ok());
       EXPECT_TRUE(v.Advance(terrain, kTick).ok());
       const VehiclePose p = v.pose();
@@ -154,6 +155,84 @@ TEST(Wanderer, NeverReachesTheTerrainsEdgeOverSeededRuns) {
                 seed, type, std::string(VehicleModelName(model)).c_str(), run.closest_to_edge_m,
                 run.farthest_outside_area_m);
   }
+}
+
+// A field of craters (radius 2-10 m, 1000 per km^2, seeded) on a 500 m rolling terrain, and the
+// same terrain bare.
+struct CraterField {
+  std::unique_ptr<Terrain> cratered, bare;
+};
+const CraterField& Craters() {
+  static const CraterField field = [] {
+    RandomTerrainParams p;
+    p.posts_x = p.posts_z = 51;  // 500 m
+    p.spacing_m = 10.0;
+    p.relief_m = 10.0;
+    p.seed = 3;
+    CraterField f{std::make_unique<Terrain>(MakeRandomTerrain(p)),
+                  std::make_unique<Terrain>(MakeRandomTerrain(p))};
+    WanderRandom r(17);
+    for (uint32_t i = 1; i <= 250; ++i) {
+      (void)f.cratered->Add({1, 1, i}, FeatureParams::Crater(r.Uniform(20, 480), r.Uniform(20, 480),
+                                                             r.Uniform(2, 10)));
+    }
+    return f;
+  }();
+  return field;
+}
+
+// The fraction of a seeded group of 48 physical tanks, trucks and jeeps wandering the crater field
+// for 40 s that ends damaged (immobilised or destroyed), their wanderers looking ahead on `seen`.
+double DamagedFraction(const Terrain& seen) {
+  const Terrain& driven = *Craters().cratered;
+  const double size_m = driven.ground().size_x_m();
+  const WanderArea area{0.0, size_m, 0.0, size_m};
+  const char* types[] = {"tank", "truck", "jeep"};
+  std::vector<SimulatedVehicle> vehicles;
+  std::vector<Wanderer> wanderers;
+  for (int i = 0; i < 48; ++i) {
+    const PhysicalVehicleType type = PhysType(types[i % 3]);
+    const uint64_t seed = WanderSeed(8, static_cast<uint64_t>(i));
+    wanderers.emplace_back(type.base, area, size_m, size_m, seed);
+    WanderRandom place(seed + 1);
+    for (;;) {  // a place clear of every crater
+      const WanderStart s = DrawWanderStart(wanderers.back().clear_area(), place);
+      if (!driven.FeaturesNear(s.x_m, s.z_m).empty()) continue;
+      vehicles.push_back(SimulatedVehicle::Make(type, driven, s.x_m, s.z_m, s.heading_rad).value());
+      break;
+    }
+  }
+  for (int tick = 0; tick < 40 * 30; ++tick) {
+    for (size_t i = 0; i < vehicles.size(); ++i) {
+      SimulatedVehicle& v = vehicles[i];
+      if (v.damage() == Damage::kNone) {
+        const WanderCommand c = wanderers[i].Next(v.pose(), kTick, seen);
+        EXPECT_TRUE(v.Command(c.speed_mps, c.heading_rate_rad_s).ok());
+      }
+      const Result<VehicleEvents> e = v.Advance(driven, kTick);
+      EXPECT_TRUE(e.ok());
+      if (e.ok() && !e.value().cause.empty() && std::getenv("DT_WANDER_TRACE") != nullptr) {
+        const VehiclePose p = v.pose();
+        std::printf("tick %d vehicle %zu %s at (%.1f %.1f) speed %.1f avoiding %d back %d: %s\n",
+                    tick, i, v.type_name().c_str(), p.x_m, p.z_m, p.speed_mps,
+                    wanderers[i].avoiding() ? 1 : 0, wanderers[i].turning_back() ? 1 : 0,
+                    e.value().cause.c_str());
+      }
+    }
+  }
+  int damaged = 0;
+  for (const SimulatedVehicle& v : vehicles) damaged += v.damage() == Damage::kNone ? 0 : 1;
+  return static_cast<double>(damaged) / static_cast<double>(vehicles.size());
+}
+
+TEST(Wanderer, SteersAroundTheCratersItSeesAhead) {
+  // Blind to the craters (its look-ahead on the bare twin of the terrain, as wanderers were), a
+  // group drives into them and many end damaged; seeing them, few do.
+  const double blind = DamagedFraction(*Craters().bare);
+  const double seeing = DamagedFraction(*Craters().cratered);
+  std::printf("damaged after 40 s: blind %.3f, seeing %.3f\n", blind, seeing);
+  EXPECT_GT(blind, 0.3) << "the field was meant to be hard going";
+  EXPECT_LT(seeing, 0.15);
 }
 
 }  // namespace

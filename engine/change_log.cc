@@ -6,13 +6,13 @@ namespace dt {
 
 bool ChangeLog::Insert(const Change& change) {
   const int64_t seq = change.stamp.change_seq;
-  const auto slots = static_cast<int64_t>(slots_.size());
+  const auto slots = static_cast<int64_t>(slot_count_);
   if (Find(seq) != nullptr) return false;
   if (seq >= 1 && seq <= slots) {
-    slots_[static_cast<size_t>(seq - 1)] = change;
+    slot(static_cast<size_t>(seq - 1)) = change;
   } else if (seq > slots && seq - slots <= kMaxSlotJump) {
-    slots_.resize(static_cast<size_t>(seq - 1));
-    slots_.emplace_back(change);
+    GrowSlots(static_cast<size_t>(seq));
+    slot(static_cast<size_t>(seq - 1)) = change;
   } else {
     aside_.emplace(seq, change);
   }
@@ -22,12 +22,17 @@ bool ChangeLog::Insert(const Change& change) {
   return true;
 }
 
+void ChangeLog::GrowSlots(size_t count) {
+  while (chunks_.size() * kChunkSlots < count) chunks_.push_back(std::make_unique<Chunk>());
+  slot_count_ = std::max(slot_count_, count);
+}
+
 bool ChangeLog::Replace(const Change& change) {
   const int64_t seq = change.stamp.change_seq;
-  if (seq >= 1 && seq <= static_cast<int64_t>(slots_.size())) {
-    auto& slot = slots_[static_cast<size_t>(seq - 1)];
-    if (slot) {
-      *slot = change;
+  if (seq >= 1 && seq <= static_cast<int64_t>(slot_count_)) {
+    auto& held = slot(static_cast<size_t>(seq - 1));
+    if (held) {
+      *held = change;
       return true;
     }
   }
@@ -39,9 +44,9 @@ bool ChangeLog::Replace(const Change& change) {
 
 std::optional<Change> ChangeLog::Remove(int64_t seq) {
   std::optional<Change> removed;
-  if (seq >= 1 && seq <= static_cast<int64_t>(slots_.size())) {
-    auto& slot = slots_[static_cast<size_t>(seq - 1)];
-    removed.swap(slot);  // the slot stays, empty: later slots do not move
+  if (seq >= 1 && seq <= static_cast<int64_t>(slot_count_)) {
+    auto& held = slot(static_cast<size_t>(seq - 1));
+    removed.swap(held);  // the slot stays, empty: later slots do not move
   }
   if (!removed) {
     auto it = aside_.find(seq);
@@ -57,9 +62,9 @@ std::optional<Change> ChangeLog::Remove(int64_t seq) {
     if (auto a = aside_.lower_bound(seq); a != aside_.begin()) {
       max_held_ = std::max<int64_t>(0, std::prev(a)->first);
     }
-    for (int64_t s = std::min<int64_t>(seq - 1, static_cast<int64_t>(slots_.size())); s > max_held_;
+    for (int64_t s = std::min<int64_t>(seq - 1, static_cast<int64_t>(slot_count_)); s > max_held_;
          --s) {
-      if (slots_[static_cast<size_t>(s - 1)]) {
+      if (slot(static_cast<size_t>(s - 1))) {
         max_held_ = s;
         break;
       }
@@ -69,9 +74,9 @@ std::optional<Change> ChangeLog::Remove(int64_t seq) {
 }
 
 const Change* ChangeLog::Find(int64_t seq) const {
-  if (seq >= 1 && seq <= static_cast<int64_t>(slots_.size())) {
-    const auto& slot = slots_[static_cast<size_t>(seq - 1)];
-    if (slot) return &*slot;
+  if (seq >= 1 && seq <= static_cast<int64_t>(slot_count_)) {
+    const auto& held = slot(static_cast<size_t>(seq - 1));
+    if (held) return &*held;
   }
   if (aside_.empty()) return nullptr;
   auto it = aside_.find(seq);
@@ -81,10 +86,10 @@ const Change* ChangeLog::Find(int64_t seq) const {
 std::vector<const Change*> ChangeLog::Range(int64_t start, int64_t end) const {
   std::vector<const Change*> out;
   const int64_t first = std::max<int64_t>(start, 1);
-  const int64_t last = std::min<int64_t>(end, static_cast<int64_t>(slots_.size()));
+  const int64_t last = std::min<int64_t>(end, static_cast<int64_t>(slot_count_));
   for (int64_t seq = first; seq <= last; ++seq) {
-    const auto& slot = slots_[static_cast<size_t>(seq - 1)];
-    if (slot) out.push_back(&*slot);
+    const auto& held = slot(static_cast<size_t>(seq - 1));
+    if (held) out.push_back(&*held);
   }
   if (!aside_.empty()) {
     const size_t from_slots = out.size();
@@ -113,8 +118,8 @@ std::pair<int64_t, int64_t> ChangeLog::FirstGap() const {
   const int64_t start = contiguous_ + 1;
   // The next held sequence: a slot is at most kMaxSlotJump past a held one, so this scan is short.
   int64_t next = known + 1;
-  for (int64_t seq = start + 1; seq <= static_cast<int64_t>(slots_.size()); ++seq) {
-    if (slots_[static_cast<size_t>(seq - 1)]) {
+  for (int64_t seq = start + 1; seq <= static_cast<int64_t>(slot_count_); ++seq) {
+    if (slot(static_cast<size_t>(seq - 1))) {
       next = seq;
       break;
     }

@@ -2,9 +2,10 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
-#include <deque>
 #include <map>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -74,8 +75,19 @@ class ChangeLog {
   static constexpr int64_t kMaxSlotJump = 256;
 
  private:
-  // Slot i holds sequence i + 1. A deque, so adding slots never moves a held change.
-  std::deque<std::optional<Change>> slots_;
+  // Slot i holds sequence i + 1, in fixed chunks of kChunkSlots: adding slots never moves a held
+  // change, and a change costs no allocation of its own (a deque of a type this large allocates a
+  // block for every one or two, a malloc per change on the receive path).
+  static constexpr size_t kChunkSlots = 32;
+  using Chunk = std::array<std::optional<Change>, kChunkSlots>;
+  std::optional<Change>& slot(size_t i) { return (*chunks_[i / kChunkSlots])[i % kChunkSlots]; }
+  const std::optional<Change>& slot(size_t i) const {
+    return (*chunks_[i / kChunkSlots])[i % kChunkSlots];
+  }
+  // Opens empty slots up to `count` (never fewer than there are).
+  void GrowSlots(size_t count);
+  std::vector<std::unique_ptr<Chunk>> chunks_;
+  size_t slot_count_ = 0;
   std::map<int64_t, Change> aside_;  // held changes that got no slot
   size_t held_ = 0;
   int64_t max_held_ = 0;

@@ -31,9 +31,12 @@ std::pair<std::map<FeatureId, Record>::iterator, bool> RecordStore::Claim(Featur
   auto newest = newest_.find(OriginOf(id));
   if (newest != newest_.end() && newest->second->first < id) {
     // Past every number of its origin: the record goes right after that origin's newest one,
-    // which the hint makes an insertion without a search of the tree.
-    auto it = records_.emplace_hint(std::next(newest->second), std::piecewise_construct,
-                                    std::forward_as_tuple(id), std::forward_as_tuple());
+    // which the hint makes an insertion without a search of the tree. When that one is the last
+    // record (one origin creating), end() is the hint: std::next would climb the tree to find it.
+    const auto after =
+        newest->second == std::prev(records_.end()) ? records_.end() : std::next(newest->second);
+    auto it = records_.emplace_hint(after, std::piecewise_construct, std::forward_as_tuple(id),
+                                    std::forward_as_tuple());
     newest->second = it;
     return {it, true};
   }

@@ -56,7 +56,8 @@ Replica::Replica(ReplicaConfig config, BaseGround ground, PduBus& bus)
     : config_(config),
       bus_(bus),
       records_(std::move(ground)),
-      ground_digest_(ComputeDigest(records_.terrain())),
+      ground_digest_(config.ground_digest ? *config.ground_digest
+                                          : ComputeDigest(records_.terrain())),
       scheduler_(config.playback_window, config.playback_retry_ms) {
   CheckConfig(config_);
   DT_LOG_INFO("replica {}: ground {} ({})", config_.address.ToString(), ground_digest_.ToHex(),

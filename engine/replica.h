@@ -69,6 +69,11 @@ struct ReplicaConfig {
   // Where this replica's ground came from ("ground_file /x/y.dtt", "random seed 7 ..."), named
   // with its digest when a member on another ground is refused (docs/pdu.md "Ground identity").
   std::string ground_source = "the given ground";
+  // The digest of the ground given, base features included (ComputeDigest of it), when the caller
+  // holds it already (a ground cache's header, a benchmark restarting replicas on one ground):
+  // spares digesting every post again at start. Empty: computed here. Pass only a digest computed
+  // of exactly this ground: a wrong one would hide a differing ground from its peers.
+  std::optional<TerrainDigest> ground_digest;
 };
 
 // A received Lamport clock more than this far ahead of the receiver's is refused: a clock that

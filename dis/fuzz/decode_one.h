@@ -10,7 +10,10 @@ namespace dt::dis::fuzz {
 // PDU, checks what must hold for anything the gateway may see: it re-encodes to a datagram of
 // the same size that decodes to the same PDU, and the mapping to a vehicle pose or a feature
 // either refuses it with a reason or gives finite values (a feature FeatureToDis takes back
-// without throwing). A broken invariant aborts. Returns true if the decoder accepted.
+// without throwing). The same bytes are also read as a bundle of PDUs (IEEE 1278.2, as the
+// gateway reads every datagram): each frame decodes as it would alone, with the same checks for
+// each PDU accepted. A broken invariant aborts. Returns true if the decoder accepted the whole
+// datagram as one PDU.
 bool DecodeOne(const uint8_t* data, size_t size);
 
 inline constexpr uint8_t kFuzzExercise = 5;

@@ -121,6 +121,22 @@ int main(int argc, char** argv) {
   PutNan(nan_point, 32);
   Write(dir, "point_object_nan_location", nan_point);
   Write(dir, "empty", {});
+
+  // Bundles (IEEE 1278.2: PDUs concatenated, each framed by its own length), which the gateway
+  // splits: none is one whole PDU, so none is "_valid" for DecodeOne's answer.
+  auto bundle = [](std::initializer_list<std::vector<uint8_t>> parts) {
+    std::vector<uint8_t> out;
+    for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+    return out;
+  };
+  Write(dir, "bundle_entity_point_linear", bundle({Encode(es), Encode(point), Encode(linear)}));
+  Write(dir, "bundle_bad_between_good", bundle({Encode(es), nan_location, Encode(point)}));
+  const auto whole = Encode(es);
+  Write(dir, "bundle_truncated_tail",
+        bundle({Encode(point), std::vector<uint8_t>(whole.begin(), whole.end() - 5)}));
+  auto short_length = Encode(es);
+  SetLength(short_length, 4);
+  Write(dir, "bundle_length_below_header", bundle({Encode(point), short_length}));
   std::printf("wrote %d corpus files to %s\n", written, dir.c_str());
   return 0;
 }

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <random>
 
 #include "dis/dis_codec.h"
@@ -29,6 +30,27 @@ TEST(DisFuzzReplay, TheSeedCorpusRunsAndOnlyItsValidInputsAreAccepted) {
     ++files;
   }
   EXPECT_GE(files, 40u);
+}
+
+// The corpus's bundles reach the fuzz body whole; read as the gateway reads them, each keeps its
+// good PDUs and refuses only the bad one or the tail that cannot be framed.
+TEST(DisFuzzReplay, TheCorpusBundlesSplitIntoTheirPdus) {
+  const std::map<std::string, std::pair<int, int>> expected = {
+      {"bundle_entity_point_linear", {3, 0}},
+      {"bundle_bad_between_good", {2, 1}},
+      {"bundle_truncated_tail", {1, 1}},
+      {"bundle_length_below_header", {1, 1}}};
+  for (const auto& [name, counts] : expected) {
+    std::ifstream in(std::filesystem::path(DT_DIS_CORPUS_DIR) / name, std::ios::binary);
+    const std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(in), {}};
+    ASSERT_FALSE(bytes.empty()) << name;
+    EXPECT_FALSE(Accepted(bytes)) << name;  // no bundle is one whole PDU
+    Decoder decoder(fuzz::kFuzzExercise);
+    int accepted = 0, refused = 0;
+    decoder.DecodeBundle(bytes, [&](const DecodeResult& r) { ++(r.ok() ? accepted : refused); });
+    EXPECT_EQ(accepted, counts.first) << name;
+    EXPECT_EQ(refused, counts.second) << name;
+  }
 }
 
 TEST(DisFuzzReplay, RandomCorruptionsNeverCrash) {

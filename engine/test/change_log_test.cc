@@ -52,6 +52,31 @@ TEST(ChangeLogTest, GapFreePointFollowsArrivalsInAnyOrder) {
   EXPECT_FALSE(log.has_gap());
 }
 
+// Slots are allocated a chunk at a time: a held change stays where it is while thousands more
+// arrive, in and out of order, and every one is found where it was put.
+TEST(ChangeLogTest, HeldChangesNeverMoveAsTheLogGrows) {
+  ChangeLog log;
+  ASSERT_TRUE(log.Insert(Numbered(1)));
+  const Change* first = log.Find(1);
+  std::vector<const Change*> held;
+  for (uint32_t s = 2; s <= 5000; s += 2) {
+    ASSERT_TRUE(log.Insert(Numbered(s + 1)));  // one ahead, leaving s open
+    ASSERT_TRUE(log.Insert(Numbered(s)));
+  }
+  EXPECT_EQ(log.Find(1), first);
+  EXPECT_EQ(log.contiguous(), 5001);
+  EXPECT_EQ(log.size(), 5001u);
+  for (int64_t s = 1; s <= 5001; ++s) {
+    ASSERT_NE(log.Find(s), nullptr) << s;
+    EXPECT_EQ(log.Find(s)->stamp.change_seq, s);
+    held.push_back(log.Find(s));
+  }
+  for (uint32_t s = 5002; s <= 6000; ++s) ASSERT_TRUE(log.Insert(Numbered(s)));
+  for (int64_t s = 1; s <= 5001; ++s) EXPECT_EQ(log.Find(s), held[static_cast<size_t>(s - 1)]);
+  EXPECT_EQ(log.Range(4990, 5010).size(), 21u);
+  EXPECT_EQ(log.Find(6001), nullptr);
+}
+
 TEST(ChangeLogTest, ChangesFarAheadAreHeldAsideAndStillCountInOrder) {
   ChangeLog log;
   const auto far = static_cast<uint32_t>(1 + 4 * ChangeLog::kMaxSlotJump);

@@ -67,6 +67,29 @@ TEST_F(GroundTest, EveryMemberNamesItsGroundAndTheSameGroundIsAccepted) {
   EXPECT_EQ(A().counters().refused_ground, 0u);
 }
 
+// A digest the caller already holds (ReplicaConfig::ground_digest) is the one the replica names
+// and judges by; it is not computed again. Given a digest of another ground, the replica believes
+// it: the caller must pass exactly its ground's.
+TEST(GroundDigestGivenTest, TheGivenDigestIsNamedAndJudgedBy) {
+  const TerrainDigest test_ground = ComputeDigest(testing::TestGround());
+  ReplicaConfig given = Defaults();
+  given.ground_digest = test_ground;
+  MemoryChangeStore store;
+  SimCluster cluster(12, testing::TestGround(), given);
+  cluster.Start(kServer, NodeRole::kServer, &store);
+  cluster.Start(kA, NodeRole::kNode);
+  cluster.Run(1000);
+  EXPECT_EQ(cluster.at(kServer).ground_digest(), test_ground);
+  EXPECT_EQ(cluster.at(kA).ground_digest(), test_ground);
+  EXPECT_TRUE(cluster.at(kA).signed_on());
+  EXPECT_TRUE(cluster.at(kServer).ground_mismatches().empty());
+
+  ReplicaConfig wrong = Defaults();
+  wrong.ground_digest = ComputeDigest(OtherGround());
+  SimCluster other(13, testing::TestGround(), wrong);
+  EXPECT_EQ(other.Start(kA, NodeRole::kNode).ground_digest(), *wrong.ground_digest);
+}
+
 TEST_F(GroundTest, ANodeOnAnotherGroundRefusesItselfAndIsRefusedByTheOthers) {
   const BaseGround other = OtherGround();
   const TerrainDigest other_digest = ComputeDigest(other);

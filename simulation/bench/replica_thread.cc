@@ -7,11 +7,12 @@
 
 #include <cstdlib>
 #include <list>
+#include <utility>
 
 #include "transport/transport.h"
 
 namespace dt::bench {
-ReplicaThread::ReplicaThread(const std::string& url, const HeightGrid& ground, ReplicaConfig config,
+ReplicaThread::ReplicaThread(const std::string& url, HeightGrid ground, ReplicaConfig config,
                              ChangeStore* store, int64_t epoch_ns,
                              std::shared_ptr<const ExerciseKey> key, bool batch)
     : epoch_ns_(epoch_ns) {
@@ -21,7 +22,7 @@ ReplicaThread::ReplicaThread(const std::string& url, const HeightGrid& ground, R
   bc.batch = batch;
   bus_ = std::make_unique<PduBus>(*transport_, bc);
   config.store = store;
-  replica_ = std::make_unique<Replica>(config, ground, *bus_);
+  replica_ = std::make_unique<Replica>(config, std::move(ground), *bus_);
   wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (wake_fd_ < 0) std::abort();  // out of file descriptors: nothing to measure
   replica_->SignOn(NowMs());

@@ -29,9 +29,10 @@ class ReplicaThread {
   // starts the loop: wait up to 1 ms for traffic, dispatch it, tick, run the pending steps.
   // Every replica's clock is milliseconds since `epoch_ns` (SteadyNowNs of the caller).
   // With a key the bus authenticates every PDU (pdu/pdu_auth.h).
-  ReplicaThread(const std::string& url, const HeightGrid& ground, ReplicaConfig config,
-                ChangeStore* store, int64_t epoch_ns,
-                std::shared_ptr<const ExerciseKey> key = nullptr, bool batch = true);
+  // The ground is taken, not copied: a restart in a benchmark costs what a process's does.
+  ReplicaThread(const std::string& url, HeightGrid ground, ReplicaConfig config, ChangeStore* store,
+                int64_t epoch_ns, std::shared_ptr<const ExerciseKey> key = nullptr,
+                bool batch = true);
   // Stops the loop, then destroys replica, bus and transport: a crash, its state is gone.
   ~ReplicaThread();
   ReplicaThread(const ReplicaThread&) = delete;

@@ -38,9 +38,14 @@ const NodeAddress kA{1, 1}, kB{1, 2}, kServer{1, 100};
 constexpr int kBurst = 500;
 constexpr size_t kRawWindow = 256;  // the raw rejoin baseline's batch: the playback window
 
+// Every replica here stands on BenchGround, whose digest is computed once, as a ground cache's
+// header gives it to a process (terrain/ground_cache.h): a restart builds its ground but does not
+// digest it again.
 ReplicaConfig Config(ReplicaConfig base, NodeAddress address, NodeRole role) {
+  static const TerrainDigest kGroundDigest = ComputeDigest(bench::BenchGround());
   base.address = address;
   base.role = role;
+  base.ground_digest = kGroundDigest;
   return base;
 }
 

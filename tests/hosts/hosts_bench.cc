@@ -3,7 +3,7 @@
 // bridges, tbf-shaped links and router of the hosts mode (launcher/host_network.h), made and
 // removed by the bench itself inside a private network namespace it enters first.
 //
-//   hosts_bench lan [--carrier udpm|dds] [--bursts 40] [--burst 500] [--singles 1000]
+//   hosts_bench lan [--carrier udpm|dds] [--bursts 200] [--burst 500] [--singles 1000]
 //                   [--loss 0.01] [--rate-mbit 100]
 //     node -> node features/s (bursts created on A until B has applied them) and the latency of
 //     one change (created on A to applied on B), server, A and B on the hosts' LAN with `loss` on
@@ -166,7 +166,7 @@ const std::string kDdsLoopback = DdsUrl(DT_SOURCE_DIR "/configs/cyclonedds-loopb
 
 int Lan(const std::vector<std::string>& args) {
   const std::string carrier = Value(args, "--carrier", "udpm");
-  const int bursts = std::stoi(Value(args, "--bursts", "40"));
+  const int bursts = std::stoi(Value(args, "--bursts", "200"));
   const int burst = std::stoi(Value(args, "--burst", "500"));
   const int singles = std::stoi(Value(args, "--singles", "1000"));
   const double loss = std::stod(Value(args, "--loss", "0.01"));

@@ -36,7 +36,11 @@ inline constexpr NodeAddress kRawPongOrigin{2, 204};  // the receiver's answer t
 // Runs the peer until stdin ends or `quit`. Prints `0 ok <ns>` once its transport is up (a
 // replica: when it has called SignOn, the start of a rejoin), then answers each command line `<id>
 // <verb> [args]` with `<id> ok <ns> [values]` (or `<id> error <text>`) when it is done; <ns> is the
-// steady clock, which every host of one machine shares. Returns the exit code.
+// steady clock, which every host of one machine shares. Returns the exit code. Verbs: a replica's
+// ping, signed_on, create <first> <count> (value: the first's creation time), features <n>,
+// diverged, settled (not diverged, caught up), digest (value: it), corrupt and repaired <site>
+// <host> <seq>; a raw peer's ping, hello (sender: until the receiver answers), recv <n> <window>
+// (receiver), send <n> <window> (sender; value: the first send's time).
 int RunPeer(const PeerOptions& options);
 
 }  // namespace dt::hostsbench

@@ -1,27 +1,43 @@
 #!/usr/bin/env python3
-"""A host whose clock is 45 s ahead is named, not silently cut off (docs/pdu.md "Authentication", clock skew).
+"""A host whose clock is 45 s off is named, not silently cut off; one 10 s off is not cut off at all
+(docs/pdu.md "Authentication", clock skew; docs/deploy.md "Clocks").
 
-Run inside tests/run_in_netns.sh (a private network namespace). dt_launch starts a server and two
-nodes of an authenticated exercise (PDUs stamped with their send time, 30 s tolerance); node-2 runs
-under `faketime -f +45s` (Debian's faketime, libfaketime), through a --node-bin wrapper. Then,
-reading dt_launch's prefixed output line by line (readiness is a line read, never a sleep):
+Loopback (no mode argument), run inside tests/run_in_netns.sh (a private network namespace):
+dt_launch starts a server and two nodes of an authenticated exercise (PDUs stamped with their send
+time, 30 s tolerance); node-2 runs under `faketime -f +45s` (Debian's faketime, libfaketime),
+through a --node-bin wrapper. Then, reading dt_launch's prefixed output line by line (readiness is
+a line read, never a sleep):
   a. the server and node-1 each log that PDUs from 1:2 (node-2) are stamped about 45 s ahead of
      their clock, and their `status` names 1:2 with an offset near 45 s;
   b. node-2 logs that its own clock is probably 45 s ahead of the exercise, and its `status` says
      own_clock_suspect 1;
   c. dt_launch gives up after its (short) ready timeout with an error that names node-2 and
      quotes node-2's clock line, and exits non-zero.
+
+Hosts mode (`lan <udpm|dds> <ahead|behind>`, run under tests/drills/run_hosts_drill.sh, root
+only): dt_launch --hosts lan puts each process on a network namespace of its own on one bridge
+(udpm at ttl=1, or Cyclone DDS on the hosts' interfaces). Four processes: the server, node-1 on
+time, node-2 45 s off and node-3 10 s off the other way (ahead: node-2 +45 s, node-3 -10 s;
+behind: node-2 -45 s, node-3 +10 s), each under libfaketime (LD_PRELOAD, so the wrapper knows the
+node's own PID). Then:
+  a. the server and node-1 name node-2 (and only node-2) with an offset near 45 s in its
+     direction, in their log and `status`; node-3, 10 s off and inside the tolerance, names only
+     node-2 too (55 s from its own clock), signs on (READY) and suspects no clock of its own;
+  b. node-2 says its own clock is probably off in its direction, and its `status` says so;
+  c. node-2's clock is corrected and the host restarted: its node is SIGKILLed by PID and starts
+     again on the true clock; it signs on (READY), dt_launch reports the exercise READY, a crater
+     made on node-2 and one on node-3 reach every process, and all four hold one digest, caught
+     up, with no clock suspect left anywhere.
 Everything is bounded in time; dt_launch (which stops its children by process group) is stopped
 by PID if it still runs; the work directory is removed at the end.
-With a last argument `lan` the same runs in hosts mode (dt_launch --hosts lan, docs/deploy.md):
-each process on a network namespace of its own on one bridge, udpm at ttl=1, so node-2 is a host
-of its own whose clock is off (root only; run under tests/drills/run_hosts_drill.sh).
-Usage: clock_skew_test.py <dt_launch> <dt_node> <dt_server> <dt_ctl> <key file> <work dir> [lan]
+Usage: clock_skew_test.py <dt_launch> <dt_node> <dt_server> <dt_ctl> <key file> <work dir>
+                          [lan <udpm|dds> <ahead|behind>]
 Exit 0: pass; 1: fail; 77: skipped (no faketime, or it does not move this machine's clock).
 """
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -140,7 +156,7 @@ def check_offset(who, seconds):
         raise Failure(f"{who}: offset {seconds} s, not about {SKEW_S} s")
 
 
-def run(launch_bin, node_bin, server_bin, ctl, key, work, hosts):
+def run(launch_bin, node_bin, server_bin, ctl, key, work):
     config = os.path.join(work, "clock-skew.toml")
     with open(config, "w") as f:
         f.write(EXERCISE.format(key=os.path.abspath(key), run_dir=os.path.join(work, "run")))
@@ -150,8 +166,7 @@ def run(launch_bin, node_bin, server_bin, ctl, key, work, hosts):
     os.chmod(wrapper, 0o755)
 
     launch = Launch([launch_bin, "--config", config, "--node-bin", wrapper, "--server-bin",
-                     server_bin, "--ready-timeout-s", str(READY_TIMEOUT_S), "--grace-ms", "5000"]
-                    + (["--hosts", hosts] if hosts else []))
+                     server_bin, "--ready-timeout-s", str(READY_TIMEOUT_S), "--grace-ms", "5000"])
     try:
         # a. Each other process names node-2, its address and its offset.
         for who in ("server", "node-1"):
@@ -210,24 +225,217 @@ def run(launch_bin, node_bin, server_bin, ctl, key, work, hosts):
             print("dt_launch's output:\n" + "\n".join(launch.lines), file=sys.stderr)
 
 
+# Hosts mode: node-2 45 s off and node-3 10 s off the other way; node-2's clock then corrected.
+HOSTS_SKEW_S = {"node-2": 45, "node-3": -10}  # "ahead"; "behind" negates both
+HOSTS_READY_TIMEOUT_S = 120  # node-2 signs on only after its restart
+LIBFAKETIME = "/usr/lib/x86_64-linux-gnu/faketime/libfaketime.so.1"
+ADDRESSES = {"server": "1:100", "node-1": "1:1", "node-2": "1:2", "node-3": "1:3"}
+
+HOSTS_EXERCISE_TAIL = """
+[[node]]
+name = "node-3"
+site = 1
+host = 3
+"""
+
+# node-2 and node-3 run under libfaketime by LD_PRELOAD (not `faketime`, which forks: the wrapper
+# must know the node's own PID). node-2's wrapper waits for its node; once the test has written
+# the `corrected` file and SIGKILLed that node (a host restarted with its clock set right), it
+# starts the node again on the true clock, in its place.
+HOSTS_WRAPPER = """\
+#!/bin/sh
+skew=""
+for a in "$@"; do
+  case "$a" in
+    node-2) skew="{skew2}"; name=node-2 ;;
+    node-3) skew="{skew3}"; name=node-3 ;;
+  esac
+done
+if [ -z "$skew" ]; then exec "{node}" "$@"; fi
+if [ -n "$ASAN_OPTIONS" ]; then
+  ASAN_OPTIONS="$ASAN_OPTIONS:verify_asan_link_order=0"; export ASAN_OPTIONS
+fi
+if [ "$name" = node-3 ]; then
+  LD_PRELOAD="{lib}" FAKETIME="$skew" exec "{node}" "$@"
+fi
+LD_PRELOAD="{lib}" FAKETIME="$skew" "{node}" "$@" &
+echo $! > "{pid_file}"
+wait $!
+if [ -e "{corrected}" ]; then exec "{node}" "$@"; fi
+exit 1
+"""
+
+
+def skew_text(seconds):
+    return f"{seconds:+d}s"
+
+
+def direction_word(seconds):
+    """As the log words an offset: "ahead of" or "behind"."""
+    return "ahead of" if seconds > 0 else "behind"
+
+
+def check_signed_offset(who, seconds, expected_s, slack_s=2):
+    if abs(seconds - expected_s) > slack_s:
+        raise Failure(f"{who}: offset {seconds} s, not about {expected_s} s")
+
+
+def check_suspects(ctl, config, who, expected_offset_s):
+    """`who` names node-2, and only node-2, with about expected_offset_s (signed), and does not
+    suspect its own clock."""
+    single, suspects = status(ctl, config, who)
+    if single.get("clock_suspect_senders") != "1" or len(suspects) != 1:
+        raise Failure(f"{who}'s status: clock_suspect_senders "
+                      f"{single.get('clock_suspect_senders')}, lines {suspects} (only node-2, "
+                      "1:2, should be named; node-3 is 10 s off, inside the 30 s tolerance)")
+    m = re.fullmatch(r"1:2 offset_ms=(-?\d+) stale=(\d+)", suspects[0])
+    if not m:
+        raise Failure(f"{who}'s status: clock_suspect {suspects[0]}")
+    check_signed_offset(f"{who}'s status", int(m.group(1)) / 1000, expected_offset_s)
+    if single.get("own_clock_suspect") != "0":
+        raise Failure(f"{who} suspects its own clock: {single}")
+    return int(m.group(1))
+
+
+def converged(ctl, config, names):
+    """True when every process is signed on, caught up, holds the same digest and two features,
+    and names no clock, its own or another's."""
+    digests = set()
+    for name in names:
+        single, suspects = status(ctl, config, name)
+        if (single.get("signed_on") != "1" or single.get("caught_up") != "1"
+                or single.get("features") != "2" or suspects
+                or single.get("clock_suspect_senders") != "0"
+                or single.get("own_clock_suspect") != "0"):
+            return False
+        digests.add(single.get("digest"))
+    return len(digests) == 1
+
+
+def ctl_line(ctl, config, name, *words):
+    r = subprocess.run([ctl, "--config", config, "--name", name, *words], capture_output=True,
+                       text=True, timeout=10)
+    if r.returncode != 0:
+        raise Failure(f"dt_ctl --name {name} {' '.join(words)}: exit {r.returncode}: "
+                      f"{r.stderr.strip()}")
+    return r.stdout.strip()
+
+
+def run_hosts(launch_bin, node_bin, server_bin, ctl, key, work, carrier, direction):
+    sign = 1 if direction == "ahead" else -1
+    skew = {name: sign * s for name, s in HOSTS_SKEW_S.items()}
+    if carrier == "udpm":
+        transport = "udpm://239.255.76.67:7667?ttl=0"
+    else:  # the hosts mode writes its own Cyclone configuration for the hosts' interface
+        transport = "dds://0?config=" + os.path.join(
+            os.path.dirname(os.path.abspath(__file__)), "..", "..", "configs",
+            "cyclonedds-loopback.xml")
+    config = os.path.join(work, "clock-skew.toml")
+    with open(config, "w") as f:
+        f.write(EXERCISE.format(key=os.path.abspath(key), run_dir=os.path.join(work, "run"))
+                .replace('transport = "udpm://239.255.76.67:7667?ttl=0"',
+                         f'transport = "{transport}"') + HOSTS_EXERCISE_TAIL)
+    pid_file = os.path.join(work, "node-2.pid")
+    corrected = os.path.join(work, "corrected")
+    wrapper = os.path.join(work, "skewed-node")
+    with open(wrapper, "w") as f:
+        f.write(HOSTS_WRAPPER.format(skew2=skew_text(skew["node-2"]),
+                                     skew3=skew_text(skew["node-3"]), lib=LIBFAKETIME,
+                                     node=os.path.abspath(node_bin), pid_file=pid_file,
+                                     corrected=corrected))
+    os.chmod(wrapper, 0o755)
+
+    launch = Launch([launch_bin, "--config", config, "--node-bin", wrapper, "--server-bin",
+                     server_bin, "--ready-timeout-s", str(HOSTS_READY_TIMEOUT_S), "--grace-ms",
+                     "5000", "--hosts", "lan"])
+    n2, n3 = skew["node-2"], skew["node-3"]
+    try:
+        # a. The server and node-1 name node-2 about 45 s off; node-3 names it 55 s off, signs on
+        # and blames no clock of its own.
+        for who, expected in (("server", n2), ("node-1", n2), ("node-3", n2 - n3)):
+            m = launch.wait_for(
+                f"[{who}] naming node-2",
+                re.compile(rf"^\[{who}\] .* warning \[{who}\] clock skew: PDUs from 1:2 "
+                           rf"\(node-2\) are stamped ([0-9.]+) s {direction_word(expected)} "
+                           r"this host's clock, beyond the exercise's 30 s tolerance"))
+            check_signed_offset(f"{who}'s log", abs(float(m.group(1))), abs(expected))
+            offset_ms = check_suspects(ctl, config, who, expected)
+            print(f"PASS: {who} names 1:2 (node-2) {offset_ms} ms off")
+        launch.wait_for("node-3's READY", re.compile(r"^\[node-3\] READY node-3$"))
+        print(f"PASS: node-3, {n3:+d} s off, signed on")
+
+        # b. node-2 blames its own clock (the others are 45 and 55 s away from it: the mean).
+        m = launch.wait_for(
+            "[node-2] blaming its own clock",
+            re.compile(r"^\[node-2\] .* warning \[node-2\] clock skew: every PDU received is "
+                       rf"stamped about (\d+) s {'behind' if n2 > 0 else 'ahead of'} this "
+                       rf"host's clock: this host's clock is probably (\d+) s "
+                       rf"{direction_word(n2)} the exercise"))
+        own = int(m.group(2))
+        if not abs(n2) - 2 <= own <= abs(n2 - n3) + 2:
+            raise Failure(f"node-2 blames its clock by {own} s, not {abs(n2)}..{abs(n2 - n3)} s")
+        single, _ = status(ctl, config, "node-2")
+        if single.get("own_clock_suspect") != "1" or \
+                int(single["own_clock_offset_ms"]) * sign < (abs(n2) - 2) * 1000:
+            raise Failure(f"node-2's status: own_clock_suspect {single.get('own_clock_suspect')}"
+                          f", own_clock_offset_ms {single.get('own_clock_offset_ms')}")
+        print(f"PASS: node-2 says its own clock is probably {own} s {direction_word(n2)} the "
+              "exercise")
+
+        # c. node-2's clock corrected, its host restarted: it signs on and the exercise converges.
+        with open(corrected, "w") as f:
+            f.write("clock corrected\n")
+        with open(pid_file) as f:
+            skewed_pid = int(f.read().strip())
+        os.kill(skewed_pid, signal.SIGKILL)
+        launch.wait_for("node-2's READY after the restart",
+                        re.compile(r"^\[node-2\] READY node-2$"), timeout_s=60)
+        launch.wait_for("the exercise's READY", re.compile(r"^READY clock-skew$|"
+                                                           r"^\[launch\] READY clock-skew$"))
+        for name in ("node-2", "node-3"):
+            ctl_line(ctl, config, name, "crater", "200" if name == "node-2" else "400", "300",
+                     "5")
+        names = list(ADDRESSES)
+        deadline = time.monotonic() + WAIT_S
+        while not converged(ctl, config, names):
+            if time.monotonic() > deadline:
+                report = {n: status(ctl, config, n) for n in names}
+                raise Failure(f"not converged within {WAIT_S} s of the restart: {report}")
+            time.sleep(0.2)  # polling the processes' status, as dt_drill's digest marks do
+        print("PASS: node-2 restarted on the true clock, signed on; every process converged, "
+              "no clock named")
+    finally:
+        launch.stop()
+        if sys.exc_info()[0] is not None:
+            print("dt_launch's output:\n" + "\n".join(launch.lines), file=sys.stderr)
+
+
 def main():
-    if len(sys.argv) not in (7, 8) or sys.argv[7:] not in ([], ["lan"]):
+    hosts = sys.argv[7:]
+    if len(sys.argv) < 7 or not (hosts == [] or (
+            len(hosts) == 3 and hosts[0] == "lan" and hosts[1] in ("udpm", "dds")
+            and hosts[2] in ("ahead", "behind"))):
         print(__doc__, file=sys.stderr)
         return 2
     launch_bin, node_bin, server_bin, ctl, key, work = sys.argv[1:7]
-    hosts = sys.argv[7] if len(sys.argv) == 8 else ""
     if not faketime_works():
+        return SKIP
+    if hosts and not os.path.exists(LIBFAKETIME):
+        print(f"SKIP: {LIBFAKETIME} is not here (scripts/setup.sh installs faketime)")
         return SKIP
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     try:
-        run(launch_bin, node_bin, server_bin, ctl, key, work, hosts)
+        if hosts:
+            run_hosts(launch_bin, node_bin, server_bin, ctl, key, work, hosts[1], hosts[2])
+        else:
+            run(launch_bin, node_bin, server_bin, ctl, key, work)
     except Failure as e:
         print(f"FAIL: {e}")
         return 1
     finally:
         shutil.rmtree(work, ignore_errors=True)
-    print(f"clock_skew_test{' (hosts mode ' + hosts + ')' if hosts else ''}: pass")
+    print(f"clock_skew_test{' (hosts mode ' + ' '.join(hosts) + ')' if hosts else ''}: pass")
     return 0
 
 

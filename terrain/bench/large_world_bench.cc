@@ -81,14 +81,16 @@ World& Get(int posts, bool mapped) {
   return w;
 }
 
-void Query(benchmark::State& state, bool local) {
+// `ground_only`: the bare ground's elevation alone (no feature tables), which tells the posts'
+// share of a query from the features'.
+void Query(benchmark::State& state, bool local, bool ground_only = false) {
   const World& w = Get(static_cast<int>(state.range(0)), state.range(1) != 0);
   const auto& points = local ? w.local : w.uniform;
   size_t k = 0;
   double sum = 0.0;
   for (auto _ : state) {
     const auto& [x, z] = points[k++ & (kPoints - 1)];
-    sum += w.terrain->ElevationAt(x, z);
+    sum += ground_only ? w.terrain->GroundElevationAt(x, z) : w.terrain->ElevationAt(x, z);
   }
   benchmark::DoNotOptimize(sum);
   state.counters["features"] = static_cast<double>(w.terrain->feature_count());
@@ -99,6 +101,10 @@ void BM_QueryLocal(benchmark::State& state) { Query(state, true); }
 // {posts a side, mapped}: the 1001^2 grid in memory against the 10001^2 mapped world.
 BENCHMARK(BM_QueryUniform)->Args({1001, 0})->Args({10001, 1});
 BENCHMARK(BM_QueryLocal)->Args({1001, 0})->Args({10001, 1});
+void BM_GroundQueryUniform(benchmark::State& state) { Query(state, false, true); }
+void BM_GroundQueryLocal(benchmark::State& state) { Query(state, true, true); }
+BENCHMARK(BM_GroundQueryUniform)->Args({1001, 0})->Args({10001, 1});
+BENCHMARK(BM_GroundQueryLocal)->Args({1001, 0})->Args({10001, 1});
 
 // Opening the warm cache file: reading the header, hashing every byte after it (from the page
 // cache) and mapping it; the time per 10^6 posts is the time over the counter posts_1e6.

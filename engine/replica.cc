@@ -56,7 +56,9 @@ Replica::Replica(ReplicaConfig config, BaseGround ground, PduBus& bus)
     : config_(config),
       bus_(bus),
       records_(std::move(ground)),
-      ground_digest_(ComputeDigest(records_.terrain())),
+      // Through the digester, which keeps the ground's hash state: later digests re-read only
+      // the features while the ground stays as loaded.
+      ground_digest_(digester_.Of(records_.terrain())),
       scheduler_(config.playback_window, config.playback_retry_ms) {
   CheckConfig(config_);
   DT_LOG_INFO("replica {}: ground {} ({})", config_.address.ToString(), ground_digest_.ToHex(),
@@ -245,7 +247,7 @@ Status Replica::ReserveFeatureNumbers(int64_t number) {
 
 // ---- queries ----
 
-std::string Replica::Digest() const { return ComputeDigest(records_.terrain()).ToHex(); }
+std::string Replica::Digest() const { return digester_.Of(records_.terrain()).ToHex(); }
 
 bool Replica::caught_up() const {
   if (anti_entropy_->diverged()) return false;

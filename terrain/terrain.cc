@@ -28,7 +28,7 @@ Terrain::Terrain(HeightGrid ground) : ground_(std::move(ground)) {
   const size_t squares = tiles_x_ * tiles(ground_.squares_z()) * kTileSquares * kTileSquares;
   squares_ = ZeroPagedArray<SquareEntry>(squares);
   square_stamps_ = ZeroPagedArray<uint64_t>(squares);
-  Changed();
+  GroundChanged();
   stamps_floor_ = stamp_;
 }
 
@@ -58,6 +58,11 @@ void Terrain::ReleaseIfEmpty(size_t slot) {
 }
 
 void Terrain::Changed() { stamp_ = next_stamp.fetch_add(1, std::memory_order_relaxed); }
+
+void Terrain::GroundChanged() {
+  Changed();
+  ground_stamp_ = stamp_;
+}
 
 void Terrain::MarkChanged(const Rect& rect) {
   SquareIndex lo, hi;
@@ -222,7 +227,7 @@ void Terrain::ApplyEarthMove(const std::vector<PostDelta>& deltas, int sign) {
     ground_.set_post(d.i, d.j, post);
     posts.emplace_back(d.i, d.j);
   }
-  Changed();
+  GroundChanged();
   GroundChangedAround(posts);
 }
 
@@ -323,7 +328,7 @@ void Terrain::RemoveAll() {
   squares_.Clear();
   lists_.clear();
   free_lists_.clear();
-  Changed();
+  GroundChanged();  // the blade work's posts went back
   square_stamps_.Clear();
   stamps_floor_ = stamp_;
 }
@@ -347,7 +352,7 @@ Status Terrain::SetPostElevation(int i, int j, float elevation_m) {
     }
   }
   ground_.set_post(i, j, post);
-  Changed();
+  GroundChanged();
   GroundChangedAround({{i, j}});
   return Status::Ok();
 }
@@ -362,7 +367,7 @@ Status Terrain::SetSoil(SquareIndex square, TriangleHalf half, Material soil) {
     return Error{fmt::format("{} is not a soil", static_cast<uint16_t>(soil))};
   }
   ground_.set_soil(square, half, soil);
-  Changed();
+  GroundChanged();
   MarkChanged(square);
   return Status::Ok();
 }

@@ -36,6 +36,9 @@ class Terrain {
   // terrains: what a caller cached from the terrain's answers stays valid while it is unchanged.
   // A later change draws a greater stamp.
   uint64_t stamp() const { return stamp_; }
+  // Like stamp(), for the ground alone (posts and soils): drawn anew whenever a post or soil is
+  // set, so what a caller worked out from the ground stays valid while this is unchanged.
+  uint64_t ground_stamp() const { return ground_stamp_; }
   // The greatest stamp of a change that may alter an answer inside the rectangle (clipped to the
   // terrain): a feature touching one of its squares added, replaced, removed or recomputed after
   // the ground moved, a post of one of its squares, a soil of one. At most stamp(); while it is
@@ -121,7 +124,8 @@ class Terrain {
   // The bitgrid cells of `square` the feature may cover.
   uint16_t CellsMaybeCovered(const Feature& feature, SquareIndex square) const;
   void RecomputeBits(SquareIndex square);
-  void Changed();  // draws a new stamp
+  void Changed();        // draws a new stamp
+  void GroundChanged();  // draws a new stamp for the whole terrain and its ground
   // Gives the squares the rectangle touches (clipped), or one square, the current stamp.
   void MarkChanged(const Rect& rect);
   void MarkChanged(SquareIndex square);
@@ -164,6 +168,7 @@ class Terrain {
   std::vector<SquareList> lists_;
   std::vector<uint32_t> free_lists_;  // indices in lists_ no square uses
   uint64_t stamp_ = 0;
+  uint64_t ground_stamp_ = 0;
   // Per square: the stamp of its last change (AreaStamp), 0 for none since stamps_floor_, the
   // stamp every square had at the terrain's making or its last RemoveAll.
   ZeroPagedArray<uint64_t> square_stamps_;

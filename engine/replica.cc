@@ -56,8 +56,11 @@ Replica::Replica(ReplicaConfig config, BaseGround ground, PduBus& bus)
     : config_(config),
       bus_(bus),
       records_(std::move(ground)),
+      // A digest the caller already holds is taken as given; otherwise through the digester,
+      // which keeps the ground's hash state: later digests re-read only the features while the
+      // ground stays as loaded.
       ground_digest_(config.ground_digest ? *config.ground_digest
-                                          : ComputeDigest(records_.terrain())),
+                                          : digester_.Of(records_.terrain())),
       scheduler_(config.playback_window, config.playback_retry_ms) {
   CheckConfig(config_);
   DT_LOG_INFO("replica {}: ground {} ({})", config_.address.ToString(), ground_digest_.ToHex(),
@@ -246,7 +249,7 @@ Status Replica::ReserveFeatureNumbers(int64_t number) {
 
 // ---- queries ----
 
-std::string Replica::Digest() const { return ComputeDigest(records_.terrain()).ToHex(); }
+std::string Replica::Digest() const { return digester_.Of(records_.terrain()).ToHex(); }
 
 bool Replica::caught_up() const {
   if (anti_entropy_->diverged()) return false;

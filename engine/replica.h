@@ -260,6 +260,9 @@ class Replica {
   ReplicaConfig config_;
   PduBus& bus_;
   RecordStore records_;
+  // Digest() every status or relief period would read the whole ground each time; this keeps
+  // the ground's hash state and the last digest, keyed on the terrain's stamps.
+  mutable TerrainDigester digester_;
   TerrainDigest ground_digest_;
   std::map<NodeAddress, TerrainDigest> peer_grounds_;  // per member, its last reported ground
   std::optional<TerrainDigest> exercise_ground_;       // set when this replica is refused

@@ -159,6 +159,7 @@ BaseGround BuildExerciseGround(const ExerciseConfig& exercise) {
     cached =
         c.built ? fmt::format("read into the ground cache {} ({})", c.file.string(), c.build_reason)
                 : fmt::format("mapped from the ground cache {}", c.file.string());
+    for (const std::string& r : c.removed) DT_LOG_INFO("ground cache: removed {}", r);
     loaded = std::move(c.grid);
     // The pixels and posts read are freed; give their heap back, or the builder of a large
     // world keeps a private copy's worth of memory it no longer uses.

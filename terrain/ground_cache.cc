@@ -5,8 +5,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <bit>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -167,6 +169,9 @@ std::optional<HeightGrid> TryOpen(const std::filesystem::path& path, const XXH12
     *why = "its contents do not match the hash in its header";
     return std::nullopt;
   }
+  // Marks the file used, so pruning takes the ones nobody opens; best effort (another user's
+  // file may not be ours to touch).
+  (void)futimens(fd.get(), nullptr);
   auto source = std::make_shared<GroundFileSource>();
   source->fd = fd.release();
   source->file_size = size;
@@ -215,6 +220,76 @@ void Write(const std::filesystem::path& path, const XXH128_hash_t& key, const He
   }
 }
 
+// This user's cache files in `dir` other than `keep`, by last use; pruned by age (temp files
+// of builds that died too), then by the budget, oldest first. A file whose lock another process
+// holds is being rebuilt and stays.
+std::vector<std::string> Prune(const std::filesystem::path& dir, const std::filesystem::path& keep,
+                               const GroundCachePruning& pruning) {
+  struct Found {
+    std::filesystem::path path;
+    int64_t used_s;  // modification time, seconds since the epoch
+    uint64_t bytes;
+    bool temp;
+  };
+  std::vector<Found> found;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!name.starts_with("ground-") || entry.path() == keep) continue;
+    const bool dtg = name.ends_with(".dtg");
+    const bool temp = name.find(".dtg.tmp.") != std::string::npos;
+    if (!dtg && !temp) continue;
+    struct stat st {};
+    if (lstat(entry.path().c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != getuid()) {
+      continue;
+    }
+    found.push_back(
+        {entry.path(), static_cast<int64_t>(st.st_mtime), static_cast<uint64_t>(st.st_size), temp});
+  }
+  std::sort(found.begin(), found.end(),
+            [](const Found& a, const Found& b) { return a.used_s < b.used_s; });
+  const int64_t now_s = std::chrono::duration_cast<std::chrono::seconds>(
+                            std::chrono::system_clock::now().time_since_epoch())
+                            .count();
+  struct stat kept {};
+  uint64_t total = stat(keep.c_str(), &kept) == 0 ? static_cast<uint64_t>(kept.st_size) : 0;
+  for (const Found& f : found) {
+    if (!f.temp) total += f.bytes;
+  }
+  std::vector<std::string> removed;
+  auto remove = [&](const Found& f, std::string why) {
+    if (f.temp) {
+      if (unlink(f.path.c_str()) == 0)
+        removed.push_back(fmt::format("{} ({})", f.path.string(), why));
+      return;
+    }
+    // Under the file's own lock, taken without waiting: a process holding it is rebuilding the
+    // file and would rename its new one into place, which must not be removed; so it is skipped.
+    const std::filesystem::path lock_path = f.path.string() + ".lock";
+    Fd lock(open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644));
+    if (lock.get() < 0 || flock(lock.get(), LOCK_EX | LOCK_NB) != 0) return;
+    if (unlink(f.path.c_str()) != 0) return;
+    unlink(lock_path.c_str());
+    total -= f.bytes;
+    removed.push_back(fmt::format("{} ({})", f.path.string(), why));
+  };
+  const int64_t max_age_s = int64_t{pruning.max_age_days} * 86400;
+  std::vector<const Found*> left;
+  for (const Found& f : found) {
+    if (now_s - f.used_s > max_age_s) {
+      remove(f, fmt::format("unused for {} days", (now_s - f.used_s) / 86400));
+    } else if (!f.temp) {
+      left.push_back(&f);
+    }
+  }
+  for (const Found* f : left) {
+    if (total <= pruning.budget_bytes) break;
+    remove(*f, fmt::format("this user's cache files take {} bytes, over the budget of {}", total,
+                           pruning.budget_bytes));
+  }
+  return removed;
+}
+
 }  // namespace
 
 std::filesystem::path GroundCacheFile(const std::filesystem::path& dir, std::string_view key) {
@@ -223,9 +298,10 @@ std::filesystem::path GroundCacheFile(const std::filesystem::path& dir, std::str
 }
 
 GroundCacheOpened OpenGroundCache(const std::filesystem::path& dir, std::string_view key,
-                                  const std::function<HeightGrid()>& build) {
+                                  const std::function<HeightGrid()>& build,
+                                  const GroundCachePruning& pruning) {
   const XXH128_hash_t key_hash = XXH3_128bits(key.data(), key.size());
-  GroundCacheOpened out{HeightGrid(2, 1.0), GroundCacheFile(dir, key), false, ""};
+  GroundCacheOpened out{HeightGrid(2, 1.0), GroundCacheFile(dir, key), false, "", {}};
   std::string why;
   // Without the lock first: a whole file is there once renamed into place.
   if (std::optional<HeightGrid> g = TryOpen(out.file, key_hash, &why)) {
@@ -258,6 +334,8 @@ GroundCacheOpened OpenGroundCache(const std::filesystem::path& dir, std::string_
         "ground cache: {} fails its checks just after it was written: {}", out.file.string(), why));
   }
   out.grid = std::move(*g);
+  // Still under the lock: no other process of this key builds meanwhile.
+  out.removed = Prune(dir, out.file, pruning);
   return out;
 }
 

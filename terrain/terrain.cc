@@ -20,17 +20,21 @@ std::atomic<uint64_t> next_stamp{1};
 }  // namespace
 
 Terrain::Terrain(HeightGrid ground) : ground_(std::move(ground)) {
-  const size_t squares =
-      static_cast<size_t>(ground_.squares_x()) * static_cast<size_t>(ground_.squares_z());
-  square_lists_ = ZeroPagedArray<uint32_t>(squares);
-  bits_ = ZeroPagedArray<uint16_t>(squares);
+  const auto tiles = [](int squares) {
+    return static_cast<size_t>((squares + kTileSquares - 1) / kTileSquares);
+  };
+  tiles_x_ = tiles(ground_.squares_x());
+  // Whole tiles: the slots past the grid's edge are never touched and cost no memory.
+  const size_t squares = tiles_x_ * tiles(ground_.squares_z()) * kTileSquares * kTileSquares;
+  squares_ = ZeroPagedArray<SquareEntry>(squares);
   square_stamps_ = ZeroPagedArray<uint64_t>(squares);
-  Changed();
+  GroundChanged();
   stamps_floor_ = stamp_;
 }
 
-std::vector<const Feature*>& Terrain::MutableSquareFeatures(size_t slot) {
-  uint32_t& k = square_lists_[slot];
+SquareList& Terrain::MutableSquareFeatures(size_t slot) {
+  SquareEntry& e = squares_[slot];
+  uint32_t k = e.list();
   if (k == 0) {
     if (free_lists_.empty()) {
       lists_.emplace_back();
@@ -39,19 +43,26 @@ std::vector<const Feature*>& Terrain::MutableSquareFeatures(size_t slot) {
       k = free_lists_.back() + 1;
       free_lists_.pop_back();
     }
+    e.set_list(k);
   }
   return lists_[k - 1];
 }
 
 void Terrain::ReleaseIfEmpty(size_t slot) {
-  uint32_t& k = square_lists_[slot];
+  SquareEntry& e = squares_[slot];
+  const uint32_t k = e.list();
   if (k == 0 || !lists_[k - 1].empty()) return;
-  std::vector<const Feature*>().swap(lists_[k - 1]);
+  lists_[k - 1].clear();
   free_lists_.push_back(k - 1);
-  k = 0;
+  e.set_list(0);
 }
 
 void Terrain::Changed() { stamp_ = next_stamp.fetch_add(1, std::memory_order_relaxed); }
+
+void Terrain::GroundChanged() {
+  Changed();
+  ground_stamp_ = stamp_;
+}
 
 void Terrain::MarkChanged(const Rect& rect) {
   SquareIndex lo, hi;
@@ -121,7 +132,7 @@ void Terrain::Index(const Feature* feature) {
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i) {
       MutableSquareFeatures(SquareSlot({i, j})).push_back(feature);
-      bits_[SquareSlot({i, j})] |= CellsMaybeCovered(*feature, {i, j});
+      squares_[SquareSlot({i, j})].bits |= CellsMaybeCovered(*feature, {i, j});
       MarkChanged(SquareIndex{i, j});
     }
   }
@@ -134,8 +145,7 @@ void Terrain::Unindex(const Feature* feature) {
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i) {
       const size_t slot = SquareSlot({i, j});
-      auto& list = MutableSquareFeatures(slot);
-      list.erase(std::remove(list.begin(), list.end(), feature), list.end());
+      MutableSquareFeatures(slot).erase(feature);
       ReleaseIfEmpty(slot);
       RecomputeBits({i, j});
       MarkChanged(SquareIndex{i, j});
@@ -175,7 +185,7 @@ uint16_t Terrain::CellsMaybeCovered(const Feature& feature, SquareIndex square) 
 void Terrain::RecomputeBits(SquareIndex square) {
   uint16_t mask = 0;
   for (const Feature* f : SquareFeatures(SquareSlot(square))) mask |= CellsMaybeCovered(*f, square);
-  bits_[SquareSlot(square)] = mask;
+  squares_[SquareSlot(square)].bits = mask;
 }
 
 Status Terrain::Add(FeatureId id, const FeatureParams& params) {
@@ -217,7 +227,7 @@ void Terrain::ApplyEarthMove(const std::vector<PostDelta>& deltas, int sign) {
     ground_.set_post(d.i, d.j, post);
     posts.emplace_back(d.i, d.j);
   }
-  Changed();
+  GroundChanged();
   GroundChangedAround(posts);
 }
 
@@ -315,11 +325,10 @@ void Terrain::RemoveAll() {
     ground_.set_post(static_cast<int>(index % nx), static_cast<int>(index / nx), post.bare_m);
   }
   blade_.clear();
-  square_lists_.Clear();
+  squares_.Clear();
   lists_.clear();
   free_lists_.clear();
-  bits_.Clear();
-  Changed();
+  GroundChanged();  // the blade work's posts went back
   square_stamps_.Clear();
   stamps_floor_ = stamp_;
 }
@@ -343,7 +352,7 @@ Status Terrain::SetPostElevation(int i, int j, float elevation_m) {
     }
   }
   ground_.set_post(i, j, post);
-  Changed();
+  GroundChanged();
   GroundChangedAround({{i, j}});
   return Status::Ok();
 }
@@ -358,7 +367,7 @@ Status Terrain::SetSoil(SquareIndex square, TriangleHalf half, Material soil) {
     return Error{fmt::format("{} is not a soil", static_cast<uint16_t>(soil))};
   }
   ground_.set_soil(square, half, soil);
-  Changed();
+  GroundChanged();
   MarkChanged(square);
   return Status::Ok();
 }
@@ -386,7 +395,7 @@ double Terrain::ElevationAt(double x_m, double z_m) const {
   const HeightGrid::Location at = ground_.Locate(x_m, z_m);
   const double ground = ground_.ElevationAt(at);
   const size_t slot = SquareSlot(at.square);
-  if (bits_[slot] == 0) return ground;
+  if (squares_[slot].bits == 0) return ground;
   // The composition rule (docs/terrain.md "Composing the surface"): the highest raise plus the
   // deepest cut. Both are order-independent (max and min), and with no cuts this is the
   // thesis's highest-wins.
@@ -420,7 +429,7 @@ bool Terrain::FeatureBitAt(double x_m, double z_m) const {
       std::clamp(static_cast<int>((x_m - square.i * s) / cell), 0, kBitgridCellsPerSide - 1);
   const int cz =
       std::clamp(static_cast<int>((z_m - square.j * s) / cell), 0, kBitgridCellsPerSide - 1);
-  return (bits_[SquareSlot(square)] >> (cz * kBitgridCellsPerSide + cx)) & 1u;
+  return (squares_[SquareSlot(square)].bits >> (cz * kBitgridCellsPerSide + cx)) & 1u;
 }
 
 Material Terrain::SoilAt(double x_m, double z_m) const {

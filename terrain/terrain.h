@@ -15,6 +15,7 @@
 #include "terrain/feature_params.h"
 #include "terrain/feature_table.h"
 #include "terrain/height_grid.h"
+#include "terrain/square_list.h"
 
 namespace dt {
 
@@ -35,6 +36,9 @@ class Terrain {
   // terrains: what a caller cached from the terrain's answers stays valid while it is unchanged.
   // A later change draws a greater stamp.
   uint64_t stamp() const { return stamp_; }
+  // Like stamp(), for the ground alone (posts and soils): drawn anew whenever a post or soil is
+  // set, so what a caller worked out from the ground stays valid while this is unchanged.
+  uint64_t ground_stamp() const { return ground_stamp_; }
   // The greatest stamp of a change that may alter an answer inside the rectangle (clipped to the
   // terrain): a feature touching one of its squares added, replaced, removed or recomputed after
   // the ground moved, a post of one of its squares, a soil of one. At most stamp(); while it is
@@ -90,7 +94,7 @@ class Terrain {
 
   // The feature-presence bit of the cell holding (x, z). Throws off the terrain.
   bool FeatureBitAt(double x_m, double z_m) const;
-  uint16_t SquareBits(SquareIndex square) const { return bits_[SquareSlot(square)]; }
+  uint16_t SquareBits(SquareIndex square) const { return squares_[SquareSlot(square)].bits; }
 
   // The material at a point on the ground surface: water under a flood's level, else the soil of
   // an area covering it (highest AreaFeature::precedence, then smaller ID), else the material of
@@ -100,8 +104,17 @@ class Terrain {
   Material SoilAt(double x_m, double z_m) const;
 
  private:
+  // The per-square tables are laid out in tiles of kTileSquares x kTileSquares squares, tile
+  // after tile: the squares around a point share a few pages instead of one page per row, so a
+  // vehicle's neighbourhood on a 10^4-square-wide world stays within the TLB's reach.
+  static constexpr int kTileShift = 5;
+  static constexpr int kTileSquares = 1 << kTileShift;
   size_t SquareSlot(SquareIndex s) const {
-    return static_cast<size_t>(s.j) * ground_.squares_x() + s.i;
+    constexpr int kMask = kTileSquares - 1;
+    const size_t tile =
+        static_cast<size_t>(s.j >> kTileShift) * tiles_x_ + static_cast<size_t>(s.i >> kTileShift);
+    return (tile << (2 * kTileShift)) | static_cast<size_t>((s.j & kMask) << kTileShift) |
+           static_cast<size_t>(s.i & kMask);
   }
   // The squares a rectangle touches, clipped to the grid.
   void SquareRange(const Rect& rect, SquareIndex& lo, SquareIndex& hi) const;
@@ -111,7 +124,8 @@ class Terrain {
   // The bitgrid cells of `square` the feature may cover.
   uint16_t CellsMaybeCovered(const Feature& feature, SquareIndex square) const;
   void RecomputeBits(SquareIndex square);
-  void Changed();  // draws a new stamp
+  void Changed();        // draws a new stamp
+  void GroundChanged();  // draws a new stamp for the whole terrain and its ground
   // Gives the squares the rectangle touches (clipped), or one square, the current stamp.
   void MarkChanged(const Rect& rect);
   void MarkChanged(SquareIndex square);
@@ -123,12 +137,12 @@ class Terrain {
 
   // The features touching the square in `slot` (empty if none).
   std::span<const Feature* const> SquareFeatures(size_t slot) const {
-    const uint32_t k = square_lists_[slot];
+    const uint32_t k = squares_[slot].list();
     if (k == 0) return {};
-    return lists_[k - 1];
+    return lists_[k - 1].features();
   }
   // The square's list, made if it has none.
-  std::vector<const Feature*>& MutableSquareFeatures(size_t slot);
+  SquareList& MutableSquareFeatures(size_t slot);
   // Gives an empty list of the square back.
   void ReleaseIfEmpty(size_t slot);
 
@@ -137,12 +151,24 @@ class Terrain {
   // The per-square tables live in zero-filled pages (ZeroPagedArray): a page costs memory only
   // once a feature or change touches one of its squares, so a world of 10^8 squares holds only
   // what its features touch (docs/real-ground.md "Large worlds").
-  // Per square: 1 + the index in lists_ of the features touching it, 0 for none.
-  ZeroPagedArray<uint32_t> square_lists_;
-  std::vector<std::vector<const Feature*>> lists_;
+  // Per square, in one 6-byte entry so a query reads one cache line: the 4 x 4 presence bits and
+  // 1 + the index in lists_ of the features touching it (0 for none), as two 16-bit halves.
+  struct SquareEntry {
+    uint16_t bits = 0;
+    uint16_t list_low = 0;
+    uint16_t list_high = 0;
+    uint32_t list() const { return (uint32_t{list_high} << 16) | list_low; }
+    void set_list(uint32_t k) {
+      list_low = static_cast<uint16_t>(k);
+      list_high = static_cast<uint16_t>(k >> 16);
+    }
+  };
+  size_t tiles_x_ = 0;
+  ZeroPagedArray<SquareEntry> squares_;
+  std::vector<SquareList> lists_;
   std::vector<uint32_t> free_lists_;  // indices in lists_ no square uses
-  ZeroPagedArray<uint16_t> bits_;     // 4 x 4 presence bits per square
   uint64_t stamp_ = 0;
+  uint64_t ground_stamp_ = 0;
   // Per square: the stamp of its last change (AreaStamp), 0 for none since stamps_floor_, the
   // stamp every square had at the terrain's making or its last RemoveAll.
   ZeroPagedArray<uint64_t> square_stamps_;

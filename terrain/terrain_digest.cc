@@ -29,6 +29,22 @@ class DigestStream {
     if (out_.bytes().size() >= kFlushBytes) Flush();
     return out_;
   }
+  // Hashes n bytes as they are, after what out() holds: the same digest as writing them one by
+  // one, without the copy.
+  void Raw(const void* data, size_t n) {
+    Flush();
+    DT_DEMAND(XXH3_128bits_update(state_.get(), data, n) == XXH_OK);
+  }
+  // The state so far, to go on from (Resume) without hashing it again.
+  std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> Save() {
+    Flush();
+    std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> copy(XXH3_createState(),
+                                                                  &XXH3_freeState);
+    DT_DEMAND(copy);
+    XXH3_copyState(copy.get(), state_.get());
+    return copy;
+  }
+  void Resume(const XXH3_state_t& saved) { XXH3_copyState(state_.get(), &saved); }
   TerrainDigest Finish() {
     Flush();
     const XXH128_hash_t h = XXH3_128bits_digest(state_.get());
@@ -58,9 +74,25 @@ void EncodeGround(const HeightGrid& ground, DigestStream& stream) {
     stream.out().U32(static_cast<uint32_t>(ground.posts_z()));
   }
   stream.out().F64(ground.spacing_m());
-  // Bit patterns, so the digest never depends on how a machine compares floats.
-  for (float y : ground.posts()) stream.out().U32(std::bit_cast<uint32_t>(y));
-  for (Material soil : ground.soils()) stream.out().U16(static_cast<uint16_t>(soil));
+  // Bit patterns, so the digest never depends on how a machine compares floats: little-endian
+  // u32 per post and u16 per soil, which on a little-endian machine are the bytes in memory, so
+  // the spans are hashed in place (a 10^8-post ground in a fraction of a second, not seconds).
+  static_assert(std::endian::native == std::endian::little, "the digest hashes LE bytes in place");
+  static_assert(sizeof(float) == sizeof(uint32_t) && sizeof(Material) == sizeof(uint16_t));
+  stream.Raw(ground.posts().data(), ground.posts().size_bytes());
+  stream.Raw(ground.soils().data(), ground.soils().size_bytes());
+}
+
+void EncodeFeatures(const Terrain& terrain, DigestStream& stream) {
+  const auto features = terrain.FeaturesById();
+  stream.out().U32(static_cast<uint32_t>(features.size()));
+  for (const Feature* f : features) {
+    ByteWriter& out = stream.out();
+    out.U16(f->id().site);
+    out.U16(f->id().host);
+    out.U32(f->id().number);
+    EncodeFeatureParams(f->params(), out);
+  }
 }
 
 }  // namespace
@@ -97,16 +129,34 @@ TerrainDigest ComputeDigest(const HeightGrid& ground) {
 TerrainDigest ComputeDigest(const Terrain& terrain) {
   DigestStream stream;
   EncodeGround(terrain.ground(), stream);
-  const auto features = terrain.FeaturesById();
-  stream.out().U32(static_cast<uint32_t>(features.size()));
-  for (const Feature* f : features) {
-    ByteWriter& out = stream.out();
-    out.U16(f->id().site);
-    out.U16(f->id().host);
-    out.U32(f->id().number);
-    EncodeFeatureParams(f->params(), out);
-  }
+  EncodeFeatures(terrain, stream);
   return stream.Finish();
+}
+
+struct TerrainDigester::GroundState {
+  std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> state{nullptr, &XXH3_freeState};
+};
+
+TerrainDigester::TerrainDigester() = default;
+TerrainDigester::~TerrainDigester() = default;
+TerrainDigester::TerrainDigester(TerrainDigester&&) noexcept = default;
+TerrainDigester& TerrainDigester::operator=(TerrainDigester&&) noexcept = default;
+
+TerrainDigest TerrainDigester::Of(const Terrain& terrain) {
+  if (digest_ && stamp_ == terrain.stamp()) return *digest_;
+  DigestStream stream;
+  if (ground_ && ground_stamp_ == terrain.ground_stamp()) {
+    stream.Resume(*ground_->state);
+  } else {
+    EncodeGround(terrain.ground(), stream);
+    if (!ground_) ground_ = std::make_unique<GroundState>();
+    ground_->state = stream.Save();
+    ground_stamp_ = terrain.ground_stamp();
+  }
+  EncodeFeatures(terrain, stream);
+  digest_ = stream.Finish();
+  stamp_ = terrain.stamp();
+  return *digest_;
 }
 
 }  // namespace dt

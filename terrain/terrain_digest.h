@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -29,5 +30,31 @@ struct TerrainDigest {
 TerrainDigest ComputeDigest(const Terrain& terrain);
 // The digest of a terrain holding this ground and no features.
 TerrainDigest ComputeDigest(const HeightGrid& ground);
+
+}  // namespace dt
+
+namespace dt {
+
+// ComputeDigest(terrain) remembered: the same digest, worked out again only for what changed. A
+// terrain's stamp() names its whole state and ground_stamp() its ground's (both unique across
+// terrains), so an unchanged terrain is answered at once and one whose features alone changed
+// hashes its features after the saved hash state of its ground: asking every second costs
+// O(1), or O(features) after a change, instead of reading 10^8 posts (docs/real-ground.md).
+class TerrainDigester {
+ public:
+  TerrainDigester();
+  ~TerrainDigester();
+  TerrainDigester(TerrainDigester&&) noexcept;
+  TerrainDigester& operator=(TerrainDigester&&) noexcept;
+
+  TerrainDigest Of(const Terrain& terrain);
+
+ private:
+  struct GroundState;  // the hash state after the ground (xxhash stays out of this header)
+  std::optional<TerrainDigest> digest_;
+  uint64_t stamp_ = 0;
+  std::unique_ptr<GroundState> ground_;
+  uint64_t ground_stamp_ = 0;
+};
 
 }  // namespace dt

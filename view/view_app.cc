@@ -95,11 +95,11 @@ void ViewApp::RenderRelief(int64_t now_ms) {
     ++relief_version_;
   }
   if (relief_at_ms_ >= 0 && now_ms - relief_at_ms_ < options_.relief_min_period_ms) return;
-  const std::string digest = replica_->Digest();
-  if (digest == relief_digest_) return;
+  const uint64_t stamp = replica_->terrain().stamp();
+  if (stamp == relief_stamp_) return;
   if (!relief_->Offer(replica_->terrain())) return;  // one under way: offered again next tick
   relief_at_ms_ = now_ms;
-  relief_digest_ = digest;
+  relief_stamp_ = stamp;
 }
 
 void ViewApp::OnTick(int64_t now_ms) {

@@ -58,7 +58,9 @@ class ViewApp : public ObserverProcess {
   std::unique_ptr<WebServer> web_;
   std::unique_ptr<ReliefRenderer> relief_;
   std::set<std::string> nodes_;
-  std::string relief_digest_;  // of the terrain last offered for rendering
+  // The stamp of the terrain last offered for rendering: a changed terrain draws a new one, so
+  // no relief period reads the whole ground for a digest.
+  uint64_t relief_stamp_ = 0;
   int relief_version_ = 0;
   int64_t relief_at_ms_ = -1;
 };

@@ -15,6 +15,7 @@
 
 #include "terrain/ground_cache.h"
 #include "terrain/terrain.h"
+#include "terrain/terrain_digest.h"
 
 namespace dt {
 namespace {
@@ -81,14 +82,16 @@ World& Get(int posts, bool mapped) {
   return w;
 }
 
-void Query(benchmark::State& state, bool local) {
+// `ground_only`: the bare ground's elevation alone (no feature tables), which tells the posts'
+// share of a query from the features'.
+void Query(benchmark::State& state, bool local, bool ground_only = false) {
   const World& w = Get(static_cast<int>(state.range(0)), state.range(1) != 0);
   const auto& points = local ? w.local : w.uniform;
   size_t k = 0;
   double sum = 0.0;
   for (auto _ : state) {
     const auto& [x, z] = points[k++ & (kPoints - 1)];
-    sum += w.terrain->ElevationAt(x, z);
+    sum += ground_only ? w.terrain->GroundElevationAt(x, z) : w.terrain->ElevationAt(x, z);
   }
   benchmark::DoNotOptimize(sum);
   state.counters["features"] = static_cast<double>(w.terrain->feature_count());
@@ -99,6 +102,36 @@ void BM_QueryLocal(benchmark::State& state) { Query(state, true); }
 // {posts a side, mapped}: the 1001^2 grid in memory against the 10001^2 mapped world.
 BENCHMARK(BM_QueryUniform)->Args({1001, 0})->Args({10001, 1});
 BENCHMARK(BM_QueryLocal)->Args({1001, 0})->Args({10001, 1});
+void BM_GroundQueryUniform(benchmark::State& state) { Query(state, false, true); }
+void BM_GroundQueryLocal(benchmark::State& state) { Query(state, true, true); }
+BENCHMARK(BM_GroundQueryUniform)->Args({1001, 0})->Args({10001, 1});
+BENCHMARK(BM_GroundQueryLocal)->Args({1001, 0})->Args({10001, 1});
+
+// The whole terrain's digest read afresh (the ground's 10^8 posts, then every feature), as a
+// server printed on its way out, against the remembered digest after one feature changed
+// (TerrainDigester: the ground's hash state kept, the features hashed again).
+void BM_DigestWhole(benchmark::State& state) {
+  World& w = Get(static_cast<int>(state.range(0)), state.range(1) != 0);
+  for (auto _ : state) benchmark::DoNotOptimize(ComputeDigest(*w.terrain));
+}
+void BM_DigestAfterOneFeature(benchmark::State& state) {
+  World& w = Get(static_cast<int>(state.range(0)), state.range(1) != 0);
+  TerrainDigester digester;
+  (void)digester.Of(*w.terrain);
+  const FeatureId id{9, 9, 1};
+  const double middle_m = w.terrain->ground().size_x_m() / 2;
+  for (auto _ : state) {
+    state.PauseTiming();
+    if (!w.terrain->Add(id, FeatureParams::Crater(middle_m, middle_m, 3.0)).ok()) std::abort();
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(digester.Of(*w.terrain));
+    state.PauseTiming();
+    if (!w.terrain->Remove(id).ok()) std::abort();
+    state.ResumeTiming();
+  }
+}
+BENCHMARK(BM_DigestWhole)->Args({10001, 1})->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_DigestAfterOneFeature)->Args({10001, 1})->Unit(benchmark::kMillisecond)->Iterations(5);
 
 // Opening the warm cache file: reading the header, hashing every byte after it (from the page
 // cache) and mapping it; the time per 10^6 posts is the time over the counter posts_1e6.

@@ -1,11 +1,15 @@
 #include "terrain/ground_cache.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -180,6 +184,75 @@ TEST_F(GroundCacheTest, ProcessesStartingAtOnceBuildItOnce) {
   for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
     EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << entry.path();
   }
+}
+
+// Sets the file's last use (its modification time) `days` ago.
+void UsedDaysAgo(const std::filesystem::path& file, int days) {
+  const auto now = std::chrono::system_clock::now().time_since_epoch();
+  const int64_t s = std::chrono::duration_cast<std::chrono::seconds>(now).count() - days * 86400;
+  const timespec times[2] = {{s, 0}, {s, 0}};
+  ASSERT_EQ(utimensat(AT_FDCWD, file.c_str(), times, 0), 0) << file;
+}
+
+bool Mentions(const std::vector<std::string>& removed, const std::filesystem::path& file) {
+  return std::ranges::any_of(
+      removed, [&](const std::string& r) { return r.starts_with(file.string() + " ("); });
+}
+
+TEST_F(GroundCacheTest, ABuildRemovesFilesUnusedTooLongThenTheOldestOverTheBudget) {
+  auto build = [&](const std::string& key, GroundCachePruning pruning) {
+    return OpenGroundCache(
+        dir_, key, [] { return HeightGrid(33, 1.0); }, pruning);
+  };
+  constexpr GroundCachePruning kRoomy{.max_age_days = 30, .budget_bytes = uint64_t{1} << 40};
+  const std::filesystem::path a = build("a", kRoomy).file, b = build("b", kRoomy).file,
+                              c = build("c", kRoomy).file, held = build("held", kRoomy).file;
+  const auto bytes = std::filesystem::file_size(a);
+  const std::filesystem::path temp = dir_ / "ground-0123.dtg.tmp.99999";
+  const std::filesystem::path other = dir_ / "notes.txt";
+  std::ofstream(temp) << "a build that died";
+  std::ofstream(other) << "not a cache file";
+  UsedDaysAgo(a, 40);
+  UsedDaysAgo(b, 40);
+  UsedDaysAgo(held, 40);
+  UsedDaysAgo(temp, 40);
+  UsedDaysAgo(other, 40);
+  UsedDaysAgo(c, 10);
+  // b is opened again: that is a use, and it stays.
+  EXPECT_FALSE(build("b", kRoomy).built);
+  // Another process is rebuilding `held`: it holds the file's lock, and the file stays.
+  const int lock = open((held.string() + ".lock").c_str(), O_RDWR | O_CLOEXEC);
+  ASSERT_GE(lock, 0);
+  ASSERT_EQ(flock(lock, LOCK_EX | LOCK_NB), 0);
+  const GroundCacheOpened d = build("d", kRoomy);
+  close(lock);
+  EXPECT_TRUE(d.built);
+  EXPECT_EQ(d.removed.size(), 2u) << ::testing::PrintToString(d.removed);
+  EXPECT_TRUE(Mentions(d.removed, a)) << ::testing::PrintToString(d.removed);
+  EXPECT_TRUE(Mentions(d.removed, temp));
+  EXPECT_FALSE(std::filesystem::exists(a));
+  EXPECT_FALSE(std::filesystem::exists(a.string() + ".lock"));
+  EXPECT_FALSE(std::filesystem::exists(temp));
+  for (const auto& kept : {b, c, held, other, d.file}) {
+    EXPECT_TRUE(std::filesystem::exists(kept)) << kept;
+  }
+  // Over a budget of three files: the oldest in use go first (held, then c), the new one stays.
+  UsedDaysAgo(held, 20);
+  UsedDaysAgo(c, 10);
+  UsedDaysAgo(b, 5);
+  UsedDaysAgo(d.file, 1);
+  const GroundCacheOpened e =
+      build("e", {.max_age_days = 30, .budget_bytes = 3 * bytes + bytes / 2});
+  EXPECT_EQ(e.removed.size(), 2u) << ::testing::PrintToString(e.removed);
+  EXPECT_TRUE(Mentions(e.removed, held));
+  EXPECT_TRUE(Mentions(e.removed, c));
+  for (const auto& kept : {b, d.file, e.file, other}) {
+    EXPECT_TRUE(std::filesystem::exists(kept)) << kept;
+  }
+  // Opening without building never removes anything.
+  UsedDaysAgo(b, 400);
+  EXPECT_TRUE(build("e", {.max_age_days = 1, .budget_bytes = 0}).removed.empty());
+  EXPECT_TRUE(std::filesystem::exists(b));
 }
 
 }  // namespace

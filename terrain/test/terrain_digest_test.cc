@@ -185,3 +185,51 @@ TEST(TerrainDigestTest, HexFormRoundTrips) {
 
 }  // namespace
 }  // namespace dt
+
+namespace dt {
+namespace {
+
+// The remembered digest is the full one after every kind of change, on one terrain and when
+// asked of another terrain; asked twice without a change it stays the same.
+TEST(TerrainDigesterTest, EqualsTheFullDigestAfterEveryKindOfChange) {
+  const auto features = SampleFeatures();
+  auto t = BuildSample(features);
+  TerrainDigester digester;
+  std::set<TerrainDigest> seen;
+  auto check = [&](const char* what) {
+    const TerrainDigest full = ComputeDigest(*t);
+    EXPECT_EQ(digester.Of(*t), full) << what;
+    EXPECT_EQ(digester.Of(*t), full) << what << ", asked again";
+    seen.insert(full);
+  };
+  check("at first");
+  ASSERT_TRUE(t->Add({3, 3, 3}, FeatureParams::Crater(40.0, 70.0, 2.0)).ok());
+  check("a crater added");
+  ASSERT_TRUE(t->Add({3, 3, 4}, FeatureParams::EarthMove({{5, 6, 250}, {6, 6, -120}})).ok());
+  check("an earth move added");
+  FeatureParams moved = features[0].second;
+  moved.x_m += 0.5;
+  ASSERT_TRUE(t->Update(features[0].first, moved).ok());
+  check("a feature moved");
+  ASSERT_TRUE(t->SetPostElevation(4, 7, t->ground().post(4, 7) + 0.001f).ok());
+  check("one post");
+  ASSERT_TRUE(t->SetSoil({6, 2}, TriangleHalf::kUpper, Material::kMud).ok());
+  check("one soil");
+  ASSERT_TRUE(t->Remove({3, 3, 4}).ok());
+  check("the earth move removed");
+  ASSERT_TRUE(t->Remove({3, 3, 3}).ok());
+  check("the crater removed");
+  (void)t->RemoveAt(features[0].second.x_m, features[0].second.z_m);
+  check("removed at a point");
+  ASSERT_TRUE(t->Add({3, 3, 5}, FeatureParams::EarthMove({{2, 2, 900}})).ok());
+  t->RemoveAll();
+  check("everything removed");
+  EXPECT_GE(seen.size(), 9u);  // the changes were changes
+  // Another terrain with another ground: never the first one's remembered answer.
+  Terrain other(HeightGrid(9, 10.0));
+  EXPECT_EQ(digester.Of(other), ComputeDigest(other));
+  EXPECT_EQ(digester.Of(*t), ComputeDigest(*t));
+}
+
+}  // namespace
+}  // namespace dt

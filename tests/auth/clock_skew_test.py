@@ -43,6 +43,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pylib"))
+from dt_ctl import ctl_answer  # noqa: E402
 from launch_output import LaunchOutput  # noqa: E402
 
 SKIP = 77
@@ -312,13 +313,8 @@ def converged(ctl, config, names):
     return len(digests) == 1
 
 
-def ctl_line(ctl, config, name, *words):
-    r = subprocess.run([ctl, "--config", config, "--name", name, *words], capture_output=True,
-                       text=True, timeout=10)
-    if r.returncode != 0:
-        raise Failure(f"dt_ctl --name {name} {' '.join(words)}: exit {r.returncode}: "
-                      f"{r.stderr.strip()}")
-    return r.stdout.strip()
+def ctl_line(ctl_bin, config, name, *words):
+    return ctl_answer(ctl_bin, config, name, *words, failure=Failure)
 
 
 def run_hosts(launch_bin, node_bin, server_bin, ctl, key, work, carrier, direction):

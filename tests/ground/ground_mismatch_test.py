@@ -33,6 +33,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pylib"))
+from dt_ctl import ctl_answer  # noqa: E402
 from launch_output import LaunchOutput  # noqa: E402
 
 READY_TIMEOUT_S = 25  # dt_launch's --ready-timeout-s for the battle: node-2 never signs on
@@ -110,12 +111,7 @@ def Launch(argv):
 
 
 def ctl(ctl_bin, config, name, *args):
-    r = subprocess.run([ctl_bin, "--config", config, "--name", name, *args], capture_output=True,
-                       text=True, timeout=10)
-    if r.returncode != 0:
-        raise Failure(f"dt_ctl --name {name} {' '.join(args)}: exit {r.returncode}: "
-                      f"{r.stderr.strip()}")
-    return r.stdout.strip()
+    return ctl_answer(ctl_bin, config, name, *args, failure=Failure)
 
 
 def status(ctl_bin, config, name):

@@ -250,9 +250,16 @@ size_t PhysicalVehicle::GatherWreckTouches(const Terrain& terrain, std::span<con
       c.ground.stamp = terrain.stamp();
     }
     // Most of the box is clear of the surface: the kept ground plane tells, before a sample.
-    if (solids.empty() && c.ground.Holds(p.x(), p.z()) &&
-        (c.ground.HeightAt(p.x(), p.z()) - p.y()) * c.ground.normal.y() <= 0.0)
-      continue;
+    if (solids.empty()) {
+      if (c.ground.Holds(p.x(), p.z())) {
+        if ((c.ground.HeightAt(p.x(), p.z()) - p.y()) * c.ground.normal.y() <= 0.0) continue;
+      } else {
+        // Over an earthwork no plane is kept, and a sample takes three heights and the soil; the
+        // height alone (the sample's, bit for bit) clears most of the box, as for the belly grid.
+        double e = 0.0;
+        if (EarthworkElevationAt(terrain, earthworks_, p.x(), p.z(), e) && e <= p.y()) continue;
+      }
+    }
     const SurfaceSample s = SampleSurface(terrain, solids, {near_earthworks_, near_area_}, p.x(),
                                           p.z(), p.y() + c.reach_m, c.ground);
     const double depth = (s.height_m - p.y()) * s.normal.y();

@@ -398,9 +398,12 @@ Result<PhysicalReport> PhysicalVehicle::Advance(const Terrain& terrain, double d
   }
   // The running gear's contacts are read in every step: fetched now, their misses (a fleet's
   // vehicles do not stay in the cache between ticks) overlap the gathering of features below.
+  // The belly's centre line is read only near features: fetched when the last chunk had some.
   {
+    const bool belly = !solids_.empty() || !earthworks_.empty();
     const char* begin = reinterpret_cast<const char*>(contacts_.data());
-    const char* end = reinterpret_cast<const char*>(contacts_.data() + always_count_ + per_side_);
+    const char* end = reinterpret_cast<const char*>(contacts_.data() + always_count_ +
+                                                    (belly ? static_cast<size_t>(per_side_) : 0));
     for (const char* p = begin; p < end; p += 64) __builtin_prefetch(p);
   }
   const double reach = half_diagonal_m_ + type_.hull_height_m + 2.0;

@@ -1,5 +1,7 @@
 #include "vehicle/simulated_vehicle.h"
 
+#include <cmath>
+
 namespace dt {
 
 std::string_view VehicleModelName(VehicleModel model) {
@@ -76,9 +78,20 @@ VehiclePose SimulatedVehicle::ComputePose() const {
     return {v.x_m(),       v.z_m(),      v.elevation_m(), v.heading_rad(),
             v.pitch_rad(), v.roll_rad(), v.speed_mps()};
   }
+  // PhysicalVehicle's heading_rad(), pitch_rad(), roll_rad() and speed_mps(), the same bits, with
+  // the forward axis rotated once for the three that use it: a pose is taken every tick.
   const PhysicalVehicle& v = *physical_;
-  return {v.x_m(),       v.z_m(),      v.elevation_m(), v.heading_rad(),
-          v.pitch_rad(), v.roll_rad(), v.speed_mps()};
+  const Eigen::Quaterniond& q = v.orientation();
+  const Eigen::Vector3d f = q * Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d up = q * Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d left = q * Eigen::Vector3d::UnitZ();
+  return {v.x_m(),
+          v.z_m(),
+          v.elevation_m(),
+          std::atan2(f.z(), f.x()),
+          std::atan2(f.y(), std::hypot(f.x(), f.z())),
+          std::atan2(left.y(), up.y()),
+          v.velocity_mps().dot(f)};
 }
 
 bool SimulatedVehicle::alive() const {

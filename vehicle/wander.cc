@@ -167,9 +167,14 @@ bool Wanderer::ObstacleAhead(const VehiclePose& pose, double ahead_m, const Terr
 WanderCommand Wanderer::Next(const VehiclePose& pose, double dt_s, const Terrain& terrain) {
   const double ax = std::cos(pose.heading_rad), az = std::sin(pose.heading_rad);
   const bool ahead_clear = Inside(pose.x_m + ax * lookahead_m_, pose.z_m + az * lookahead_m_);
-  const double to_centre = std::atan2((clear_.z_min_m + clear_.z_max_m) / 2 - pose.z_m,
-                                      (clear_.x_min_m + clear_.x_max_m) / 2 - pose.x_m);
-  const double error_rad = WrapPi(to_centre - pose.heading_rad);
+  // The bearing to the centre matters only while turning back or about to: most ticks skip its
+  // atan2.
+  const double error_rad =
+      turning_back_ || !ahead_clear
+          ? WrapPi(std::atan2((clear_.z_min_m + clear_.z_max_m) / 2 - pose.z_m,
+                              (clear_.x_min_m + clear_.x_max_m) / 2 - pose.x_m) -
+                   pose.heading_rad)
+          : 0.0;
   if (turning_back_ && ahead_clear && std::abs(error_rad) < kFacingInRad) {
     turning_back_ = false;
     NewLeg();

@@ -173,9 +173,7 @@ size_t PhysicalVehicle::GatherTouches(const Terrain& terrain, std::span<const So
   auto visit = [&](size_t k) __attribute__((always_inline)) {
     if (count >= touches.size()) return;
     Contact& c = contacts_[k];
-    // The product R * c.body evaluates as this (Eigen's evalTo), but was called out of line.
-    Vector3d r;
-    r.noalias() = R.lazyProduct(c.body);
+    const Vector3d r = R * c.body;
     const Vector3d p = x_ + r;
     if (c.dense) {
       // Only over an earthwork can the ground rise into the belly between the running gear (the

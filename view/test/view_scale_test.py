@@ -121,6 +121,8 @@ with sync_playwright() as pw:
                                  args=["--no-sandbox", "--enable-unsafe-swiftshader"])
     try:
         page = browser.new_page(viewport={"width": 1600, "height": 1000})
+        page_errors = []  # the page's uncaught errors: none expected
+        page.on("pageerror", lambda e: page_errors.append(str(e)))
         page.goto(f"http://127.0.0.1:{PORT}/")
         page.wait_for_function("window.dtView.snapshotAt > 0", timeout=120000)
         print(f"the page received its snapshot {time.monotonic() - built:.1f} s after start")
@@ -224,11 +226,14 @@ with sync_playwright() as pw:
         # runs on ANGLE's SwiftShader (the default software path blocks the page's thread; forced
         # for the 2D page, it slows that one's canvas instead).
         page.close()  # its deltas would cost the 3D page's machine
+        if page_errors:
+            fail(f"errors in the page: {page_errors}")
         browser3d = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
                                        args=["--no-sandbox", "--use-angle=swiftshader",
                                              "--enable-unsafe-swiftshader"])
         try:
             p3 = browser3d.new_page(viewport={"width": 1600, "height": 1000})
+            p3.on("pageerror", lambda e: page_errors.append(str(e)))
             p3.goto(f"http://127.0.0.1:{PORT}/#3d=500,500,0.5,0.6,700")  # the whole terrain
             p3.wait_for_function(f"window.dtView3d.error || window.dtView3d.windows >= 1 && "
                                  f"window.dtView3d.drawn.vehicles === {vehicles}", timeout=60000)
@@ -252,6 +257,8 @@ with sync_playwright() as pw:
                   f"{(r['frames'] - f0) / dt:.1f} fps, animation frames {r['raf'] / dt:.1f}/s, "
                   f"lag max {r['lag']} ms, load average {load[0]:.2f}")
             p3.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-3d.png"))
+            if page_errors:
+                fail(f"errors in the 3D page: {page_errors}")
         finally:
             browser3d.close()
     finally:

@@ -225,6 +225,15 @@ with sync_playwright() as pw:
         # frames per second and lag printed, not asserted. In a browser of its own whose WebGL
         # runs on ANGLE's SwiftShader (the default software path blocks the page's thread; forced
         # for the 2D page, it slows that one's canvas instead).
+        # A delta's vehicles_removed leaves the model (the feed's later moves of that slot are
+        # skipped), and the page goes on drawing.
+        gone = page.evaluate("""() => { const d = window.dtView, f = d.frames;
+            applyMessage({type: 'delta', vehicles_removed: ['node-1/0', 'node-2/0']});
+            return {size: d.state.vehicles.size, has: d.state.vehicles.has('node-1/0'), f}; }""")
+        page.wait_for_function(f"window.dtView.frames > {gone['f'] + 2}", timeout=10000)
+        if gone["size"] != vehicles - 2 or gone["has"] or page.evaluate(
+                "window.dtView.state.vehicles.size") != vehicles - 2:
+            fail(f"after two vehicles removed the model holds {gone}")
         page.close()  # its deltas would cost the 3D page's machine
         if page_errors:
             fail(f"errors in the page: {page_errors}")

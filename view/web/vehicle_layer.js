@@ -8,7 +8,7 @@ const GLYPH_MAX_PX = 6;       // the largest cell's glyph: (6 / 14)² of the gro
 const MARKERS_MAX = 3000;     // more visible than this: per-cell counts
 const MARKER_COVER_MAX = 0.12;  // nor when markers would cover more of the map than this
 function setVehicle(row) { state.vehicles.setRow(row); frame.dirty = true; }
-function removeVehicle(id) { state.vehicles.delete(id); frame.dirty = true; }
+function removeVehicle(id) { state.vehicles.remove(id); frame.dirty = true; }
 
 // The vehicles in view: each as an oriented marker in its owner's colour (dead: grey with a red
 // cross) while they are few enough to leave the ground readable; otherwise one square per cell

@@ -184,6 +184,10 @@ with sync_playwright() as pw:
             page.mouse.wheel(0, 120)
             page.wait_for_timeout(10)
         page.evaluate("""() => { const d = window.dtView; d.maxLagMs = 0; d.frameMs = [];
+            d.maxTransitMs = 0; d.maxQueuedMs = 0; performance.clearMeasures();
+            d.longTasks = []; d.from = performance.now();
+            new PerformanceObserver((l) => { for (const e of l.getEntries())
+              d.longTasks.push([e.startTime, e.duration]); }).observe({type: 'longtask'});
             d.wsBytes0 = d.wsBytes; d.wsAt0 = performance.now();
             d.cost = {messages: 0, applyMs: 0, draws: 0, drawMs: 0};
             d.lags = []; let last = performance.now();
@@ -192,6 +196,7 @@ with sync_playwright() as pw:
             requestAnimationFrame(rec); }""")
         feed = server.feeds["feed"]
         sent0, t0 = feed.sent_bytes, time.monotonic()
+        feed.max_send_s = 0.0
         step = 0
         while time.monotonic() - t0 < pan_s:
             page.mouse.move(cx, cy)
@@ -219,6 +224,20 @@ with sync_playwright() as pw:
         c = stats["cost"]
         print(f"the page's time over {stats['ms'] / 1000:.1f} s: {c['messages']} messages applied "
               f"in {c['applyMs']:.0f} ms, {c['draws']} frames drawn in {c['drawMs']:.0f} ms")
+        # Where the lag came from, by the page's own timeline: before its thread received the
+        # message (the feed, the network, the browser) or waiting in it; its long tasks (over
+        # 50 ms) and its own slow steps (performance measures dt:apply, dt:draw, dt:feature-cache).
+        timing = page.evaluate("""() => { const d = window.dtView;
+            const slow = performance.getEntriesByType('measure').filter((e) => e.startTime >= d.from)
+              .sort((a, b) => b.duration - a.duration).slice(0, 5)
+              .map((e) => `${e.name}${e.detail !== null ? ` (${e.detail})` : ''} ${e.duration.toFixed(0)} ms`);
+            const long = d.longTasks.map((t) => t[1]).sort((a, b) => b - a);
+            return {transit: d.maxTransitMs, queued: d.maxQueuedMs, long_tasks: long.length,
+                    longest: long.slice(0, 5).map(Math.round), slow}; }""")
+        print(f"lag split: at most {timing['transit']} ms before the page's thread received a "
+              f"message, at most {timing['queued']} ms queued in it; {timing['long_tasks']} long "
+              f"tasks, longest {timing['longest']} ms; slowest steps {timing['slow']}; the feed's "
+              f"longest send {1000 * feed.max_send_s:.0f} ms")
         page.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-after.png"))
 
         # The 3D view over the whole terrain with every vehicle, while the deltas keep coming:

@@ -62,27 +62,33 @@ function onDelta(d) {
 // Messages are queued as they arrive and applied once per animation frame, all of them at once:
 // a vehicle moved by several queued deltas is drawn once, at its latest place, and the page's
 // work per frame does not grow with the message rate (docs/view.md "Drawing at scale").
-const inbox = [];
+// Each message's arrival (Date.now()) is kept beside it: the lag splits into the time before the
+// page's thread received it (the sender, the network, the browser) and the time it waited here.
+const inbox = [], arrivedAt = [];
 let processesDirty = false;
 function onMessage(ev) {
   inbox.push(ev.data);
+  arrivedAt.push(Date.now());
   window.dtView.wsBytes += typeof ev.data === "string" ? ev.data.length : ev.data.byteLength;
 }
 // The binary vehicle message: the moves of vehicles the page knows, by slot.
-function applyVehicleFrame(buf) {
+function applyVehicleFrame(buf, arrived) {
   const h = state.vehicles.applyFrame(buf);
   if (!h) return;
   frame.dirty = true;
   window.dtView.deltas++;
   window.dtView.appliedSeq = Math.max(window.dtView.appliedSeq, h.seq);
-  noteLag(h.t_ms);
+  noteLag(h.t_ms, arrived);
 }
-function noteLag(t_ms) {
-  const lag = Date.now() - t_ms;
-  window.dtView.lagMs = lag;
-  window.dtView.maxLagMs = Math.max(window.dtView.maxLagMs || 0, lag);
+function noteLag(t_ms, arrived) {
+  const d = window.dtView, now = Date.now(), lag = now - t_ms;
+  d.lagMs = lag;
+  d.maxLagMs = Math.max(d.maxLagMs || 0, lag);
+  if (arrived === undefined) return;
+  d.maxTransitMs = Math.max(d.maxTransitMs || 0, arrived - t_ms);
+  d.maxQueuedMs = Math.max(d.maxQueuedMs || 0, now - arrived);
 }
-function applyMessage(m) {
+function applyMessage(m, arrived) {
   if (m.type === "snapshot") onSnapshot(m);
   else if (m.type === "delta") onDelta(m);
   else if (m.type === "reply") {
@@ -90,16 +96,16 @@ function applyMessage(m) {
     window.dtView.lastReply = m;
   }
   if (m.seq !== undefined) window.dtView.appliedSeq = m.seq;
-  if (m.t_ms !== undefined) noteLag(m.t_ms);
+  if (m.t_ms !== undefined) noteLag(m.t_ms, arrived);
 }
 function tick(now) {
   const cost = window.dtView.cost;
-  const t0 = performance.now();
-  if (inbox.length) {
-    const batch = inbox.splice(0, inbox.length);
-    for (const m of batch) {
-      if (typeof m === "string") applyMessage(JSON.parse(m));
-      else applyVehicleFrame(m);
+  const t0 = performance.now(), messages = inbox.length;
+  if (messages) {
+    const batch = inbox.splice(0, inbox.length), arrived = arrivedAt.splice(0, arrivedAt.length);
+    for (let i = 0; i < batch.length; ++i) {
+      if (typeof batch[i] === "string") applyMessage(JSON.parse(batch[i]), arrived[i]);
+      else applyVehicleFrame(batch[i], arrived[i]);
     }
     cost.messages += batch.length;
     if (processesDirty) { drawProcesses(); processesDirty = false; }
@@ -118,8 +124,11 @@ function tick(now) {
     drawFrame(now);
     ++cost.draws;
   }
+  const t2 = performance.now();
+  noteSlow("dt:apply", t0, t1, messages);
+  noteSlow("dt:draw", t1, t2);
   cost.applyMs += t1 - t0;
-  cost.drawMs += performance.now() - t1;
+  cost.drawMs += t2 - t1;
   ++window.dtView.frames;
   requestAnimationFrame(tick);
 }

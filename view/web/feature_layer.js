@@ -99,6 +99,7 @@ function drawFeatureCache(now, t) {
   const moved = !was || was.s !== t.s || was.ox !== t.ox || was.oy !== t.oy || was.W !== t.W ||
     was.H !== t.H;
   if ((restful && moved) || stale || !featureCache.t) {
+    const started = performance.now();
     const c = featureCache.canvas;
     c.width = Math.ceil(t.W * 1.5); c.height = Math.ceil(t.H * 1.5);
     // The cache's own transform: the map's, shifted by a quarter of the map either way.
@@ -108,6 +109,7 @@ function drawFeatureCache(now, t) {
     paintFeatures(g, ct, ct.ox, ct.oy, ct.ox + c.width * t.s, ct.oy + c.height * t.s);
     featureCache.t = ct; featureCache.tView = t; featureCache.version = frame.featuresVersion;
     featureCache.renderedAt = now;
+    noteSlow("dt:feature-cache", started, performance.now(), featureCache.mode);
   }
   const ct = featureCache.t, k = ct.s / t.s;
   ctx.drawImage(featureCache.canvas, (ct.ox - t.ox) / t.s, (ct.oy - t.oy) / t.s,

@@ -56,3 +56,11 @@ function transform() {
   const s = Math.max(v.w / W, v.h / H);
   return { W, H, s, ox: v.x + (v.w - W * s) / 2, oy: v.y + (v.h - H * s) / 2 };
 }
+// A step of the page slower than a frame at 50 Hz, as a performance measure (the browser's
+// performance timeline, beside its long tasks): what held the page when it fell behind.
+const SLOW_MS = 20;
+function noteSlow(name, start, end, detail) {
+  if (end - start < SLOW_MS) return;
+  if (performance.getEntriesByType("measure").length > 1000) performance.clearMeasures();
+  performance.measure(name, { start, end, detail });
+}

@@ -112,9 +112,11 @@ function tick(now) {
     $("stats").textContent = `${state.features.size} features, ${state.vehicles.size} vehicles,` +
       ` message ${window.dtView.appliedSeq}, ${window.dtView.lagMs} ms after it was sent`;
   }
-  // A resting view whose feature cache is older than the view is drawn once more.
-  const cacheBehind = featuresOnCanvas() && (featureCache.version !== frame.featuresVersion ||
-    featureCache.tView !== undefined && now - frame.viewChangedAt > 150 &&
+  // A resting view whose feature cache is older than the view is drawn once more, and a frame
+  // is drawn while the cache's render goes on (a slice each).
+  const cacheBehind = featuresOnCanvas() && (featureCache.job !== null ||
+    featureCache.version !== frame.featuresVersion ||
+    featureCache.tView !== null && now - frame.viewChangedAt > 150 &&
     featureCache.renderedAt < frame.viewChangedAt);
   const t1 = performance.now();
   // Under the 3D view the map is not drawn: it is drawn when it shows again.

@@ -16,7 +16,7 @@ const VEHICLE_L = 7, VEHICLE_W = 3.2, VEHICLE_H = 2.4;  // metres, before the zo
 const v3 = {
   on: false, gl: null, cam: { x: 500, z: 500, yaw: 0.6, pitch: 0.55, dist: 600, follow: null },
   win: null, fetching: false, fetchedAt: 0, terrainVersion: -1, vehiclesAt: -1,
-  frames: 0, fps: 0, drawnKey: "", drawn: { posts: 0, solids: 0, vehicles: 0 }, windows: 0, error: null,
+  frames: 0, fps: 0, key: new Float64Array(9), drawnKey: new Float64Array(9).fill(NaN), drawn: { posts: 0, solids: 0, vehicles: 0 }, windows: 0, error: null,
 };
 window.dtView3d = v3;
 const $ = (id) => document.getElementById(id);
@@ -399,10 +399,15 @@ function draw(now) {
   // The vehicles' moves alone redraw at most every VEHICLE_REDRAW_MS: the page keeps applying its
   // messages (and stays current) however slowly the rasteriser draws.
   const dv = window.dtView;
-  const key = [cam.x, cam.z, cam.yaw, cam.pitch, cam.dist, v3.windows, dv.snapshotAt, W, H].join();
+  // What the picture depends on, compared in place: nothing allocated on a frame not drawn.
+  const key = v3.key, was = v3.drawnKey;
+  key[0] = cam.x; key[1] = cam.z; key[2] = cam.yaw; key[3] = cam.pitch; key[4] = cam.dist;
+  key[5] = v3.windows; key[6] = dv.snapshotAt; key[7] = W; key[8] = H;
+  let same = true;
+  for (let i = 0; i < key.length; ++i) same = same && key[i] === was[i];
   const moved = dv.deltas !== v3.drawnDeltas && now - (v3.drawnAt || 0) >= VEHICLE_REDRAW_MS;
-  if (key === v3.drawnKey && !moved) return;
-  v3.drawnKey = key;
+  if (same && !moved) return;
+  was.set(key);
   v3.drawnDeltas = dv.deltas;
   v3.drawnAt = now;
   ++v3.frames;
@@ -467,7 +472,7 @@ function draw(now) {
 function show(on) {
   if (on && !v3.gl && !setUp()) { $("help3d").textContent = v3.error; }
   v3.on = on && !!v3.gl;
-  v3.drawnKey = "";
+  v3.drawnKey.fill(NaN);  // drawn at once
   v3.vehiclesAt = -1;  // the table's moves were not followed while hidden
   $("mapbox").classList.toggle("three", v3.on);
   $("toggle3d").textContent = v3.on ? "2D" : "3D";

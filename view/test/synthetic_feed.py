@@ -106,6 +106,7 @@ class Feed:
         self.seq = 0
         self.tick = 0
         self.sent_bytes = 0
+        self.max_send_s = 0.0
 
     def snapshot(self):
         self.seq += 1
@@ -177,7 +178,10 @@ def serve(port, web_dir, vehicles, features, json_vehicles=False):
                 while True:
                     next_at += 1.0 / TICK_HZ
                     text = feed.delta()
+                    stamped = time.monotonic()
                     sock.sendall(websocket_upgrade.frame(text))
+                    # A send that waits is a page (or a browser) not reading: part of its lag.
+                    feed.max_send_s = max(feed.max_send_s, time.monotonic() - stamped)
                     feed.sent_bytes += len(text)
                     time.sleep(max(0.0, next_at - time.monotonic()))
             except (BrokenPipeError, ConnectionResetError, socket.timeout, OSError):

@@ -8,7 +8,8 @@ and sends thirteen vehicles that stand still. With the camera fixed by the page'
 vehicle in the window, and its picture matches the committed reference (view3d_reference.png)
 within a tolerance: at most 1 % of the pixels differ by more than 40 in a channel (the difference
 is printed). Printed, not asserted: frames drawn per second while the camera turns, on the 129^2
-terrain and on a 100 km terrain seen from far (dt_view's step grows, the posts do not). `--update` writes the reference instead.
+terrain (in this page and in a 1600 x 1000 one, beside an empty canvas of that size: the bound)
+and on a 100 km terrain seen from far (dt_view's step grows, the posts do not). `--update` writes the reference instead.
 Exits 77 (skipped) when playwright or chromium is missing. Run inside tests/run_in_netns.sh.
 
   view3d_test.py <run_dir> [--update]
@@ -127,6 +128,22 @@ def wait(page, what, timeout_s=30):
 SETTLE = "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))"
 
 
+# Frames per second of a WebGL 2 canvas of w x h pixels that is only cleared, every animation frame
+# for 3 s: the rasteriser's and the page's bound, whatever the scene.
+EMPTY_CANVAS_FPS = """([w, h]) => new Promise((done) => {
+  const c = document.createElement('canvas'); c.width = w; c.height = h;
+  c.style = `position:fixed;left:0;top:0;width:${w}px;height:${h}px;z-index:9`;
+  document.body.appendChild(c);
+  const gl = c.getContext('webgl2', {antialias: false, preserveDrawingBuffer: true});
+  let n = 0, t0 = null;
+  const step = (t) => {
+    if (t0 === null) t0 = t;
+    gl.clearColor(0.5, 0.6, 0.8, 1); gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT); ++n;
+    if (t - t0 < 3000) requestAnimationFrame(step); else { c.remove(); done((n - 1) * 1000 / (t - t0)); }
+  };
+  requestAnimationFrame(step); })"""
+
+
 def fps(page, seconds):
     """Frames drawn per second while the camera turns a little every animation frame (the page
     draws only when something changed)."""
@@ -191,6 +208,19 @@ with sync_playwright() as pw:
                      "the comparison cannot tell pictures apart")
         print(f"3D view, 129^2 terrain: {fps(page, 3):.1f} frames/s, load average "
               f"{os.getloadavg()[0]:.1f}")
+        # The same scene in a 1600 x 1000 page (a larger canvas, its backing store capped), and
+        # what bounds it: an empty WebGL canvas of that backing store, cleared every frame.
+        big = browser.new_page(viewport={"width": 1600, "height": 1000})
+        big.on("pageerror", lambda e: errors.append(str(e)))
+        big.goto(f"http://127.0.0.1:{PORT}/{CAMERA}")
+        wait(big, f"window.dtView3d.windows >= 1 && window.dtView3d.drawn.vehicles === {EXPECTED_VEHICLES}")
+        big_fps = fps(big, 3)
+        size = big.evaluate("[document.getElementById('view3d').width, document.getElementById('view3d').height]")
+        empty = big.evaluate(EMPTY_CANVAS_FPS, size)
+        print(f"3D view, 129^2 terrain in a 1600 x 1000 page ({size[0]} x {size[1]} pixels): "
+              f"{big_fps:.1f} frames/s; an empty canvas of that size {empty:.1f} frames/s, load "
+              f"average {os.getloadavg()[0]:.1f}")
+        big.close()
 
         far = browser.new_page(viewport={"width": 1040, "height": 560})
         far.on("pageerror", lambda e: errors.append(str(e)))

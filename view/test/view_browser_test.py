@@ -96,7 +96,10 @@ with sync_playwright() as pw:
     browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
                                  args=["--no-sandbox", "--use-angle=swiftshader",
                                        "--enable-unsafe-swiftshader"])
+    # The page's uncaught errors (a script of the page that stops half-way): none expected.
+    page_errors = []
     page = browser.new_page(viewport={"width": 1400, "height": 900})
+    page.on("pageerror", lambda e: page_errors.append(str(e)))
     page.goto(URL)
     page.wait_for_function("window.dtView.snapshotAt > 0", timeout=10000)
     print("the page loaded and received its snapshot")
@@ -216,6 +219,7 @@ with sync_playwright() as pw:
 
     # A page opened late shows the current state at once: its snapshot, before any delta.
     late = browser.new_page(viewport={"width": 1400, "height": 900})
+    late.on("pageerror", lambda e: page_errors.append(str(e)))
     late.goto(URL)
     late.wait_for_function("window.dtView.snapshotAt > 0", timeout=10000)
     state = late.evaluate("""() => ({
@@ -294,6 +298,7 @@ with sync_playwright() as pw:
         fail("the view did not exit 0 on SIGTERM")
     start("view", "dt_view")
     plain = browser.new_page()
+    plain.on("pageerror", lambda e: page_errors.append(str(e)))
     plain.goto(URL)
     plain.wait_for_function("window.dtView.snapshotAt > 0", timeout=10000)
     if not plain.evaluate("document.getElementById('operator').hidden"):
@@ -308,6 +313,8 @@ with sync_playwright() as pw:
     if server_features() != before:
         fail("a command without --allow-commands changed the exercise")
     print("without --allow-commands: no operator panel, and a sent command is refused")
+    if page_errors:
+        fail(f"errors in the page: {page_errors}")
     browser.close()
 
 for name, rc in ex.stop_all(timeout_s=15).items():

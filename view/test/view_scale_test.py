@@ -121,6 +121,8 @@ with sync_playwright() as pw:
                                  args=["--no-sandbox", "--enable-unsafe-swiftshader"])
     try:
         page = browser.new_page(viewport={"width": 1600, "height": 1000})
+        page_errors = []  # the page's uncaught errors: none expected
+        page.on("pageerror", lambda e: page_errors.append(str(e)))
         page.goto(f"http://127.0.0.1:{PORT}/")
         page.wait_for_function("window.dtView.snapshotAt > 0", timeout=120000)
         print(f"the page received its snapshot {time.monotonic() - built:.1f} s after start")
@@ -176,12 +178,16 @@ with sync_playwright() as pw:
         if sum(pixels.values()) < 3 * live_marks:
             fail(f"{live_marks} live markers drawn but the canvas holds {pixels} owner pixels")
 
-        # Back to the whole terrain, then 10 s of panning and zooming, timed by the page's own
-        # animation frames.
+        # Back to the whole terrain, then 10 s of panning and zooming with a pause every fourth
+        # move, timed by the page's own animation frames.
         for _ in range(60):
             page.mouse.wheel(0, 120)
             page.wait_for_timeout(10)
         page.evaluate("""() => { const d = window.dtView; d.maxLagMs = 0; d.frameMs = [];
+            d.maxTransitMs = 0; d.maxQueuedMs = 0; performance.clearMeasures();
+            d.longTasks = []; d.from = performance.now(); d.renders0 = featureCache.renders || 0;
+            new PerformanceObserver((l) => { for (const e of l.getEntries())
+              d.longTasks.push([e.startTime, e.duration]); }).observe({type: 'longtask'});
             d.wsBytes0 = d.wsBytes; d.wsAt0 = performance.now();
             d.cost = {messages: 0, applyMs: 0, draws: 0, drawMs: 0};
             d.lags = []; let last = performance.now();
@@ -190,6 +196,7 @@ with sync_playwright() as pw:
             requestAnimationFrame(rec); }""")
         feed = server.feeds["feed"]
         sent0, t0 = feed.sent_bytes, time.monotonic()
+        feed.max_send_s = 0.0
         step = 0
         while time.monotonic() - t0 < pan_s:
             page.mouse.move(cx, cy)
@@ -198,6 +205,10 @@ with sync_playwright() as pw:
             page.mouse.up()
             page.mouse.wheel(0, -240 if step % 6 < 3 else 240)
             step += 1
+            if step % 4 == 0:
+                # The operator pauses (the view rests, so the features' cache is rendered again,
+                # as when panning stops): part of what is timed, not a wait for the page.
+                page.wait_for_timeout(400)
         rate = (feed.sent_bytes - sent0) / (time.monotonic() - t0)
         stats = page.evaluate("""() => { const d = window.dtView; d.stopRecording = true;
             const f = d.frameMs.slice(1), lags = d.lags.slice().sort((a, b) => a - b);
@@ -217,18 +228,47 @@ with sync_playwright() as pw:
         c = stats["cost"]
         print(f"the page's time over {stats['ms'] / 1000:.1f} s: {c['messages']} messages applied "
               f"in {c['applyMs']:.0f} ms, {c['draws']} frames drawn in {c['drawMs']:.0f} ms")
+        # Where the lag came from, by the page's own timeline: before its thread received the
+        # message (the feed, the network, the browser) or waiting in it; its long tasks (over
+        # 50 ms) and its own slow steps (performance measures dt:apply, dt:draw, dt:feature-cache).
+        timing = page.evaluate("""() => { const d = window.dtView;
+            const slow = performance.getEntriesByType('measure').filter((e) => e.startTime >= d.from)
+              .sort((a, b) => b.duration - a.duration).slice(0, 5)
+              .map((e) => `${e.name}${e.detail !== null ? ` (${e.detail})` : ''} ${e.duration.toFixed(0)} ms`);
+            const long = d.longTasks.map((t) => t[1]).sort((a, b) => b - a);
+            return {transit: d.maxTransitMs, queued: d.maxQueuedMs, long_tasks: long.length,
+                    renders: (featureCache.renders || 0) - d.renders0, last: featureCache.lastRender,
+                    longest: long.slice(0, 5).map(Math.round), slow}; }""")
+        print(f"lag split: at most {timing['transit']} ms before the page's thread received a "
+              f"message, at most {timing['queued']} ms queued in it; {timing['long_tasks']} long "
+              f"tasks, longest {timing['longest']} ms; slowest steps {timing['slow']}; the feed's "
+              f"longest send {1000 * feed.max_send_s:.0f} ms")
+        if features > 2000:
+            print(f"the features' cache rendered {timing['renders']} times, the last {timing['last']}")
         page.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-after.png"))
 
         # The 3D view over the whole terrain with every vehicle, while the deltas keep coming:
         # frames per second and lag printed, not asserted. In a browser of its own whose WebGL
         # runs on ANGLE's SwiftShader (the default software path blocks the page's thread; forced
         # for the 2D page, it slows that one's canvas instead).
+        # A delta's vehicles_removed leaves the model (the feed's later moves of that slot are
+        # skipped), and the page goes on drawing.
+        gone = page.evaluate("""() => { const d = window.dtView, f = d.frames;
+            applyMessage({type: 'delta', vehicles_removed: ['node-1/0', 'node-2/0']});
+            return {size: d.state.vehicles.size, has: d.state.vehicles.has('node-1/0'), f}; }""")
+        page.wait_for_function(f"window.dtView.frames > {gone['f'] + 2}", timeout=10000)
+        if gone["size"] != vehicles - 2 or gone["has"] or page.evaluate(
+                "window.dtView.state.vehicles.size") != vehicles - 2:
+            fail(f"after two vehicles removed the model holds {gone}")
         page.close()  # its deltas would cost the 3D page's machine
+        if page_errors:
+            fail(f"errors in the page: {page_errors}")
         browser3d = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
                                        args=["--no-sandbox", "--use-angle=swiftshader",
                                              "--enable-unsafe-swiftshader"])
         try:
             p3 = browser3d.new_page(viewport={"width": 1600, "height": 1000})
+            p3.on("pageerror", lambda e: page_errors.append(str(e)))
             p3.goto(f"http://127.0.0.1:{PORT}/#3d=500,500,0.5,0.6,700")  # the whole terrain
             p3.wait_for_function(f"window.dtView3d.error || window.dtView3d.windows >= 1 && "
                                  f"window.dtView3d.drawn.vehicles === {vehicles}", timeout=60000)
@@ -252,6 +292,8 @@ with sync_playwright() as pw:
                   f"{(r['frames'] - f0) / dt:.1f} fps, animation frames {r['raf'] / dt:.1f}/s, "
                   f"lag max {r['lag']} ms, load average {load[0]:.2f}")
             p3.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-3d.png"))
+            if page_errors:
+                fail(f"errors in the 3D page: {page_errors}")
         finally:
             browser3d.close()
     finally:

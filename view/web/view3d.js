@@ -10,13 +10,13 @@ const REFETCH_MS = 500;       // a changed terrain is asked again at most this o
 const NEAR_MAX = 250;         // vehicles drawn as shapes at most: the nearest; the rest as points
 const NEAR_M = 600;           // and only those nearer the eye than this, when there are more
 const VEHICLE_REDRAW_MS = 100;  // a frame for the vehicles' moves alone at most this often
-const MAX_PIXELS = 400000;    // the canvas's backing store at most: a CPU rasteriser's fill rate
+const MAX_PIXELS = 250000;    // the canvas's backing store at most: a CPU rasteriser's fill rate
 const HIDDEN_Y = -1e9;        // an instance not drawn (no vehicle in its slot, or off the window)
 const VEHICLE_L = 7, VEHICLE_W = 3.2, VEHICLE_H = 2.4;  // metres, before the zoom's scale
 const v3 = {
   on: false, gl: null, cam: { x: 500, z: 500, yaw: 0.6, pitch: 0.55, dist: 600, follow: null },
   win: null, fetching: false, fetchedAt: 0, terrainVersion: -1, vehiclesAt: -1,
-  frames: 0, fps: 0, drawnKey: "", drawn: { posts: 0, solids: 0, vehicles: 0 }, windows: 0, error: null,
+  frames: 0, fps: 0, key: new Float64Array(9), drawnKey: new Float64Array(9).fill(NaN), drawn: { posts: 0, solids: 0, vehicles: 0 }, windows: 0, error: null,
 };
 window.dtView3d = v3;
 const $ = (id) => document.getElementById(id);
@@ -115,7 +115,9 @@ function release(gl, m) {
 }
 
 // The ground: a grid of the window's samples, coloured by height and tinted where earthworks cut
-// (craters, ditches: dark earth) or raise it (berms: light earth).
+// (craters, ditches: dark earth) or raise it (berms: light earth). Level of detail: every sample
+// in the middle half of the window (around the camera's target), every other one beyond it, where
+// the ground is far and small on the screen: a software rasteriser's frame follows the triangles.
 function groundMesh(w) {
   const { nx, nz, step, x0, z0, h, d } = w;
   const verts = new Float32Array(nx * nz * 9);
@@ -134,15 +136,40 @@ function groundMesh(w) {
       verts.set([x0 + i * step, e, z0 + j * step, n[0], n[1], n[2], c[0], c[1], c[2]], k);
     }
   }
-  const idx = new Uint32Array((nx - 1) * (nz - 1) * 6);
-  let o = 0;
-  for (let j = 0; j + 1 < nz; ++j) {
-    for (let i = 0; i + 1 < nx; ++i) {
-      const a = j * nx + i, b = a + 1, c = a + nx, e = c + 1;
-      idx.set([a, c, b, b, c, e], o); o += 6;
+  // The coarse lines: every other sample, and the last; the fine block between two of them on
+  // each axis, a quarter of the window either side of the target.
+  const lines = (n) => { const l = []; for (let i = 0; i < n; i += 2) l.push(i); if (l[l.length - 1] !== n - 1) l.push(n - 1); return l; };
+  const xs = lines(nx), zs = lines(nz);
+  const block = (lines, n, centre) => {
+    const near = (v) => lines.reduce((b, l) => (Math.abs(l - v) < Math.abs(b - v) ? l : b), lines[0]);
+    return [near(centre - (n - 1) / 4), near(centre + (n - 1) / 4)];
+  };
+  const [fi0, fi1] = block(xs, nx, ((w.cx ?? x0 + (nx - 1) * step / 2) - x0) / step);
+  const [fj0, fj1] = block(zs, nz, ((w.cz ?? z0 + (nz - 1) * step / 2) - z0) / step);
+  const fine = (i, j) => i >= fi0 && i < fi1 && j >= fj0 && j < fj1;
+  const idx = [];
+  const quad = (i0, j0, i1, j1) => {
+    const a = j0 * nx + i0, b = j0 * nx + i1, c = j1 * nx + i0, e = j1 * nx + i1;
+    idx.push(a, c, b, b, c, e);
+  };
+  for (let b = 0; b + 1 < zs.length; ++b) {
+    for (let a = 0; a + 1 < xs.length; ++a) {
+      if (!fine(xs[a], zs[b])) { quad(xs[a], zs[b], xs[a + 1], zs[b + 1]); continue; }
+      for (let j = zs[b]; j < zs[b + 1]; ++j) for (let i = xs[a]; i < xs[a + 1]; ++i) quad(i, j, i + 1, j + 1);
     }
   }
-  return { verts, idx };
+  // No cracks: a fine sample on the block's edge between two coarse ones lies on their line.
+  const y = (i, j) => verts[(j * nx + i) * 9 + 1];
+  const onLine = (i, j, ia, ja, ib, jb) => { verts[(j * nx + i) * 9 + 1] = (y(ia, ja) + y(ib, jb)) / 2; };
+  for (let i = fi0 + 1; i < fi1; i += 2) {
+    if (fj0 > 0) onLine(i, fj0, i - 1, fj0, i + 1, fj0);
+    if (fj1 < nz - 1) onLine(i, fj1, i - 1, fj1, i + 1, fj1);
+  }
+  for (let j = fj0 + 1; j < fj1; j += 2) {
+    if (fi0 > 0) onLine(fi0, j, fi0, j - 1, fi0, j + 1);
+    if (fi1 < nx - 1) onLine(fi1, j, fi1, j - 1, fi1, j + 1);
+  }
+  return { verts, idx: new Uint32Array(idx), triangles: idx.length / 3 };
 }
 function mix(a, b, t) { return a.map((v, k) => v + (b[k] - v) * t); }
 
@@ -251,6 +278,7 @@ async function fetchWindow(now) {
     release(gl, v3.ground); release(gl, v3.bridges);
     const g = groundMesh(w);
     v3.ground = upload(gl, g.verts, g.idx);
+    v3.groundTriangles = g.triangles;
     const verts = [], idx = [];
     for (const s of w.solids) solidFaces(s, verts, idx);
     v3.bridges = idx.length ? upload(gl, new Float32Array(verts), new Uint32Array(idx)) : null;
@@ -371,10 +399,15 @@ function draw(now) {
   // The vehicles' moves alone redraw at most every VEHICLE_REDRAW_MS: the page keeps applying its
   // messages (and stays current) however slowly the rasteriser draws.
   const dv = window.dtView;
-  const key = [cam.x, cam.z, cam.yaw, cam.pitch, cam.dist, v3.windows, dv.snapshotAt, W, H].join();
+  // What the picture depends on, compared in place: nothing allocated on a frame not drawn.
+  const key = v3.key, was = v3.drawnKey;
+  key[0] = cam.x; key[1] = cam.z; key[2] = cam.yaw; key[3] = cam.pitch; key[4] = cam.dist;
+  key[5] = v3.windows; key[6] = dv.snapshotAt; key[7] = W; key[8] = H;
+  let same = true;
+  for (let i = 0; i < key.length; ++i) same = same && key[i] === was[i];
   const moved = dv.deltas !== v3.drawnDeltas && now - (v3.drawnAt || 0) >= VEHICLE_REDRAW_MS;
-  if (key === v3.drawnKey && !moved) return;
-  v3.drawnKey = key;
+  if (same && !moved) return;
+  was.set(key);
   v3.drawnDeltas = dv.deltas;
   v3.drawnAt = now;
   ++v3.frames;
@@ -429,6 +462,7 @@ function draw(now) {
   gl.uniform1f(v3.loc.pointPx, 0);
   gl.bindVertexArray(null);
   v3.drawn = { posts: v3.win.nx * v3.win.nz, step: v3.win.step, solids: v3.win.solids.length,
+               triangles: v3.groundTriangles,
                vehicles: v3.vehicleCount, shapes: v3.nearCount, points, pixels: PW * PH };
   $("help3d").textContent = `3D: ${v3.fps} fps, ${v3.win.nx}×${v3.win.nz} posts every ` +
     `${v3.win.step} m, ${v3.win.solids.length} bridge solids, ${v3.vehicleCount} vehicles` +
@@ -438,7 +472,7 @@ function draw(now) {
 function show(on) {
   if (on && !v3.gl && !setUp()) { $("help3d").textContent = v3.error; }
   v3.on = on && !!v3.gl;
-  v3.drawnKey = "";
+  v3.drawnKey.fill(NaN);  // drawn at once
   v3.vehiclesAt = -1;  // the table's moves were not followed while hidden
   $("mapbox").classList.toggle("three", v3.on);
   $("toggle3d").textContent = v3.on ? "2D" : "3D";

@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -64,6 +65,65 @@ Result<std::vector<uint8_t>> ReadRegularFile(const std::filesystem::path& path,
   }
   ::close(fd);
   return bytes;
+}
+
+RegularFile::RegularFile(RegularFile&& other) noexcept
+    : fd_(std::exchange(other.fd_, -1)), size_(other.size_), name_(std::move(other.name_)) {}
+
+RegularFile& RegularFile::operator=(RegularFile&& other) noexcept {
+  if (this != &other) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = std::exchange(other.fd_, -1);
+    size_ = other.size_;
+    name_ = std::move(other.name_);
+  }
+  return *this;
+}
+
+RegularFile::~RegularFile() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+Result<RegularFile> RegularFile::Open(const std::filesystem::path& path, uint64_t max_bytes) {
+  std::string name = path.string();
+  // O_NONBLOCK: opening a FIFO with no writer, or some devices, would otherwise wait.
+  const int fd = ::open(name.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) return Error{fmt::format("{}: cannot open: {}", name, std::strerror(errno))};
+  RegularFile file(fd, 0, name);
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    return Error{fmt::format("{}: fstat failed: {}", name, std::strerror(errno))};
+  }
+  if (!S_ISREG(st.st_mode)) {
+    return Error{fmt::format("{}: is {}, not a regular file", name, FileTypeName(st.st_mode))};
+  }
+  file.size_ = static_cast<uint64_t>(st.st_size);
+  if (file.size_ > max_bytes) {
+    return Error{
+        fmt::format("{}: is {} bytes, over the limit of {} bytes", name, file.size_, max_bytes)};
+  }
+  return file;
+}
+
+Status RegularFile::ReadAt(uint64_t offset, std::span<uint8_t> out) const {
+  size_t got = 0;
+  while (got < out.size()) {
+    const ssize_t n =
+        ::pread(fd_, out.data() + got, out.size() - got, static_cast<off_t>(offset + got));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return Error{
+          fmt::format("{}: read at byte {} failed: {}", name_, offset + got, std::strerror(errno))};
+    }
+    if (n == 0) {
+      return Error{
+          fmt::format("{}: ends at byte {}, {} bytes at the start (it changed size while "
+                      "being read)",
+                      name_, offset + got, size_)};
+    }
+    got += static_cast<size_t>(n);
+  }
+  return Status::Ok();
 }
 
 Status CheckReplaceableFile(const std::filesystem::path& path) {

@@ -25,12 +25,13 @@ struct SquareIndex {
 };
 
 // The most posts a side of ground every process makes for itself may have (docs/terrain.md "Grid
-// size"): random ground, terrain files and imported grids, at most 4097 x 4097 posts, 40 km a side
-// at 10 m spacing, 8 bytes a post (elevation, two soils per square) held by each process.
+// size"): random ground and imported grids, at most 4097 x 4097 posts, 40 km a side at 10 m
+// spacing, 8 bytes a post (elevation, two soils per square) held by each process.
 inline constexpr int kMaxPostsPerSide = 4097;
 // The most posts a side of any grid may have: an elevation file's ground beyond kMaxPostsPerSide
 // is read once per host into a ground cache file (terrain/ground_cache.h) that every process maps
-// and shares (docs/real-ground.md "Large worlds"); 16385 posts, 16 km a side at 1 m.
+// and shares (docs/real-ground.md "Large worlds"), a terrain file's is read by each process that
+// loads it; 16385 posts, 16 km a side at 1 m.
 inline constexpr int kMaxGridPostsPerSide = 16385;
 
 // An open file holding a grid's posts (float, row by row) at posts_offset and its soils (u16, two

@@ -244,6 +244,14 @@ std::vector<float> Terrain::BarePosts() const {
   return posts;
 }
 
+std::vector<std::pair<uint32_t, float>> Terrain::BladeBarePosts() const {
+  std::vector<std::pair<uint32_t, float>> bare;
+  bare.reserve(blade_.size());
+  for (const auto& [index, post] : blade_) bare.emplace_back(index, post.bare_m);
+  std::sort(bare.begin(), bare.end());
+  return bare;
+}
+
 void Terrain::GroundChangedAround(const std::vector<std::pair<int, int>>& posts) {
   const int mx = ground_.squares_x(), mz = ground_.squares_z();
   // A post is a corner of up to four squares; every feature touching them recomputes once.

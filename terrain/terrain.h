@@ -6,6 +6,7 @@
 #include <optional>
 #include <span>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "base/feature_id.h"
@@ -66,6 +67,9 @@ class Terrain {
   // The posts as they stand without blade work, row by row (ground().posts() with every earth
   // move taken off): a terrain built on them plus the same features is this terrain.
   std::vector<float> BarePosts() const;
+  // The posts blade work has changed, as (index j * posts_x + i, elevation without blade work),
+  // sorted by index: BarePosts without a copy of the whole ground.
+  std::vector<std::pair<uint32_t, float>> BladeBarePosts() const;
   // Posts some earth move has changed (their sum may have come back to 0).
   size_t blade_post_count() const { return blade_.size(); }
   Status SetSoil(SquareIndex square, TriangleHalf half, Material soil);

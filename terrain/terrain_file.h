@@ -23,14 +23,17 @@ inline constexpr uint32_t kSquareTerrainFileVersion = 3;
 inline constexpr uint32_t kOldestTerrainFileVersion = 1;
 inline constexpr size_t kTerrainFileHeaderBytes = 28;
 inline constexpr size_t kTerrainFileChecksumBytes = 8;
-// Readers refuse a larger file before reading a byte, and SaveTerrain refuses to write one: 1 GiB
-// holds a ground of 11585 x 11585 posts, beyond any exercise, and bounds what `import` reads.
-inline constexpr uint64_t kMaxTerrainFileBytes = uint64_t{1} << 30;
+// Readers refuse a larger file before reading a byte, and SaveTerrain refuses to write one: 4 GiB
+// holds the largest grid (kMaxGridPostsPerSide a side, 2.15 GB) with some 2 GB of features, and
+// bounds what `import` reads. Files are read and written a piece at a time, never held whole.
+inline constexpr uint64_t kMaxTerrainFileBytes = uint64_t{1} << 32;
 
 // The file's bytes: header, ground section, feature section (sorted by ID), XXH3-64 checksum.
-// Version kSquareTerrainFileVersion for a square grid, kTerrainFileVersion otherwise.
+// Version kSquareTerrainFileVersion for a square grid, kTerrainFileVersion otherwise. Held whole
+// in memory, for tests and benchmarks (SaveTerrain writes it a piece at a time).
 std::vector<uint8_t> EncodeTerrainFile(const Terrain& terrain);
 
+// The file's bytes, all in memory, for tests and benchmarks (LoadTerrain streams instead).
 // Checks the magic, version, section sizes and checksum, then rebuilds the ground and adds every
 // feature to a fresh Terrain. Any failure returns an error naming the byte offset and what
 // failed; nothing is returned half-built. `source_name` prefixes messages.
@@ -43,8 +46,10 @@ Result<std::unique_ptr<Terrain>> DecodeTerrainFile(std::span<const uint8_t> byte
 // file would exceed kMaxTerrainFileBytes.
 Status SaveTerrain(const Terrain& terrain, const std::filesystem::path& path);
 
-// Reads `path` with ReadRegularFile (base/regular_file.h: regular files only, at most
-// kMaxTerrainFileBytes, never blocking on a FIFO or device), then DecodeTerrainFile. Never throws.
+// Opens `path` as a RegularFile (base/regular_file.h: regular files only, at most
+// kMaxTerrainFileBytes, never blocking on a FIFO or device) and decodes it as DecodeTerrainFile
+// does, reading it a piece at a time: once for the checksum, once into the terrain's own grid, so
+// a ground of 10^8 posts costs no second copy. Never throws.
 Result<std::unique_ptr<Terrain>> LoadTerrain(const std::filesystem::path& path);
 
 }  // namespace dt

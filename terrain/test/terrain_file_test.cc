@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
 #include <vector>
@@ -316,7 +317,8 @@ TEST(TerrainFileTest, ResealedStructuralErrorsAreStillRefused) {
     auto b = bytes;
     PutU32(b, kGroundAt, 1);
     Reseal(b);
-    ExpectRefused(b, "byte 28: posts_per_side 1 is outside [2, 4097]");
+    ExpectRefused(
+        b, fmt::format("byte 28: posts_per_side 1 is outside [2, {}]", kMaxGridPostsPerSide));
   }
   {
     auto b = bytes;
@@ -508,6 +510,98 @@ TEST_F(TerrainFiles, ARectangularTerrainSavesAndLoads) {
   EXPECT_DOUBLE_EQ(loaded.value()->ground().size_z_m(), 30.0);
 }
 
+// ---- Grounds past 4097 posts a side, read and written a piece at a time ----
+
+// Wider than kMaxPostsPerSide along one side, yet 4 MB: more than one 1 MiB piece of posts and of
+// soils, so features, blade work and soils at the far end cross the pieces' seams.
+TEST_F(TerrainFiles, AGroundWiderThan4097PostsSavesAndLoadsBack) {
+  for (const auto& [nx, nz] : {std::pair{kMaxPostsPerSide + 2, 129}, std::pair{3, 4099}}) {
+    SCOPED_TRACE(fmt::format("{} x {}", nx, nz));
+    const auto original = Rectangle(nx, nz);
+    const fs::path path = dir_ / "wide.dtt";
+    const Status saved = SaveTerrain(*original, path);
+    ASSERT_TRUE(saved.ok()) << saved.error().message;
+    auto loaded = LoadTerrain(path);
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    const Terrain& t = *loaded.value();
+    EXPECT_EQ(t.ground().posts_x(), nx);
+    EXPECT_EQ(t.ground().posts_z(), nz);
+    EXPECT_TRUE(std::ranges::equal(t.ground().posts(), original->ground().posts()));
+    EXPECT_TRUE(std::ranges::equal(t.ground().soils(), original->ground().soils()));
+    EXPECT_EQ(t.ground().soil({nx - 2, nz - 2}, TriangleHalf::kUpper), Material::kRock);
+    EXPECT_EQ(t.BladeDeltaMm(nx - 1, nz - 1), 250);
+    EXPECT_EQ(t.feature_count(), 3u);
+    EXPECT_EQ(ComputeDigest(t), ComputeDigest(*original));
+    // The file written a piece at a time is the file encoded whole.
+    const auto whole = EncodeTerrainFile(*original);
+    std::ifstream in(path, std::ios::binary);
+    const std::vector<uint8_t> on_disk((std::istreambuf_iterator<char>(in)),
+                                       std::istreambuf_iterator<char>());
+    EXPECT_EQ(on_disk, whole);
+  }
+}
+
+// A damaged large file is refused from disk as from memory: the checksum over every piece, then
+// the structure, with offsets from the start of the file.
+TEST_F(TerrainFiles, ADamagedLargeFileIsRefusedWithItsOffset) {
+  const int nx = kMaxPostsPerSide + 2, nz = 129;
+  const auto bytes = EncodeTerrainFile(*Rectangle(nx, nz));
+  ASSERT_GT(bytes.size(), 3u << 20);
+  const fs::path path = dir_ / "bad.dtt";
+  auto load = [&](const std::vector<uint8_t>& b) {
+    std::ofstream(path, std::ios::binary | std::ios::trunc)
+        .write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+    auto r = LoadTerrain(path);
+    EXPECT_FALSE(r.ok());
+    return r.ok() ? std::string() : r.error().message;
+  };
+  {
+    auto b = bytes;
+    b[b.size() / 2] ^= 0x40;  // a byte in the third piece
+    EXPECT_NE(load(b).find(
+                  fmt::format("{}: byte {}: checksum mismatch", path.string(), bytes.size() - 8)),
+              std::string::npos);
+  }
+  {
+    auto b = bytes;
+    b.resize(b.size() - 1000);
+    EXPECT_NE(load(b).find("byte 12: header declares a"), std::string::npos);
+  }
+  {
+    // Post (1, 100) lies in the second piece of posts.
+    auto b = bytes;
+    const size_t at = kGroundAt + 16 + 4 * (static_cast<size_t>(100) * nx + 1);
+    ASSERT_GT(at, kGroundAt + 16 + (1u << 20));
+    PutU32(b, at, std::bit_cast<uint32_t>(std::numeric_limits<float>::quiet_NaN()));
+    Reseal(b);
+    EXPECT_NE(load(b).find(fmt::format("byte {}: post (1, 100) is not finite", at)),
+              std::string::npos);
+  }
+  {
+    // The last soil of the file, the far corner square's upper half, in the last piece.
+    auto b = bytes;
+    const size_t at = kGroundAt + 16 + 4 * static_cast<size_t>(nx) * nz +
+                      2 * ((static_cast<size_t>(nz - 2) * (nx - 1) + nx - 2) * 2 + 1);
+    b[at] = 0;
+    b[at + 1] = 0;
+    Reseal(b);
+    EXPECT_NE(load(b).find(fmt::format("byte {}: soil 0 of square ({}, {}) is not a soil", at,
+                                       nx - 2, nz - 2)),
+              std::string::npos);
+  }
+  {
+    // A feature record's declared length past the end of the section.
+    auto b = bytes;
+    const size_t features_at =
+        b.size() - 8 -
+        (b.size() - 8 - kGroundAt -
+         (16 + 4 * static_cast<size_t>(nx) * nz + 4 * static_cast<size_t>(nx - 1) * (nz - 1)));
+    PutU32(b, features_at + 4 + 8, 1u << 30);
+    Reseal(b);
+    EXPECT_NE(load(b).find("feature section ends inside feature 1:1:1"), std::string::npos);
+  }
+}
+
 TEST(TerrainFileTest, ASquareTerrainIsStillVersionThreeAndVersionFourOfItLoads) {
   const auto square = EncodeTerrainFile(*Sample());
   EXPECT_EQ(square[8], 3);
@@ -542,13 +636,14 @@ TEST(TerrainFileTest, VersionFourGroundErrorsNameTheSide) {
     auto b = bytes;
     PutU32(b, kGroundAt + 4, 1);
     Reseal(b);
-    ExpectRefused(b, "byte 32: posts_z 1 is outside [2, 4097]");
+    ExpectRefused(b, fmt::format("byte 32: posts_z 1 is outside [2, {}]", kMaxGridPostsPerSide));
   }
   {
     auto b = bytes;
-    PutU32(b, kGroundAt, 4098);
+    PutU32(b, kGroundAt, kMaxGridPostsPerSide + 1);
     Reseal(b);
-    ExpectRefused(b, "byte 28: posts_x 4098 is outside [2, 4097]");
+    ExpectRefused(b, fmt::format("byte 28: posts_x {} is outside [2, {}]", kMaxGridPostsPerSide + 1,
+                                 kMaxGridPostsPerSide));
   }
   {
     // 4 x 9 posts do not fit the section of 9 x 4: the same post count, other soils.

@@ -14,8 +14,17 @@ removed at the end unless --keep.
 The raster is made here: an analytic surface written with numpy as a raw float grid (EHdr) and
 made a tiled GeoTIFF in UTM zone 33N by gdal_translate; nothing is committed or fetched.
 
+With --features N, once the memory is measured, node-1's and node-2's vehicles drive (their
+scenarios) and the server imports N craters spread over the world: the test exports the server's
+terrain (`export`, the ground past 4097 posts a side), writes the same ground with N crater records
+(docs/terrain-file-format.md; the checksum through libxxhash) and has the server `import` it, which
+issues every crater as an Update. It then checks the promises: every process (server, nodes, view,
+gateway) holds the N craters and the same digest, and the DIS gateway's Point Object State of
+sampled craters (decoded here from the gateway's UDP port) lies within 1 m of the crater's place by
+the raster's georeference (the PDU's geocentric point taken back to UTM 33N by gdaltransform).
+
 Usage: large_world_test.py <bin dir> <key file> <work dir> [--posts N] [--spacing-m S]
-       [--baseline-posts M] [--keep]
+       [--baseline-posts M] [--features F] [--keep]
   <bin dir> holds dt_server, dt_node, dt_view, dt_dis and dt_ctl (build/<preset>/bin or the
   programs' folders: each is looked for as <bin dir>/<room>/<program> then <bin dir>/<program>).
   --baseline-posts M also runs the same processes on an M x M world first and prints the host's
@@ -23,11 +32,18 @@ Usage: large_world_test.py <bin dir> <key file> <work dir> [--posts N] [--spacin
 Exit 0: pass; 1: fail.
 """
 import argparse
+import ctypes
+import ctypes.util
+import math
 import os
 import re
 import shutil
+import signal
+import socket
+import struct
 import subprocess
 import sys
+import threading
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "pylib"))
@@ -63,6 +79,7 @@ host = 100
 name = "node-1"
 site = 1
 host = 1
+scenario = "drive.toml"
 [[node.vehicle]]
 type = "tank"
 x_m = {x1}
@@ -73,6 +90,7 @@ heading_deg = 0
 name = "node-2"
 site = 1
 host = 2
+scenario = "drive.toml"
 [[node.vehicle]]
 type = "truck"
 x_m = {x2}
@@ -96,6 +114,20 @@ site = 1
 host = 60
 dis_exercise_id = 1
 """
+
+
+# The vehicles circle slowly for the whole run (docs/node.md "Scenario files").
+DRIVE = """\
+[[step]]
+action = "drive"
+vehicle = 0
+speed_mps = 6
+heading_rate_deg_s = 1
+"""
+
+FEATURE_ORIGIN = (2, 1)  # site:host of the imported craters: no member's, so no member numbers them
+DIS_PORT = 3000
+MAX_DIS_NUMBER = 65533  # features numbered above have no DIS number (docs/dis.md)
 
 
 def find_program(bin_dir, program):
@@ -130,6 +162,244 @@ def make_raster(work, posts, spacing_m):
     return tif
 
 
+class Xxh3:
+    """XXH3-64 (seed 0) through the system's libxxhash, streamed (the file's checksum)."""
+
+    def __init__(self):
+        lib = ctypes.CDLL(ctypes.util.find_library("xxhash") or "libxxhash.so.0")
+        lib.XXH3_createState.restype = ctypes.c_void_p
+        lib.XXH3_64bits_reset.argtypes = [ctypes.c_void_p]
+        lib.XXH3_64bits_update.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_size_t]
+        lib.XXH3_64bits_digest.argtypes = [ctypes.c_void_p]
+        lib.XXH3_64bits_digest.restype = ctypes.c_uint64
+        lib.XXH3_freeState.argtypes = [ctypes.c_void_p]
+        self.lib = lib
+        self.state = lib.XXH3_createState()
+        lib.XXH3_64bits_reset(self.state)
+
+    def update(self, data):
+        self.lib.XXH3_64bits_update(self.state, data, len(data))
+
+    def digest(self):
+        d = self.lib.XXH3_64bits_digest(self.state)
+        self.lib.XXH3_freeState(self.state)
+        return d
+
+
+def crater_places(count, size_m):
+    """`count` craters on a square pattern over the world, away from its edges: (x_m, z_m)."""
+    side = math.ceil(math.sqrt(count))
+    step = (size_m - 40.0) / side
+    return [(20.0 + step * (k % side + 0.5), 20.0 + step * (k // side + 0.5)) for k in range(count)]
+
+
+def write_with_craters(exported, out_path, places):
+    """The exported terrain file's ground with one crater (radius 3 m) per place, numbered 1, 2, ...
+    under FEATURE_ORIGIN (docs/terrain-file-format.md), read and written a piece at a time."""
+    site, host = FEATURE_ORIGIN
+    with open(exported, "rb") as f:
+        head = f.read(28)
+        magic, version, ground_bytes, _ = struct.unpack("<8sIQQ", head)
+        if magic != b"\x89DTER\r\n\x1a":
+            raise RuntimeError(f"{exported}: not a terrain file")
+        params = 82
+        feature_bytes = 4 + len(places) * (12 + params)
+        h = Xxh3()
+        with open(out_path, "wb") as out:
+            def put(data):
+                h.update(data)
+                out.write(data)
+            put(struct.pack("<8sIQQ", magic, version, ground_bytes, feature_bytes))
+            left = ground_bytes
+            while left:
+                piece = f.read(min(left, 1 << 20))
+                if not piece:
+                    raise RuntimeError(f"{exported}: ends inside its ground section")
+                put(piece)
+                left -= len(piece)
+            put(struct.pack("<I", len(places)))
+            batch = []
+            for number, (x, z) in enumerate(places, start=1):
+                # type crater, x, z, direction, height[2], length[3] (radius first), width,
+                # material dirt, status, no vertex edits
+                batch.append(struct.pack("<HHII", site, host, number, params) +
+                             struct.pack("<HdddddddddHiH", 1, x, z, 0.0, 0.0, 0.0, 3.0, 0.0,
+                                         0.0, 0.0, 2, 0, 0))
+                if len(batch) == 10000:
+                    put(b"".join(batch))
+                    batch = []
+            put(b"".join(batch))
+            put(struct.pack("<Q", h.digest()))
+
+
+class DisListener:
+    """Reads the gateway's DIS datagrams (broadcast to DIS_PORT on this namespace's loopback) on
+    a thread: the location of each Point Object State (type 43) by object ID, and the Entity
+    State (type 1) IDs seen."""
+
+    def __init__(self):
+        self.sock = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEPORT, 1)
+        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 8 << 20)
+        self.sock.bind(("0.0.0.0", DIS_PORT))
+        self.sock.settimeout(0.2)
+        self.objects = {}
+        self.entities = set()
+        self.lock = threading.Lock()
+        self.running = True
+        self.thread = threading.Thread(target=self.run, daemon=True)
+        self.thread.start()
+
+    def run(self):
+        while self.running:
+            try:
+                data = self.sock.recv(65536)
+            except socket.timeout:
+                continue
+            at = 0
+            while at + 12 <= len(data):  # one PDU, or a bundle of them
+                length = struct.unpack_from(">H", data, at + 8)[0]
+                if length < 12 or at + length > len(data):
+                    break
+                kind = data[at + 2]
+                with self.lock:
+                    if kind == 43 and length >= 56:
+                        oid = struct.unpack_from(">HHH", data, at + 12)
+                        self.objects[oid] = struct.unpack_from(">ddd", data, at + 32)
+                    elif kind == 1 and length >= 18:
+                        self.entities.add(struct.unpack_from(">HHH", data, at + 12))
+                at += length
+
+    def location(self, oid):
+        with self.lock:
+            return self.objects.get(oid)
+
+    def close(self):
+        self.running = False
+        self.thread.join()
+        self.sock.close()
+
+
+def utm_of_geocentric(points):
+    """UTM 33N easting, northing and height of geocentric points, by gdaltransform (PROJ)."""
+    text = "".join(f"{x!r} {y!r} {z!r}\n" for x, y, z in points)
+    r = subprocess.run(["gdaltransform", "-s_srs", "EPSG:4978", "-t_srs", "EPSG:32633"],
+                       input=text, capture_output=True, text=True, check=True)
+    return [tuple(float(v) for v in line.split()[:3]) for line in r.stdout.splitlines()]
+
+
+def ctl_long(ex, name, *command, timeout_s):
+    """dt_ctl with a long answer time (an import of 10^6 features runs in the server's loop)."""
+    r = subprocess.run([ex.programs["dt_ctl"], "--config", ex.exercise, "--run-dir", ex.run_dir,
+                        "--name", name, "--timeout-ms", str(int(timeout_s * 1000)), *command],
+                       capture_output=True, text=True, timeout=timeout_s + 30)
+    if r.returncode != 0:
+        ex.fail(f"dt_ctl {name} {' '.join(command)}: {r.stderr.strip()}")
+    return r.stdout.strip()
+
+
+def check_features(args, ex, work, size_m, dis, figures):
+    """Imports args.features craters through the server and checks the promises (module doc)."""
+    t0 = time.time()
+    exported = os.path.join(work, "exported.dtt")
+    ctl_long(ex, "server", "export", exported, timeout_s=300)
+    places = crater_places(args.features, size_m)
+    craters = os.path.join(work, "craters.dtt")
+    write_with_craters(exported, craters, places)
+    os.remove(exported)
+    print(f"terrain file with {args.features} craters written in {time.time() - t0:.1f} s "
+          f"({os.path.getsize(craters) >> 20} MB)")
+    t1 = time.time()
+    ctl_long(ex, "server", "import", craters, timeout_s=600)
+    figures["import_s"] = time.time() - t1
+    print(f"server imported them in {figures['import_s']:.1f} s")
+    names = [name for name, _ in PROCESSES]
+
+    def status(name):
+        """`status` as a dict, or None while the process is too busy to answer (it applies
+        10^6 changes in its loop); a process that exited fails the test."""
+        if ex.procs[name].poll() is not None:
+            ex.fail(f"{name} exited ({ex.procs[name].returncode}) while the craters spread")
+        r = subprocess.run([ex.programs["dt_ctl"], "--config", ex.exercise, "--run-dir",
+                            ex.run_dir, "--name", name, "--timeout-ms", "30000", "status"],
+                           capture_output=True, text=True, timeout=60)
+        if r.returncode != 0:
+            return None
+        return dict(line.split(" ", 1) for line in r.stdout.splitlines() if " " in line)
+
+    last = {}
+
+    def converged():
+        for n in names:
+            st = status(n)
+            if st is None:
+                return None
+            last[n] = (st.get("features"), st.get("digest"))
+        counts = {n: int(f or -1) for n, (f, _) in last.items()}
+        digests = {n: d for n, (_, d) in last.items()}
+        if any(c != args.features for c in counts.values()) or len(set(digests.values())) != 1:
+            return None
+        return digests
+
+    deadline = time.time() + args.converge_s
+    digests = None
+    while digests is None and time.time() < deadline:
+        digests = converged()
+        if digests is None:
+            time.sleep(2.0)  # polling the processes' status, bounded by the deadline
+    if digests is None:
+        ex.fail(f"the six processes did not all hold the {args.features} craters with one digest "
+                f"within {args.converge_s:.0f} s: (features, digest) {last}")
+    figures["converge_s"] = time.time() - t1
+    print(f"every process holds the {args.features} craters with digest "
+          f"{next(iter(digests.values()))}, {figures['converge_s']:.1f} s after the import began")
+    # DIS: sampled craters with a DIS number, each within 1 m of its place by the georeference.
+    mapped = min(args.features, MAX_DIS_NUMBER)
+    samples = sorted({1, mapped, mapped // 2, mapped // 3 + 1, max(1, mapped - 7)})
+    site, host = FEATURE_ORIGIN
+    oids = {n: (site, host, n) for n in samples}
+    got = ex.poll("the gateway's Point Object State of every sampled crater",
+                  lambda: all(dis.location(o) for o in oids.values()) and
+                  {n: dis.location(o) for n, o in oids.items()}, timeout_s=60, period_s=0.5)
+    utm = utm_of_geocentric([got[n] for n in samples])
+    worst = 0.0
+    for n, (e, north, _) in zip(samples, utm):
+        x, z = places[n - 1]
+        off = math.hypot(e - (E0 + x), north - (N0 + z))
+        worst = max(worst, off)
+        if off > 1.0:
+            ex.fail(f"DIS crater {site}:{host}:{n} at UTM ({e:.2f}, {north:.2f}) lies {off:.2f} m "
+                    f"from its place ({E0 + x:.2f}, {N0 + z:.2f})")
+    figures["dis_worst_m"] = worst
+    print(f"DIS: {len(samples)} sampled craters within {worst:.3f} m of their places; entity IDs "
+          f"seen: {sorted(dis.entities)}")
+    if len(dis.entities) < 2:
+        ex.fail(f"the gateway sent Entity States of {len(dis.entities)} vehicles, not the two "
+                "driving")
+
+
+def stop_timed(ex, timeout_s):
+    """SIGTERM to every process at once, then each one's exit code and seconds to exit (polled
+    every 10 ms); one still running after timeout_s is killed (its code then tells)."""
+    t0 = time.monotonic()
+    for p in ex.procs.values():
+        if p.poll() is None:
+            p.send_signal(signal.SIGTERM)
+    seconds = {}
+    while len(seconds) < len(ex.procs) and time.monotonic() - t0 < timeout_s:
+        for name, p in ex.procs.items():
+            if name not in seconds and p.poll() is not None:
+                seconds[name] = time.monotonic() - t0
+        time.sleep(0.01)  # polling the processes' exits, bounded by timeout_s
+    codes = {}
+    for name, p in ex.procs.items():
+        if p.poll() is None:
+            p.kill()
+        codes[name] = p.wait()
+    return codes, seconds
+
+
 def smaps_rollup(pid):
     out = {}
     with open(f"/proc/{pid}/smaps_rollup") as f:
@@ -155,7 +425,7 @@ def mapping_of(pid, path):
     return rss, pss
 
 
-def run_world(args, programs, posts, work):
+def run_world(args, programs, posts, work, features=0):
     """Starts the six processes on a posts x posts world; returns the figures."""
     os.makedirs(work, exist_ok=True)
     t0 = time.time()
@@ -167,8 +437,11 @@ def run_world(args, programs, posts, work):
     with open(exercise, "w") as f:
         f.write(EXERCISE.format(key=args.key, raster=raster, x1=size_m * 0.3, z1=size_m * 0.3,
                                 x2=size_m * 0.6))
+    with open(os.path.join(work, "drive.toml"), "w") as f:
+        f.write(DRIVE)
     ex = ExerciseProcesses(programs, exercise, os.path.join(work, "run"))
     figures = {"posts": posts, "procs": {}}
+    dis = DisListener() if features else None
     try:
         for name, program in PROCESSES:
             t = time.time()
@@ -190,12 +463,15 @@ def run_world(args, programs, posts, work):
             figures["procs"][name].update(rss_mb=r["Rss"] / 1024, pss_mb=r["Pss"] / 1024,
                                           cache_rss_mb=rss / 1024, cache_pss_mb=pss / 1024,
                                           load=(m.group(1), int(m.group(2))) if m else None)
+        if features:
+            check_features(args, ex, work, size_m, dis, figures)
     finally:
+        if dis:
+            dis.close()
         # Every process stops within 10 s (the server's last digest no longer reads the ground
         # afresh): one that does not is killed and fails below.
-        t0 = time.monotonic()
-        codes = ex.stop_all(timeout_s=10)
-        figures["stop_s"] = time.monotonic() - t0
+        codes, figures["stop_each_s"] = stop_timed(ex, timeout_s=10)
+        figures["stop_s"] = max(figures["stop_each_s"].values(), default=10.0)
     figures["codes"] = codes
     return figures
 
@@ -227,6 +503,8 @@ def main():
     a.add_argument("--spacing-m", type=float, default=10.0)
     a.add_argument("--baseline-posts", type=int, default=0)
     a.add_argument("--ready-s", type=float, default=600.0)
+    a.add_argument("--features", type=int, default=0)
+    a.add_argument("--converge-s", type=float, default=600.0)
     a.add_argument("--keep", action="store_true")
     args = a.parse_args()
     args.key = os.path.abspath(args.key)
@@ -239,7 +517,8 @@ def main():
         if args.baseline_posts:
             base = run_world(args, programs, args.baseline_posts, os.path.join(args.work, "base"))
             base_total, _ = report(base)
-        f = run_world(args, programs, args.posts, os.path.join(args.work, "large"))
+        f = run_world(args, programs, args.posts, os.path.join(args.work, "large"),
+                      features=args.features)
         total, cache_pss = report(f)
         if base_total is not None:
             growth = total - base_total
@@ -255,7 +534,12 @@ def main():
                 print(f"FAIL: {name} maps {p['cache_rss_mb']:.1f} MB of the ground cache with "
                       f"Pss {p['cache_pss_mb']:.1f} MB: not mapped, or not shared")
                 ok = False
-        print(f"stopped, every process, in {f['stop_s']:.1f} s")
+        print(f"stopped, every process, in {f['stop_s']:.1f} s: " +
+              ", ".join(f"{n} {t:.2f} s" for n, t in f["stop_each_s"].items()))
+        slow = [n for n, _ in PROCESSES if n not in f["stop_each_s"]]
+        if slow:
+            print(f"FAIL: {slow} did not stop within 10 s of SIGTERM")
+            ok = False
         bad = {n: c for n, c in f["codes"].items() if c not in (0, -15)}
         if bad:
             print(f"FAIL: processes exited with {bad}")

@@ -69,16 +69,62 @@ void EncodeBatchInto(uint8_t exercise_id, uint32_t timestamp_dis, NodeAddress se
 
 std::optional<Rejection> DecodeBatch(std::span<const uint8_t> bytes, const ValidationContext& ctx,
                                      std::vector<MemberPdu>& out) {
-  dtpdu::batch_t batch;
-  if (auto r = DecodeAndValidate(bytes, ctx, batch)) return r;
-  const NodeAddress sender = FromPdu(batch.sender);
-  out.resize(batch.members.size());
-  for (size_t i = 0; i < batch.members.size(); ++i) {
-    const auto& m = batch.members[i];
-    const PduType type = *PduTypeFromRaw(m.pdu_type);  // Validate(batch_t) checked it
-    if (auto r = DecodeMemberAs(type, m.bytes, ctx, sender, out[i])) {
-      r->detail = fmt::format("member {} of {} ({}): {}", i + 1, batch.members.size(),
-                              PduTypeName(type), r->detail);
+  // The batch is read in place: batch_t would copy every member into a vector of its own, one
+  // allocation per member received. The checks, their order and their messages are
+  // DecodeAndValidate(batch_t)'s (batch_test compares the two on mutated batches).
+  if (auto r = CheckPduEnvelope(bytes, static_cast<uint64_t>(dtpdu::batch_t::getHash()))) {
+    return r;
+  }
+  const uint8_t* buf = bytes.data();
+  const int size = static_cast<int>(bytes.size());
+  dtpdu::batch_t head;  // header, sender and num_members; the members stay in `bytes`
+  int pos = 8;
+  auto read = [&](int n) {
+    if (n >= 0 && pos >= 0)
+      pos += n;
+    else
+      pos = -1;
+  };
+  read(head.header._decodeNoHash(buf, pos, size - pos));
+  if (pos >= 0) read(head.sender._decodeNoHash(buf, pos, size - pos));
+  if (pos >= 0) read(__int16_t_decode_array(buf, pos, size - pos, &head.num_members, 1));
+  // LCM refuses a negative count or length (resizing to it throws): so does this.
+  if (pos >= 0 && head.num_members < 0) pos = -1;
+  const int first_member = pos;
+  // Member k's type and bytes, from its place; pos moves past it.
+  auto next_member = [&](uint8_t& type, std::span<const uint8_t>& member) {
+    int16_t length = 0;
+    read(__byte_decode_array(buf, pos, size - pos, &type, 1));
+    if (pos >= 0) read(__int16_t_decode_array(buf, pos, size - pos, &length, 1));
+    if (pos < 0 || length == 0) return;
+    if (length < 0 || length > size - pos) {
+      pos = -1;
+      return;
+    }
+    member = bytes.subspan(static_cast<size_t>(pos), static_cast<size_t>(length));
+    pos += length;
+  };
+  uint8_t type = 0;
+  std::span<const uint8_t> member;
+  for (int k = 0; pos >= 0 && k < head.num_members; ++k) next_member(type, member);
+  if (auto r = CheckPduDecoded(bytes.size(), pos, PduType::kBatch)) return r;
+  if (auto r = Validate(head, ctx)) return r;  // header and count; the types are checked next
+  const auto count = static_cast<size_t>(head.num_members);
+  pos = first_member;
+  for (size_t i = 0; i < count; ++i) {
+    next_member(type, member);
+    if (auto r = CheckBatchMemberType(i, count, type)) return r;
+  }
+  const NodeAddress sender = FromPdu(head.sender);
+  out.resize(count);
+  pos = first_member;
+  for (size_t i = 0; i < count; ++i) {
+    member = {};
+    next_member(type, member);
+    const PduType member_type = *PduTypeFromRaw(type);  // checked above
+    if (auto r = DecodeMemberAs(member_type, member, ctx, sender, out[i])) {
+      r->detail = fmt::format("member {} of {} ({}): {}", i + 1, count, PduTypeName(member_type),
+                              r->detail);
       return r;
     }
   }

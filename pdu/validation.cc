@@ -403,19 +403,21 @@ std::optional<Rejection> Validate(const dtpdu::batch_t& pdu, const ValidationCon
     return Reject(RejectReason::kBadField, fmt::format("num_members {}", pdu.num_members));
   }
   for (size_t i = 0; i < pdu.members.size(); ++i) {
-    const auto& m = pdu.members[i];
-    const auto type = PduTypeFromRaw(m.pdu_type);
-    if (!type || *type == PduType::kBatch) {
-      return Reject(
-          RejectReason::kUnknownPduType,
-          fmt::format("member {} of {}: pdu_type {}", i + 1, pdu.members.size(), m.pdu_type));
-    }
+    if (auto r = CheckBatchMemberType(i, pdu.members.size(), pdu.members[i].pdu_type)) return r;
   }
   return std::nullopt;
 }
 
-template <AnyPdu Pdu>
-std::optional<Rejection> DecodePdu(std::span<const uint8_t> bytes, Pdu& out) {
+std::optional<Rejection> CheckBatchMemberType(size_t index, size_t count, uint8_t pdu_type) {
+  const auto type = PduTypeFromRaw(pdu_type);
+  if (!type || *type == PduType::kBatch) {
+    return Reject(RejectReason::kUnknownPduType,
+                  fmt::format("member {} of {}: pdu_type {}", index + 1, count, pdu_type));
+  }
+  return std::nullopt;
+}
+
+std::optional<Rejection> CheckPduEnvelope(std::span<const uint8_t> bytes, uint64_t fingerprint) {
   if (bytes.size() > kMaxPduBytes) {
     return Reject(RejectReason::kOversized,
                   fmt::format("{} bytes > {}", bytes.size(), kMaxPduBytes));
@@ -423,13 +425,30 @@ std::optional<Rejection> DecodePdu(std::span<const uint8_t> bytes, Pdu& out) {
   if (bytes.size() < 8) {
     return Reject(RejectReason::kTruncated, fmt::format("{} bytes, no fingerprint", bytes.size()));
   }
-  uint64_t fingerprint = 0;
-  for (size_t i = 0; i < 8; ++i) fingerprint = (fingerprint << 8) | bytes[i];
-  if (fingerprint != static_cast<uint64_t>(Pdu::getHash())) {
+  uint64_t got = 0;
+  for (size_t i = 0; i < 8; ++i) got = (got << 8) | bytes[i];
+  if (got != fingerprint) {
     return Reject(RejectReason::kWrongFingerprint,
-                  fmt::format("fingerprint {:#018x} (expected {:#018x})", fingerprint,
-                              static_cast<uint64_t>(Pdu::getHash())));
+                  fmt::format("fingerprint {:#018x} (expected {:#018x})", got, fingerprint));
   }
+  return std::nullopt;
+}
+
+std::optional<Rejection> CheckPduDecoded(size_t size, int decoded, PduType type) {
+  if (decoded < 0) {
+    return Reject(RejectReason::kTruncated,
+                  fmt::format("{} bytes do not hold a {} PDU", size, PduTypeName(type)));
+  }
+  if (static_cast<size_t>(decoded) != size) {
+    return Reject(RejectReason::kTrailingBytes,
+                  fmt::format("{} bytes after a {}-byte PDU", size - decoded, decoded));
+  }
+  return std::nullopt;
+}
+
+template <AnyPdu Pdu>
+std::optional<Rejection> DecodePdu(std::span<const uint8_t> bytes, Pdu& out) {
+  if (auto r = CheckPduEnvelope(bytes, static_cast<uint64_t>(Pdu::getHash()))) return r;
   int n = -1;
   try {
     out = Pdu{};
@@ -438,16 +457,7 @@ std::optional<Rejection> DecodePdu(std::span<const uint8_t> bytes, Pdu& out) {
     // LCM resizes arrays from the received length field first: a negative one throws.
     n = -1;
   }
-  if (n < 0) {
-    return Reject(RejectReason::kTruncated,
-                  fmt::format("{} bytes do not hold a {} PDU", bytes.size(),
-                              PduTypeName(PduTraits<Pdu>::kType)));
-  }
-  if (static_cast<size_t>(n) != bytes.size()) {
-    return Reject(RejectReason::kTrailingBytes,
-                  fmt::format("{} bytes after a {}-byte PDU", bytes.size() - n, n));
-  }
-  return std::nullopt;
+  return CheckPduDecoded(bytes.size(), n, PduTraits<Pdu>::kType);
 }
 
 template std::optional<Rejection> DecodePdu(std::span<const uint8_t>, dtpdu::construct_t&);

@@ -109,6 +109,15 @@ inline constexpr double kMaxVehicleAccelerationMps2 = 200.0;
 inline constexpr double kMaxVehicleAngularRateRadS = 20.0;
 inline constexpr double kMaxVehicleAltitudeM = 10000.0;  // |location y|
 
+// Member `index` (0-based) of a batch of `count`: its pdu_type must be a PDU type other than a
+// batch. Validate(batch_t) and DecodeBatch (which reads a batch in place) check each member so.
+std::optional<Rejection> CheckBatchMemberType(size_t index, size_t count, uint8_t pdu_type);
+// What DecodePdu checks around the decoding itself, for a decoder that reads a PDU in place: the
+// size limit and the 8-byte fingerprint before; after, that the decoder read every byte
+// (`decoded`: the bytes it read, negative if they did not hold the PDU).
+std::optional<Rejection> CheckPduEnvelope(std::span<const uint8_t> bytes, uint64_t fingerprint);
+std::optional<Rejection> CheckPduDecoded(size_t size, int decoded, PduType type);
+
 // Decodes bytes as Pdu without validating fields: size limit, fingerprint, truncation, trailing
 // bytes. Never throws and never crashes on any input.
 template <AnyPdu Pdu>

@@ -23,7 +23,10 @@ Result<std::unique_ptr<ServerReplica>> ServerReplica::Open(ReplicaConfig config,
   }
   auto store = SqliteChangeStore::Open(database, ground.grid.size_x_m(), ground.grid.size_z_m());
   if (!store) return store.error();
-  const SqliteChangeStore::Ground mine{ComputeDigest(ground).ToHex(), config.ground_source};
+  // The digest checked against the database is the replica's too: given to it, the ground is
+  // hashed once at the start instead of once here and once in the replica.
+  if (!config.ground_digest) config.ground_digest = ComputeDigest(ground);
+  const SqliteChangeStore::Ground mine{config.ground_digest->ToHex(), config.ground_source};
   auto recorded = store.value()->LoadGround();
   if (!recorded) return recorded.error();
   if (!recorded.value()) {

@@ -17,7 +17,9 @@ class ServerReplica {
   // cannot be opened or read.
   // The database records the ground's digest (terrain/base_ground.h) when it holds none; one
   // that records another ground is refused, naming both digests and where each came from
-  // (config.ground_source), before any change is read.
+  // (config.ground_source), before any change is read. config.ground_digest, when given, must be
+  // the digest of exactly this ground (ReplicaConfig); otherwise it is computed here, once, for
+  // both the check and the replica.
   static Result<std::unique_ptr<ServerReplica>> Open(ReplicaConfig config, BaseGround ground,
                                                      PduBus& bus,
                                                      const std::filesystem::path& database);

@@ -11,26 +11,35 @@
 namespace dt {
 namespace {
 
-Status CheckRange(std::string_view field, double value, double min_inclusive,
+Status RangeError(std::string_view field, double value, double min_inclusive,
                   double max_inclusive) {
   if (!std::isfinite(value)) {
     return Error{fmt::format("{} is not finite ({})", field, value)};
   }
-  if (!(value >= min_inclusive) || value > max_inclusive) {
-    return Error{
-        fmt::format("{} = {} is outside [{}, {}]", field, value, min_inclusive, max_inclusive)};
+  return Error{
+      fmt::format("{} = {} is outside [{}, {}]", field, value, min_inclusive, max_inclusive)};
+}
+
+// The checks below name the field only when they fail: every feature received is checked, and
+// measuring a name (strlen) for each field of each one was a visible part of applying it.
+template <typename Name>
+Status CheckRange(const Name& field, double value, double min_inclusive, double max_inclusive) {
+  if (std::isfinite(value) && value >= min_inclusive && value <= max_inclusive) {
+    return Status::Ok();
   }
-  return Status::Ok();
+  return RangeError(field, value, min_inclusive, max_inclusive);
 }
 
 // A size: at least kMinFeatureSizeM, at most the type's maximum.
-Status CheckSize(std::string_view field, double value, double max_inclusive) {
+template <typename Name>
+Status CheckSize(const Name& field, double value, double max_inclusive) {
   return CheckRange(field, value, kMinFeatureSizeM, max_inclusive);
 }
 
-Status CheckFinite(std::string_view field, double value) {
-  if (!std::isfinite(value)) return Error{fmt::format("{} is not finite ({})", field, value)};
-  return Status::Ok();
+template <typename Name>
+Status CheckFinite(const Name& field, double value) {
+  if (std::isfinite(value)) return Status::Ok();
+  return Error{fmt::format("{} is not finite ({})", std::string_view(field), value)};
 }
 
 }  // namespace
@@ -359,16 +368,25 @@ Status ValidateFeatureParams(const FeatureParams& p) {
   if (!IsValidMaterial(static_cast<uint16_t>(p.material))) {
     return Error{fmt::format("unknown material {}", static_cast<uint16_t>(p.material))};
   }
-  for (auto [name, v] : {std::pair{"x_m", p.x_m},
-                         {"z_m", p.z_m},
-                         {"direction_rad", p.direction_rad},
-                         {"height_m[0]", p.height_m[0]},
-                         {"height_m[1]", p.height_m[1]},
-                         {"length_m[0]", p.length_m[0]},
-                         {"length_m[1]", p.length_m[1]},
-                         {"length_m[2]", p.length_m[2]},
-                         {"width_m", p.width_m}}) {
-    if (auto s = CheckFinite(name, v); !s) return s;
+  // Every feature received passes here, twice (MakeFeature, then its maker): the fields are
+  // named one by one only when one of them is not finite.
+  const bool all_finite = std::isfinite(p.x_m) && std::isfinite(p.z_m) &&
+                          std::isfinite(p.direction_rad) && std::isfinite(p.height_m[0]) &&
+                          std::isfinite(p.height_m[1]) && std::isfinite(p.length_m[0]) &&
+                          std::isfinite(p.length_m[1]) && std::isfinite(p.length_m[2]) &&
+                          std::isfinite(p.width_m);
+  if (!all_finite) {
+    for (auto [name, v] : {std::pair{"x_m", p.x_m},
+                           {"z_m", p.z_m},
+                           {"direction_rad", p.direction_rad},
+                           {"height_m[0]", p.height_m[0]},
+                           {"height_m[1]", p.height_m[1]},
+                           {"length_m[0]", p.length_m[0]},
+                           {"length_m[1]", p.length_m[1]},
+                           {"length_m[2]", p.length_m[2]},
+                           {"width_m", p.width_m}}) {
+      if (auto s = CheckFinite(name, v); !s) return s;
+    }
   }
   for (auto [name, v] : {std::pair{"x_m", p.x_m}, std::pair{"z_m", p.z_m}}) {
     if (auto s = CheckRange(name, v, -kMaxFeatureCoordinateM, kMaxFeatureCoordinateM); !s) {

@@ -33,6 +33,20 @@ class FeatureTable {
     }
   }
 
+  // Starts fetching the slot where a lookup of `id` begins: in a table of 10^5 features that
+  // slot is a miss, which a caller can overlap with other work before Find or Insert.
+  void Prefetch(FeatureId id) const {
+    if (size_ == 0) return;
+    const Slot* slot = &slots_[Home(id)];
+#if defined(__x86_64__)
+    // Volatile: the compiler moves __builtin_prefetch past the caller's next call, after which
+    // the fetch overlaps nothing.
+    asm volatile("prefetcht0 %0" : : "m"(*slot));
+#else
+    __builtin_prefetch(slot);
+#endif
+  }
+
   // Takes `feature` under `id`; the ID must not be held (checked: DT_DEMAND).
   Feature* Insert(FeatureId id, std::unique_ptr<Feature> feature) {
     DT_DEMAND(feature);

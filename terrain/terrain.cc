@@ -14,9 +14,23 @@
 namespace dt {
 
 namespace {
-// Stamps are drawn from one increasing sequence for the whole process, so no two terrains share
-// one and a later change's is greater. No result depends on their values.
-std::atomic<uint64_t> next_stamp{1};
+// Stamps are unique in the process and a terrain's later change draws a greater one; no result
+// depends on their values. Each thread hands them out from a block of its own, so replicas on
+// separate threads do not contend for one atomic on every change. Blocks are reserved in
+// increasing order, so a terrain that moved to a thread whose block is older than its last stamp
+// gives that block up and still draws a greater stamp.
+constexpr uint64_t kStampBlock = uint64_t{1} << 16;
+std::atomic<uint64_t> next_stamp_block{1};
+
+uint64_t DrawStamp(uint64_t after) {
+  thread_local uint64_t next = 0;
+  thread_local uint64_t end = 0;
+  if (next == end || next <= after) {
+    next = next_stamp_block.fetch_add(kStampBlock, std::memory_order_relaxed);
+    end = next + kStampBlock;
+  }
+  return next++;
+}
 }  // namespace
 
 Terrain::Terrain(HeightGrid ground) : ground_(std::move(ground)) {
@@ -57,7 +71,7 @@ void Terrain::ReleaseIfEmpty(size_t slot) {
   e.set_list(0);
 }
 
-void Terrain::Changed() { stamp_ = next_stamp.fetch_add(1, std::memory_order_relaxed); }
+void Terrain::Changed() { stamp_ = DrawStamp(stamp_); }
 
 void Terrain::GroundChanged() {
   Changed();
@@ -127,13 +141,29 @@ Status Terrain::CheckPlacement(const Feature& candidate, const Feature* replacin
 
 void Terrain::Index(const Feature* feature) {
   Changed();
+  const Rect b = feature->Bounds();  // once: a virtual call, asked again by every square
   SquareIndex lo, hi;
-  SquareRange(feature->Bounds(), lo, hi);
+  SquareRange(b, lo, hi);
+  // A square's cells depend on its column along x and its row along z apart: each column's and
+  // row's are worked out once (the same arithmetic as per square, so the same bits).
+  constexpr int kKeptColumns = 16;
+  CellSpan columns[kKeptColumns];
+  const bool keep_columns = hi.i - lo.i < kKeptColumns;
   for (int j = lo.j; j <= hi.j; ++j) {
+    const CellSpan row = CellsReached(b.min_z, b.max_z, j);
     for (int i = lo.i; i <= hi.i; ++i) {
-      MutableSquareFeatures(SquareSlot({i, j})).push_back(feature);
-      squares_[SquareSlot({i, j})].bits |= CellsMaybeCovered(*feature, {i, j});
-      MarkChanged(SquareIndex{i, j});
+      CellSpan column;
+      if (!keep_columns) {
+        column = CellsReached(b.min_x, b.max_x, i);
+      } else if (j == lo.j) {
+        column = columns[i - lo.i] = CellsReached(b.min_x, b.max_x, i);
+      } else {
+        column = columns[i - lo.i];
+      }
+      const size_t slot = SquareSlot({i, j});
+      MutableSquareFeatures(slot).push_back(feature);
+      squares_[slot].bits |= CellsMaybeCovered(*feature, {i, j}, column, row);
+      square_stamps_[slot] = stamp_;
     }
   }
 }
@@ -153,25 +183,25 @@ void Terrain::Unindex(const Feature* feature) {
   }
 }
 
-uint16_t Terrain::CellsMaybeCovered(const Feature& feature, SquareIndex square) const {
+Terrain::CellSpan Terrain::CellsReached(double min_m, double max_m, int k) const {
+  const double s = ground_.spacing_m();
+  const double cell = s / kBitgridCellsPerSide;
+  const double origin = k * s;
+  // Only the cells the feature's bounds reach are asked (the bounds may end inside the square).
+  // Cells are closed rectangles, so a bound on a cell edge reaches the cells on both sides.
+  constexpr double kLastCell = kBitgridCellsPerSide - 1;
+  return {static_cast<int>(std::clamp(std::ceil((min_m - origin) / cell) - 1.0, 0.0, kLastCell)),
+          static_cast<int>(std::clamp(std::floor((max_m - origin) / cell), 0.0, kLastCell))};
+}
+
+uint16_t Terrain::CellsMaybeCovered(const Feature& feature, SquareIndex square, CellSpan column,
+                                    CellSpan row) const {
   const double s = ground_.spacing_m();
   const double cell = s / kBitgridCellsPerSide;
   const double square_x0 = square.i * s, square_z0 = square.j * s;
-  // Only the cells the feature's bounds reach are asked (the bounds may end inside the square).
-  // Cells are closed rectangles, so a bound on a cell edge reaches the cells on both sides.
-  const Rect b = feature.Bounds();
-  constexpr double kLastCell = kBitgridCellsPerSide - 1;
-  auto lowest_cell = [&](double v, double origin) {
-    return static_cast<int>(std::clamp(std::ceil((v - origin) / cell) - 1.0, 0.0, kLastCell));
-  };
-  auto highest_cell = [&](double v, double origin) {
-    return static_cast<int>(std::clamp(std::floor((v - origin) / cell), 0.0, kLastCell));
-  };
-  const int cx_lo = lowest_cell(b.min_x, square_x0), cx_hi = highest_cell(b.max_x, square_x0);
-  const int cz_lo = lowest_cell(b.min_z, square_z0), cz_hi = highest_cell(b.max_z, square_z0);
   uint16_t mask = 0;
-  for (int cz = cz_lo; cz <= cz_hi; ++cz) {
-    for (int cx = cx_lo; cx <= cx_hi; ++cx) {
+  for (int cz = row.lo; cz <= row.hi; ++cz) {
+    for (int cx = column.lo; cx <= column.hi; ++cx) {
       const double x0 = square_x0 + cx * cell;
       const double z0 = square_z0 + cz * cell;
       if (feature.MayCover({x0, z0, x0 + cell, z0 + cell})) {
@@ -184,15 +214,22 @@ uint16_t Terrain::CellsMaybeCovered(const Feature& feature, SquareIndex square) 
 
 void Terrain::RecomputeBits(SquareIndex square) {
   uint16_t mask = 0;
-  for (const Feature* f : SquareFeatures(SquareSlot(square))) mask |= CellsMaybeCovered(*f, square);
+  for (const Feature* f : SquareFeatures(SquareSlot(square))) {
+    const Rect b = f->Bounds();
+    mask |= CellsMaybeCovered(*f, square, CellsReached(b.min_x, b.max_x, square.i),
+                              CellsReached(b.min_z, b.max_z, square.j));
+  }
   squares_[SquareSlot(square)].bits = mask;
 }
 
 Status Terrain::Add(FeatureId id, const FeatureParams& params) {
+  // The ID's slot is fetched while the feature is made; a taken ID is still the error reported
+  // first, whatever the parameters.
+  features_.Prefetch(id);
+  auto made = MakeFeature(id, params, ground_);
   if (features_.Find(id) != nullptr) {
     return Error{fmt::format("feature {} already exists", id.ToString())};
   }
-  auto made = MakeFeature(id, params, ground_);
   if (!made) return made.error();
   if (params.type == FeatureType::kEarthMove) {
     // Not indexed: it covers no point; its work is in the ground posts.

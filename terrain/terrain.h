@@ -125,8 +125,17 @@ class Terrain {
   Status CheckPlacement(const Feature& candidate, const Feature* replacing) const;
   void Index(const Feature* feature);
   void Unindex(const Feature* feature);
-  // The bitgrid cells of `square` the feature may cover.
-  uint16_t CellsMaybeCovered(const Feature& feature, SquareIndex square) const;
+  // A range of bitgrid cells along one axis of a square, 0..kBitgridCellsPerSide - 1.
+  struct CellSpan {
+    int lo = 0;
+    int hi = -1;
+  };
+  // The cells along one axis of the squares in column (or row) k that [min_m, max_m] reaches.
+  CellSpan CellsReached(double min_m, double max_m, int k) const;
+  // The bitgrid cells of `square`, among those of the column and row spans, the feature may
+  // cover.
+  uint16_t CellsMaybeCovered(const Feature& feature, SquareIndex square, CellSpan column,
+                             CellSpan row) const;
   void RecomputeBits(SquareIndex square);
   void Changed();        // draws a new stamp
   void GroundChanged();  // draws a new stamp for the whole terrain and its ground

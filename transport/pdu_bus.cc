@@ -77,13 +77,15 @@ void PduBus::ReceiveBatch(std::span<const uint8_t> bytes) noexcept {
       return;
     }
   }
-  // Local: a handler may publish, and so flush, while the members are handed on.
-  std::vector<MemberPdu> members;
+  std::vector<MemberPdu> nested;
+  const bool outermost = !receiving_;
+  std::vector<MemberPdu>& members = outermost ? received_ : nested;
   if (auto r = DecodeBatch(bytes, validation_context(), members)) {
     Refuse(PduType::kBatch, bytes, *r);
     return;
   }
   ++batches_received_;
+  receiving_ = true;
   for (const MemberPdu& m : members) {
     std::visit(
         [this](const auto& pdu) {
@@ -92,6 +94,7 @@ void PduBus::ReceiveBatch(std::span<const uint8_t> bytes) noexcept {
         },
         m);
   }
+  if (outermost) receiving_ = false;
 }
 
 void PduBus::Refuse(PduType channel, std::span<const uint8_t> bytes, const Rejection& r) noexcept {

@@ -150,6 +150,11 @@ class PduBus {
   std::vector<BatchMember> members_;        // reused by Flush
   // What Flush sends; apart from encode_buffer_, which holds the PDU that made it flush.
   std::vector<uint8_t> batch_buffer_;
+  // The members of the batch being handed on, reused batch to batch (no allocation per batch
+  // received). A handler that makes this bus receive again, through a carrier that delivers
+  // within Publish, decodes into a vector of its own: these are still being handed on.
+  std::vector<MemberPdu> received_;
+  bool receiving_ = false;
   bool batch_subscribed_ = false;
   uint64_t batches_sent_ = 0;
   uint64_t batches_received_ = 0;

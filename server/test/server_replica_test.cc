@@ -15,6 +15,7 @@
 
 #include "simulation/sim_cluster.h"
 #include "simulation/sim_network.h"
+#include "terrain/base_ground.h"
 #include "terrain/terrain_digest.h"
 #include "terrain/terrain_file.h"
 
@@ -311,6 +312,30 @@ TEST_F(ServerReplicaTest, ADatabaseFromAnotherGroundIsRefusedNamingBothGrounds) 
   server_transport_.reset();
   OpenServer();
   EXPECT_EQ(server_->replica().live_feature_count(), 1u);
+}
+
+// The server hashes its ground once, for the database's check, and hands that digest to its
+// replica: the replica's ground digest is the one it would have worked out itself, base features
+// included, and the one the database records.
+TEST_F(ServerReplicaTest, TheReplicaTakesTheDigestTheServerCheckedAndItIsTheSame) {
+  Terrain shaped(Ground());
+  ASSERT_TRUE(shaped.Add({9, 9, 1}, FeatureParams::Crater(60, 60, 5)).ok());
+  const BaseGround base = BaseGroundFromTerrain(shaped);
+  ASSERT_EQ(base.features.size(), 1u);
+  auto transport = net_.Join({1, 101}, 1);
+  PduBus bus(*transport, BusConfig({1, 101}));
+  auto opened =
+      ServerReplica::Open(Config({1, 101}, NodeRole::kServer), base, bus, dir_ / "based.db");
+  ASSERT_TRUE(opened.ok()) << opened.error().message;
+  auto own_transport = net_.Join({1, 102}, 1);
+  PduBus own_bus(*own_transport, BusConfig({1, 102}));
+  const Replica own(Config({1, 102}, NodeRole::kNode), base, own_bus);  // digests it itself
+  EXPECT_EQ(opened.value()->replica().ground_digest(), own.ground_digest());
+  EXPECT_NE(own.ground_digest(), ComputeDigest(Ground()));  // the base feature counts
+  auto recorded = opened.value()->store().LoadGround();
+  ASSERT_TRUE(recorded.ok()) << recorded.error().message;
+  ASSERT_TRUE(recorded.value().has_value());
+  EXPECT_EQ(recorded.value()->digest, own.ground_digest().ToHex());
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Benchmarks of elevation queries (bare, craters, and a ditch over a crater below the ground in a
 // mud area), six-point orientation and crater add/remove on terrains holding 10^5 and 10^6
-// craters at 128 per km^2, and the memory each crater costs.
+// craters at 128 per km^2, the memory each crater costs, and adding craters to a growing terrain
+// as the protocol benchmarks' replicas do.
 #include <malloc.h>
 
 #include <cmath>
@@ -144,11 +145,39 @@ void BM_AddRemoveCrater(benchmark::State& state) {
   }
 }
 
+// Per iteration: a fresh 1001 x 1001 terrain at 10 m (not timed), then range(0) craters of
+// radius 2 m added on the 10 m lattice of posts, the protocol benchmarks' features
+// (simulation/bench/lcm_cluster.h BenchCrater): each touches the four squares around its post and
+// shares each square with three neighbours, and the terrain's tables grow from empty.
+void BM_AddLatticeCraters(benchmark::State& state) {
+  const int64_t count = state.range(0);
+  std::vector<FeatureParams> craters;
+  craters.reserve(static_cast<size_t>(count));
+  for (int64_t n = 0; n < count; ++n) {
+    craters.push_back(FeatureParams::Crater(100 + static_cast<double>(n % 980) * 10.0,
+                                            100 + static_cast<double>((n / 980) % 980) * 10.0, 2));
+  }
+  for (auto _ : state) {
+    state.PauseTiming();
+    auto terrain = std::make_unique<Terrain>(HeightGrid(1001, 10.0, 5.0f));
+    state.ResumeTiming();
+    for (int64_t n = 0; n < count; ++n) {
+      const FeatureId id{kOrigin.site, kOrigin.host, static_cast<uint32_t>(n + 1)};
+      if (!terrain->Add(id, craters[static_cast<size_t>(n)]).ok()) std::abort();
+    }
+    state.PauseTiming();
+    terrain.reset();
+    state.ResumeTiming();
+  }
+  state.SetItemsProcessed(state.iterations() * count);
+}
+
 BENCHMARK(BM_QueryBareSquare)->Arg(100'000)->Arg(1'000'000);
 BENCHMARK(BM_QueryOneCrater)->Arg(100'000)->Arg(1'000'000);
 BENCHMARK(BM_QueryFourCraters)->Arg(100'000)->Arg(1'000'000);
 BENCHMARK(BM_QueryDitchDeepCraterArea)->Arg(100'000)->Arg(1'000'000);
 BENCHMARK(BM_AddRemoveCrater)->Arg(100'000)->Arg(1'000'000);
+BENCHMARK(BM_AddLatticeCraters)->Arg(100'000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace dt

@@ -48,5 +48,32 @@ TEST(SquareList, MatchesAVectorAcrossTheInlineLimit) {
   EXPECT_TRUE(moved.features().empty());
 }
 
+// Past the inline slots the list grows its own array by doubling: the features stay whole across
+// each growth and across moves, inline or not.
+TEST(SquareList, GrowsPastItsArrayAndMovesEitherWay) {
+  static_assert(sizeof(SquareList) == 40);  // the per-square cost docs/real-ground.md states
+  std::vector<char> storage(64);
+  auto at = [&](int k) { return reinterpret_cast<const Feature*>(&storage[k]); };
+  SquareList list;
+  std::vector<const Feature*> expected;
+  for (int k = 0; k < 40; ++k) {
+    list.push_back(at(k));
+    expected.push_back(at(k));
+  }
+  EXPECT_EQ(Sorted(list.features()), Sorted(expected));
+  SquareList moved;
+  moved.push_back(at(50));  // an inline list, overwritten by the heap one
+  moved = std::move(list);
+  EXPECT_TRUE(list.empty());
+  EXPECT_EQ(Sorted(moved.features()), Sorted(expected));
+  for (int k = 0; k < 37; ++k) moved.erase(at(k));  // back to three: inline again
+  EXPECT_EQ(Sorted(moved.features()), Sorted(std::vector<const Feature*>{at(37), at(38), at(39)}));
+  moved.push_back(at(41));
+  SquareList inline_moved(std::move(moved));
+  EXPECT_TRUE(moved.empty());
+  EXPECT_EQ(Sorted(inline_moved.features()),
+            Sorted(std::vector<const Feature*>{at(37), at(38), at(39), at(41)}));
+}
+
 }  // namespace
 }  // namespace dt

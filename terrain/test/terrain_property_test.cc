@@ -294,6 +294,34 @@ TEST(TerrainProperty, ElevationIsContinuousAcrossSquareEdges) {
   }
 }
 
+// A square's bits are worked out per column and row when a feature is indexed and per square
+// when a removal recomputes them: both ways give the same bits on every square.
+TEST(TerrainProperty, BitsRecomputedAfterARemovalMatchBitsIndexed) {
+  for (uint64_t seed : kSeeds) {
+    const World w = Build(seed);
+    std::mt19937_64 ground_rng(seed);
+    Terrain kept(RandomGround(ground_rng, seed));  // every other feature only
+    for (size_t k = 0; k < w.accepted.size(); k += 2) {
+      ASSERT_TRUE(kept.Add(w.accepted[k].first, w.accepted[k].second).ok());
+    }
+    std::mt19937_64 again_rng(seed);
+    Terrain thinned(RandomGround(again_rng, seed));  // all, then every other one removed
+    for (const auto& [id, p] : w.accepted) ASSERT_TRUE(thinned.Add(id, p).ok());
+    for (size_t k = 1; k < w.accepted.size(); k += 2) {
+      ASSERT_TRUE(thinned.Remove(w.accepted[k].first).ok());
+    }
+    int featured = 0;
+    for (int j = 0; j < kept.ground().squares_z(); ++j) {
+      for (int i = 0; i < kept.ground().squares_x(); ++i) {
+        ASSERT_EQ(kept.SquareBits({i, j}), thinned.SquareBits({i, j}))
+            << seed << ": " << i << "," << j;
+        featured += kept.SquareBits({i, j}) != 0;
+      }
+    }
+    EXPECT_GT(featured, 0) << seed;
+  }
+}
+
 TEST(TerrainProperty, InsertionOrderDoesNotMatter) {
   for (uint64_t seed : kSeeds) {
     const World w = Build(seed);

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <iterator>
 #include <map>
 #include <numbers>
 #include <random>
 #include <set>
+#include <thread>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -543,6 +545,39 @@ TEST(TerrainAreaStamp, MovesOnlyWhereAChangeCanAlterAnAnswer) {
   t.RemoveAll();
   EXPECT_TRUE(moved(far));
   EXPECT_TRUE(moved(here));
+}
+
+// Each thread draws stamps from a block of its own: a terrain handed to a thread whose block is
+// older than the terrain's last stamp must still draw greater stamps there, and two terrains on
+// two threads never share one.
+TEST(TerrainStamp, GrowsOnAThreadWithAnOlderBlockAndIsNeverShared) {
+  std::promise<void> older_block_taken, terrain_made;
+  std::promise<uint64_t> other_terrain_stamp;
+  Terrain t(SlopedGround());
+  uint64_t before = 0, after = 0;
+  // The worker takes its block first and keeps it, then adds to `t` after a newer block drew.
+  std::thread worker([&] {
+    Terrain own(SlopedGround());
+    EXPECT_TRUE(own.Add(Id(1), FeatureParams::Crater(55.0, 50.0, 5.0)).ok());
+    other_terrain_stamp.set_value(own.stamp());
+    older_block_taken.set_value();
+    terrain_made.get_future().wait();
+    before = t.stamp();
+    EXPECT_TRUE(t.Add(Id(3), FeatureParams::Crater(120.0, 120.0, 5.0)).ok());
+    after = t.stamp();
+  });
+  older_block_taken.get_future().wait();
+  // A third thread takes a block newer than the worker's and stamps `t` from it.
+  std::thread newer(
+      [&] { EXPECT_TRUE(t.Add(Id(2), FeatureParams::Crater(80.0, 80.0, 5.0)).ok()); });
+  newer.join();
+  const uint64_t worker_stamp = other_terrain_stamp.get_future().get();
+  EXPECT_GT(t.stamp(), worker_stamp);  // the newer block is above the worker's
+  terrain_made.set_value();
+  worker.join();
+  EXPECT_GT(after, before);
+  EXPECT_NE(after, worker_stamp);
+  EXPECT_EQ(after, t.stamp());
 }
 
 namespace {

@@ -32,6 +32,11 @@ void CheckConfig(const ReplicaConfig& c) {
                                             c.address.ToString(), c.playback_window,
                                             kMaxPlaybackSpan));
   }
+  if (c.playback_window_max < 1 || c.playback_window_max > kMaxPlaybackSpan) {
+    throw std::invalid_argument(fmt::format("replica {}: playback_window_max {} is outside [1, {}]",
+                                            c.address.ToString(), c.playback_window_max,
+                                            kMaxPlaybackSpan));
+  }
   if ((c.role == NodeRole::kNode || c.role == NodeRole::kObserver) && c.store != nullptr) {
     throw std::invalid_argument(
         fmt::format("replica {}: a {} has no store (role server or standby)", c.address.ToString(),
@@ -61,7 +66,7 @@ Replica::Replica(ReplicaConfig config, BaseGround ground, PduBus& bus)
       // ground stays as loaded.
       ground_digest_(config.ground_digest ? *config.ground_digest
                                           : digester_.Of(records_.terrain())),
-      scheduler_(config.playback_window, config.playback_retry_ms) {
+      scheduler_(config.playback_window, config.playback_window_max, config.playback_retry_ms) {
   CheckConfig(config_);
   DT_LOG_INFO("replica {}: ground {} ({})", config_.address.ToString(), ground_digest_.ToHex(),
               config_.ground_source);
@@ -173,6 +178,7 @@ void Replica::Tick(int64_t now_ms) {
   // The tick's PDUs (requests, summaries, re-sends) leave packed, at its end.
   PduBus::Batch batch(bus_);
   now_ms_ = std::max(now_ms_, now_ms);
+  scheduler_.OnTick(now_ms_);
   Commit();
   if (signing_on_) {
     const int64_t waited = now_ms_ - sign_on_started_ms_;

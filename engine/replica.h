@@ -45,6 +45,10 @@ struct ReplicaConfig {
   int playback_retry_ms =
       1000;                   // a request unanswered this long is sent again (then to the server)
   int playback_window = 256;  // changes outstanding per author
+  // The most changes one playback request asks for when round trips are long (a WAN): a
+  // catch-up's window grows from playback_window up to this (docs/protocol.md, "Recovering what
+  // was missed"). At or below playback_window: a fixed window.
+  int playback_window_max = 8192;
   // A summary of the logs held every period, so slots held differently are found and repaired
   // (docs/protocol.md, "Anti-entropy"); 0: off.
   int anti_entropy_period_ms = 1000;

@@ -24,6 +24,8 @@ void Replica::NoteOwn(const Change& change) {
 bool Replica::Accept(const Change& change, bool from_store) {
   ObserveLamport(change.stamp.lamport);
   if (!logs_[change.author()].Insert(change)) return false;
+  // Dates the first change of an answer, so the playback window can follow the round trip.
+  if (!from_store) scheduler_.OnArrival(change.author(), change.stamp.change_seq, now_ms_);
   NoteOwn(change);
   auto& max = max_feature_[OriginOf(change.id)];
   max = std::max<int64_t>(max, change.id.number);

@@ -30,15 +30,14 @@ void Replica::OnPlayback(const dtpdu::playback_t& pdu) {
   }
   if (FromPdu(pdu.requesting) == config_.address) {
     const NodeAddress subject = FromPdu(pdu.subject);
-    scheduler_.OnResponse(subject, pdu.start, pdu.end);
+    auto it = logs_.find(subject);
+    const bool held = it != logs_.end() && it->second.contiguous() >= pdu.end;
+    scheduler_.OnResponse(subject, pdu.start, pdu.end, held, now_ms_);
     // An answer that closed its whole range asks for the next window at once, not at the next
     // tick: a catch-up then moves one window per round trip (30 Hz ticks made 10^5 changes take
     // 13 s). Any other answer waits for the tick, so retries and the rounds before a void keep
     // their pace.
-    auto it = logs_.find(subject);
-    if (pdu.range_complete && it != logs_.end() && it->second.contiguous() >= pdu.end) {
-      RequestFor(subject, it->second);
-    }
+    if (pdu.range_complete && held) RequestFor(subject, it->second);
   }
 }
 

@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "pdu/pdu_type.h"
 #include "runtime/toml_reader.h"
 #include "terrain/height_grid.h"
 #include "terrain/terrain_file.h"
@@ -350,7 +351,7 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   bool require_server = true;
   if (auto p =
           top.OptionalTable("protocol", {"max_feature_period_ms", "silence_ms", "playback_retry_ms",
-                                         "playback_window", "require_server",
+                                         "playback_window", "playback_window_max", "require_server",
                                          "anti_entropy_period_ms", "gap_give_up_ms"})) {
     require_server = p->Bool("require_server", true);
     c.protocol.max_feature_period_ms =
@@ -358,6 +359,8 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     c.protocol.silence_ms = static_cast<int>(p->Int("silence_ms", 2000, 10, 3600000));
     c.protocol.playback_retry_ms = static_cast<int>(p->Int("playback_retry_ms", 500, 10, 600000));
     c.protocol.playback_window = static_cast<int>(p->Int("playback_window", 256, 1, 1000000));
+    c.protocol.playback_window_max =
+        static_cast<int>(p->Int("playback_window_max", 8192, 1, kMaxPlaybackSpan));
     c.protocol.anti_entropy_period_ms =
         static_cast<int>(p->Int("anti_entropy_period_ms", 1000, 0, 600000));
     c.protocol.gap_give_up_ms = static_cast<int>(

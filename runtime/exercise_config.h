@@ -93,6 +93,7 @@ struct ProtocolTiming {
   int silence_ms = 2000;
   int playback_retry_ms = 500;
   int playback_window = 256;
+  int playback_window_max = 8192;     // a catch-up's window grows up to this on long round trips
   int anti_entropy_period_ms = 1000;  // 0: anti-entropy off
   int gap_give_up_ms = 30000;         // 0: never (docs/protocol.md, "Lost changes")
 };

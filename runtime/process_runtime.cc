@@ -87,6 +87,7 @@ ReplicaConfig MakeReplicaConfig(const ExerciseConfig& exercise, const ProcessCon
   rc.silence_ms = exercise.protocol.silence_ms;
   rc.playback_retry_ms = exercise.protocol.playback_retry_ms;
   rc.playback_window = exercise.protocol.playback_window;
+  rc.playback_window_max = exercise.protocol.playback_window_max;
   rc.anti_entropy_period_ms = exercise.protocol.anti_entropy_period_ms;
   rc.gap_give_up_ms = exercise.protocol.gap_give_up_ms;
   rc.ground_source = ExerciseGroundSource(exercise);

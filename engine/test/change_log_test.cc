@@ -265,7 +265,7 @@ TEST(PlaybackSchedulerTest, PacesRetriesAndMovesToTheNextCandidate) {
   log.Report({1, 1}, 1000);
   const NodeAddress server{9, 9};
   const std::vector<NodeAddress> candidates = {kAuthor, server};
-  PlaybackScheduler s(/*window=*/100, /*retry_ms=*/50);
+  PlaybackScheduler s(/*window=*/100, /*max_window=*/100, /*retry_ms=*/50);
   auto r = s.Poll(kAuthor, log, candidates, 0);
   ASSERT_TRUE(r.has_value());
   EXPECT_EQ(r->start, 1);
@@ -279,7 +279,7 @@ TEST(PlaybackSchedulerTest, PacesRetriesAndMovesToTheNextCandidate) {
   EXPECT_EQ(r->target, server);
   // The range arrives and its marker too: the next window is asked at once, from the author.
   for (uint32_t i = 1; i <= 100; ++i) ASSERT_TRUE(log.Insert(Numbered(i)));
-  s.OnResponse(kAuthor, 1, 100);
+  s.OnResponse(kAuthor, 1, 100, /*range_held=*/true, 61);
   r = s.Poll(kAuthor, log, candidates, 61);
   ASSERT_TRUE(r.has_value());
   EXPECT_EQ(r->start, 101);

@@ -38,7 +38,8 @@ TEST(ExerciseConfigTest, ReadsEveryField) {
   EXPECT_EQ(c.terrain.seed, 9u);
   EXPECT_EQ(c.protocol.max_feature_period_ms, 300);
   EXPECT_EQ(c.protocol.silence_ms, 1500);
-  EXPECT_EQ(c.protocol.playback_window, 256);  // default
+  EXPECT_EQ(c.protocol.playback_window, 256);       // default
+  EXPECT_EQ(c.protocol.playback_window_max, 8192);  // default
   EXPECT_EQ(c.protocol.anti_entropy_period_ms, 1500);
   EXPECT_DOUBLE_EQ(c.faults.drop_probability, 0.3);
   EXPECT_EQ(c.fault_seed, 4u);
@@ -232,6 +233,12 @@ TEST(ExerciseConfigTest, ErrorsNameFileKeyAndValue) {
   e = ErrorOf(Replace(kGood, "spacing_m = 5.0", "spacing_m = \"five\""));
   EXPECT_NE(e.find("terrain.spacing_m"), std::string::npos) << e;
   EXPECT_NE(e.find("five"), std::string::npos) << e;
+
+  // A request longer than a Playback PDU may span (65 536) is refused at load.
+  e = ErrorOf(
+      Replace(kGood, "silence_ms = 1500", "silence_ms = 1500\nplayback_window_max = 70000"));
+  EXPECT_NE(e.find("protocol.playback_window_max"), std::string::npos) << e;
+  EXPECT_NE(e.find("70000"), std::string::npos) << e;
 }
 
 TEST(ExerciseConfigTest, RefusesUnknownKeysTyposAndDuplicates) {

@@ -140,6 +140,7 @@ class ReplicaPeer final : public Peer {
         ground_(bench::BenchGround()),
         bus_(*transport_, bench::BenchBusConfig(o.address, ground_)) {
     ReplicaConfig rc = o.fast_ack ? bench::FastAckConfig() : ReplicaConfig{};
+    if (o.playback_window_max > 0) rc.playback_window_max = o.playback_window_max;
     rc.address = o.address;
     rc.role = o.kind == PeerKind::kServer ? NodeRole::kServer : NodeRole::kNode;
     if (o.kind == PeerKind::kServer) rc.store = &store_;
@@ -368,12 +369,13 @@ std::vector<std::string> PeerArgs(const PeerOptions& o) {
           std::to_string(o.address.host),
           o.fast_ack ? "1" : "0",
           std::to_string(o.drop_probability),
-          std::to_string(o.other_site_delay_ms)};
+          std::to_string(o.other_site_delay_ms),
+          std::to_string(o.playback_window_max)};
 }
 
 PeerOptions ParsePeerArgs(const std::vector<std::string>& args) {
-  if (args.size() != 7) {
-    throw std::invalid_argument("hosts_bench --peer: 7 arguments expected, got " +
+  if (args.size() != 8) {
+    throw std::invalid_argument("hosts_bench --peer: 8 arguments expected, got " +
                                 std::to_string(args.size()));
   }
   PeerOptions o;
@@ -384,6 +386,7 @@ PeerOptions ParsePeerArgs(const std::vector<std::string>& args) {
   o.fast_ack = args[4] == "1";
   o.drop_probability = std::stod(args[5]);
   o.other_site_delay_ms = std::stoll(args[6]);
+  o.playback_window_max = std::stoi(args[7]);
   return o;
 }
 

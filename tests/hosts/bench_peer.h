@@ -19,6 +19,7 @@ struct PeerOptions {
   bool fast_ack = false;            // bench::FastAckConfig (throughput) or the protocol defaults
   double drop_probability = 0.0;    // the fault-injecting transport's loss on receipt
   int64_t other_site_delay_ms = 0;  // added on receipt to copies from another site
+  int playback_window_max = 0;      // ReplicaConfig's; 0: the protocol default
 };
 
 // The peer's command line after `hosts_bench --peer`, and back.

@@ -8,12 +8,13 @@
 //     node -> node features/s (bursts created on A until B has applied them) and the latency of
 //     one change (created on A to applied on B), server, A and B on the hosts' LAN with `loss` on
 //     receipt at every process, ÷ the same with the three on one loopback (no loss, no shaping).
-//   hosts_bench wan [--features 100000] [--delay-ms 50] [--runs 5]
+//   hosts_bench wan [--features 100000] [--delay-ms 50] [--runs 5] [--playback-window-max N]
 //     server and A on site 1, B on site 2 behind the router, Cyclone DDS with unicast discovery,
 //     `delay_ms` between the sites: B's rejoin catch-up of `features` ÷ a raw transfer of as many
 //     Construct messages between the same hosts over the same carrier and delay, in windows of
 //     the playback window (256); then anti-entropy's detect, repair and settle times for `runs`
-//     corruptions of B's copy of one of A's changes.
+//     corruptions of B's copy of one of A's changes. `--playback-window-max 256`: the replicas'
+//     catch-up window fixed at 256, as before it adapted (default: the protocol's).
 //
 // Root only. Peers are this program again (`hosts_bench --peer ...`, tests/hosts/bench_peer.h),
 // started on their hosts with `ip netns exec` and stopped by PID. Every wait is bounded; the
@@ -92,8 +93,9 @@ struct Hosts {
 };
 
 PeerOptions Options(PeerKind kind, NodeAddress address, bool fast_ack, double loss,
-                    int64_t delay_ms) {
+                    int64_t delay_ms, int playback_window_max = 0) {
   PeerOptions o;
+  o.playback_window_max = playback_window_max;
   o.kind = kind;
   o.address = address;
   o.fast_ack = fast_ack;
@@ -201,6 +203,7 @@ int Wan(const std::vector<std::string>& args) {
   const int64_t n = std::stoll(Value(args, "--features", "100000"));
   const int64_t delay_ms = std::stoll(Value(args, "--delay-ms", "50"));
   const int runs = std::stoi(Value(args, "--runs", "5"));
+  const int window_max = std::stoi(Value(args, "--playback-window-max", "0"));
   const NodeAddress b_address{2, 1};
   const auto big_ms = static_cast<int>(std::max<int64_t>(kStepMs, 3 * n));  // 3 ms a feature
 
@@ -212,15 +215,16 @@ int Wan(const std::vector<std::string>& args) {
 
   // Rejoin: B signs on and crashes; A creates n craters, the server stores them; B restarts with
   // no state and is timed from its start until it holds them all.
-  auto server = wan.Start("server", Options(PeerKind::kServer, kServer, false, 0, delay_ms));
-  auto a = wan.Start("node-a", Options(PeerKind::kNode, kA, false, 0, delay_ms));
-  auto b = wan.Start("node-b", Options(PeerKind::kNode, b_address, false, 0, delay_ms));
+  auto server =
+      wan.Start("server", Options(PeerKind::kServer, kServer, false, 0, delay_ms, window_max));
+  auto a = wan.Start("node-a", Options(PeerKind::kNode, kA, false, 0, delay_ms, window_max));
+  auto b = wan.Start("node-b", Options(PeerKind::kNode, b_address, false, 0, delay_ms, window_max));
   a->Ask("signed_on", kSignOnMs);
   b->Ask("signed_on", kSignOnMs);
   b->Kill();
   a->Ask("create 0 " + std::to_string(n), big_ms);
   server->Ask("features " + std::to_string(n), big_ms);
-  b = wan.Start("node-b", Options(PeerKind::kNode, b_address, false, 0, delay_ms));
+  b = wan.Start("node-b", Options(PeerKind::kNode, b_address, false, 0, delay_ms, window_max));
   const int64_t catch_up_ns =
       b->Ask("features " + std::to_string(n), big_ms).t_ns - b->started_ns();
   b->Ask("settled", big_ms);

@@ -84,11 +84,24 @@ GatewayApp::~GatewayApp() = default;
 
 void GatewayApp::OnTick(int64_t now_ms) {
   DrainDis(now_ms);
-  std::map<FeatureId, FeatureParams> live;
-  for (const auto& [id, r] : replica_->records().all()) {
-    if (!r.destroyed && r.placed) live.emplace(id, r.params);
+  // Every record once, then only those the replica touched: a scan of 10^6 records a tick
+  // would leave no time for anything else.
+  std::vector<GatewayCore::FeatureUpdate> updates;
+  const auto update_of = [](FeatureId id, const Record& r) {
+    return GatewayCore::FeatureUpdate{
+        id, !r.destroyed && r.placed ? std::optional(r.params) : std::nullopt};
+  };
+  if (!tracking_) {
+    replica_->TrackTouchedFeatures();
+    tracking_ = true;
+    for (const auto& [id, r] : replica_->records().all()) updates.push_back(update_of(id, r));
+  } else {
+    for (FeatureId id : replica_->TakeTouchedFeatures()) {
+      const Record* r = replica_->records().Find(id);
+      updates.push_back(r != nullptr ? update_of(id, *r) : GatewayCore::FeatureUpdate{id, {}});
+    }
   }
-  core_->Tick(live, replica_->terrain(), Seconds(now_ms));
+  core_->Tick(updates, replica_->terrain(), Seconds(now_ms));
 }
 
 void GatewayApp::AddPollFds(std::vector<pollfd>& fds) const {

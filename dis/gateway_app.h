@@ -42,6 +42,7 @@ class GatewayApp : public ObserverProcess {
   const DisConfig& dis_;
   std::unique_ptr<UdpEndpoint> socket_;
   std::unique_ptr<GatewayCore> core_;
+  bool tracking_ = false;  // the replica reports touched records; all were sent once
 };
 
 }  // namespace dt::dis

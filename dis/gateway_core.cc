@@ -165,11 +165,25 @@ void GatewayCore::SendFeature(const FeatureId& id, OutFeature& f, const Terrain&
   }
   f.update_number = next;
   f.sent_s = now_s;
+  sends_.emplace_back(now_s, id);
   f.last = pdu.value();
   (void)SendObject(f.last);
 }
 
 void GatewayCore::Tick(const std::map<FeatureId, FeatureParams>& live, const Terrain& terrain,
+                       double now_s) {
+  std::vector<FeatureUpdate> updates;
+  for (const auto& [id, params] : live) {
+    auto it = features_.find(id);
+    if (it == features_.end() || it->second.params != params) updates.push_back({id, params});
+  }
+  for (const auto& [id, f] : features_) {
+    if (!live.count(id)) updates.push_back({id, std::nullopt});
+  }
+  Tick(updates, terrain, now_s);
+}
+
+void GatewayCore::Tick(std::span<const FeatureUpdate> updates, const Terrain& terrain,
                        double now_s) {
   for (auto it = vehicles_.begin(); it != vehicles_.end();) {
     OutVehicle& v = it->second;
@@ -187,28 +201,21 @@ void GatewayCore::Tick(const std::map<FeatureId, FeatureParams>& live, const Ter
                                                                        : std::next(it);
   }
 
-  for (const auto& [id, params] : live) {
-    if (OriginOf(id) == settings_.self) continue;  // an imported crater: DIS has its own object
-    auto it = features_.find(id);
-    if (it == features_.end()) {
-      it = features_.emplace(id, OutFeature{params, 0, 0.0, {}, false}).first;
-      SendFeature(id, it->second, terrain, now_s, true);
+  for (const FeatureUpdate& u : updates) {
+    if (OriginOf(u.id) == settings_.self) continue;  // an imported crater: DIS has its own object
+    auto it = features_.find(u.id);
+    if (u.params) {
+      if (it == features_.end()) {
+        it = features_.emplace(u.id, OutFeature{*u.params, 0, 0.0, {}, false}).first;
+        SendFeature(u.id, it->second, terrain, now_s, true);
+      } else if (it->second.params != *u.params) {
+        it->second.params = *u.params;
+        it->second.unmapped = false;
+        SendFeature(u.id, it->second, terrain, now_s, true);
+      }
       continue;
     }
-    OutFeature& f = it->second;
-    if (f.params != params) {
-      f.params = params;
-      f.unmapped = false;
-      SendFeature(id, f, terrain, now_s, true);
-    } else if (!f.unmapped && now_s - f.sent_s >= settings_.feature_period_s) {
-      SendFeature(id, f, terrain, now_s, false);
-    }
-  }
-  for (auto it = features_.begin(); it != features_.end();) {
-    if (live.count(it->first)) {
-      ++it;
-      continue;
-    }
+    if (it == features_.end()) continue;
     if (!it->second.unmapped) {
       const uint16_t next = it->second.update_number == 0xFFFF ? 1 : it->second.update_number + 1;
       Removal r{Deactivated(it->second.last, next, Context(settings_.exercise_id)), next,
@@ -216,7 +223,16 @@ void GatewayCore::Tick(const std::map<FeatureId, FeatureParams>& live, const Ter
       if (SendObject(r.pdu)) ++counters_.object_removals_sent;
       removals_[it->first] = std::move(r);
     }
-    it = features_.erase(it);
+    features_.erase(it);
+  }
+  for (size_t sent = 0;
+       !sends_.empty() && sends_.front().first + settings_.feature_period_s <= now_s;) {
+    const auto [sent_s, id] = sends_.front();
+    sends_.pop_front();
+    auto it = features_.find(id);
+    if (it == features_.end() || it->second.unmapped || it->second.sent_s != sent_s) continue;
+    SendFeature(id, it->second, terrain, now_s, false);
+    if (++sent == settings_.heartbeats_per_tick_max) break;
   }
   for (auto it = removals_.begin(); it != removals_.end();) {
     Removal& r = it->second;

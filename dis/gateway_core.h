@@ -5,8 +5,10 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <span>
 #include <string>
@@ -35,6 +37,9 @@ struct GatewaySettings {
   double terrain_size_x_m = 0.0;
   double terrain_size_z_m = 0.0;
   double feature_period_s = 5.0;  // every live feature's Object State again this often
+  // Periodic resends a tick at most, oldest first: with more features than the period allows
+  // (10^6 every 5 s would be 200 000 a second) the period stretches instead of the tick.
+  size_t heartbeats_per_tick_max = 2000;
   bool import_craters = false;
   NodeAddress self;  // the gateway's own address: it owns the vehicles it imports
   // The exercise's members: DIS input whose site/application is one of them is the exercise's
@@ -78,9 +83,18 @@ class GatewayCore {
 
   // Exercise -> DIS. A VehicleState heard on the bus at now_s (never the gateway's own).
   void OnVehicleState(NodeAddress sender, const VehicleStateFields& state, double now_s);
-  // Heartbeats and timeouts of the vehicles; every feature of `live` that is new or changed is
-  // sent, every one not sent for the feature period is sent again, and a feature gone from
-  // `live` is sent deactivated. `terrain` gives the bare ground under each feature.
+  // A feature as the exercise holds it now: its parameters while live and placed; none once
+  // gone (destroyed or not placed).
+  struct FeatureUpdate {
+    FeatureId id;
+    std::optional<FeatureParams> params;
+  };
+  // Heartbeats and timeouts of the vehicles; every update that is new or changed is sent, one
+  // gone is sent deactivated, and every feature not sent for the feature period is sent again.
+  // `terrain` gives the bare ground under each feature. The cost follows the updates, not the
+  // number of features (a large world's gateway).
+  void Tick(std::span<const FeatureUpdate> updates, const Terrain& terrain, double now_s);
+  // The same from the whole live set: the updates are its difference from what was sent.
   void Tick(const std::map<FeatureId, FeatureParams>& live, const Terrain& terrain, double now_s);
 
   // With bundling, sends the PDUs waiting in the bundle (Tick ends with it; the process calls it
@@ -162,6 +176,9 @@ class GatewayCore {
   GatewayCounters counters_;
   std::map<dt::EntityId, OutVehicle> vehicles_;
   std::map<FeatureId, OutFeature> features_;
+  // Each feature's sends in time order (sent_s, id): the front is the next heartbeat due. An
+  // entry older than its feature's last send is skipped when it comes up.
+  std::deque<std::pair<double, FeatureId>> sends_;
   std::map<FeatureId, Removal> removals_;
   std::map<dt::EntityId, Imported> imported_;  // outside entities
   std::map<FeatureId, FeatureId> craters_;     // outside object ID -> the feature made for it

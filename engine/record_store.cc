@@ -75,6 +75,7 @@ RecordStore::Outcome RecordStore::Apply(const Change& change) {
 }
 
 void RecordStore::Rebuild(FeatureId id, std::span<const Change* const> changes) {
+  if (tracking_touched_) touched_.push_back(id);  // it may be gone for good now
   bool bridge_involved = false;
   if (auto it = records_.find(id); it != records_.end()) {
     Record& r = it->second;
@@ -106,6 +107,7 @@ void RecordStore::Rebuild(FeatureId id, std::span<const Change* const> changes) 
 }
 
 void RecordStore::Materialise(FeatureId id, Record& r, bool bridge_involved) {
+  if (tracking_touched_) touched_.push_back(id);
   if (r.placed) {
     DT_DEMAND(terrain_.Remove(id));  // placed means the terrain holds it
     r.placed = false;
@@ -130,6 +132,7 @@ void RecordStore::RematerialiseBridges() {
   for (FeatureId b : live_bridges_) {
     Record& r = records_.at(b);
     r.placed = terrain_.Add(b, r.params).ok();
+    if (tracking_touched_) touched_.push_back(b);
   }
 }
 

@@ -7,6 +7,7 @@
 #include <set>
 #include <span>
 #include <utility>
+#include <vector>
 
 #include "base/result.h"
 #include "engine/change.h"
@@ -50,6 +51,13 @@ class RecordStore {
   // Would a live record with these parameters be placed now? (Commands are refused otherwise.)
   Status CheckPlaceable(FeatureId id, const FeatureParams& params) const;
 
+  // From now on, remembers the ID of every record applied, rebuilt or placed again, so that a
+  // reader of a large world (the DIS gateway) follows changes without rescanning every record.
+  // Off by default: a replica nobody drains would grow the list without bound.
+  void TrackTouched() { tracking_touched_ = true; }
+  // The IDs touched since the last call (a record may appear more than once), in order.
+  std::vector<FeatureId> TakeTouched() { return std::exchange(touched_, {}); }
+
  private:
   // `r` is the record of `id` (passed so it is not looked up again).
   void Materialise(FeatureId id, Record& r, bool bridge_involved);
@@ -64,6 +72,8 @@ class RecordStore {
   // valid; a node's next feature is inserted after its newest without searching.
   std::map<NodeAddress, std::map<FeatureId, Record>::iterator> newest_;
   size_t live_ = 0;
+  bool tracking_touched_ = false;
+  std::vector<FeatureId> touched_;
 };
 
 }  // namespace dt

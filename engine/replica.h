@@ -177,6 +177,9 @@ class Replica {
   // Live features (records not destroyed), placed or not.
   size_t live_feature_count() const { return records_.live_count(); }
   const RecordStore& records() const { return records_; }
+  // Change tracking of the records (RecordStore::TrackTouched, TakeTouched).
+  void TrackTouchedFeatures() { records_.TrackTouched(); }
+  std::vector<FeatureId> TakeTouchedFeatures() { return records_.TakeTouched(); }
   // The changes this replica holds from one author; null if none.
   const ChangeLog* log(NodeAddress author) const {
     auto it = logs_.find(author);

@@ -38,7 +38,7 @@ VehicleStateFields Tank(double x_m) {
 
 struct Harness {
   explicit Harness(bool import_craters = false, bool with_author = false,
-                   size_t bundle_max_bytes = 0) {
+                   size_t bundle_max_bytes = 0, size_t heartbeats_per_tick_max = 2000) {
     FeatureAuthor author;
     if (with_author) {
       author.create = [this](const FeatureParams& p) -> Result<FeatureId> {
@@ -52,6 +52,7 @@ struct Harness {
     }
     GatewaySettings settings = Settings(import_craters);
     settings.bundle_max_bytes = bundle_max_bytes;
+    settings.heartbeats_per_tick_max = heartbeats_per_tick_max;
     core = std::make_unique<GatewayCore>(
         std::move(settings),
         [this](std::span<const uint8_t> d) {
@@ -436,6 +437,39 @@ TEST(GatewayCoreTest, FeaturesGoOutWithUpdateNumbersPeriodsAndRemoval) {
   }
   EXPECT_EQ(removals, 3);
   EXPECT_EQ(h.core->features_out(), 1u);
+}
+
+TEST(GatewayCoreTest, UpdatesAloneDriveSendsAndHeartbeatsAreCappedOldestFirst) {
+  Harness h(false, false, 0, /*heartbeats_per_tick_max=*/2);
+  std::vector<GatewayCore::FeatureUpdate> updates;
+  for (uint32_t n = 1; n <= 5; ++n) {
+    updates.push_back({FeatureId{1, 1, n}, FeatureParams::Crater(100.0 + 20 * n, 120.0, 6.0)});
+  }
+  h.core->Tick(updates, h.terrain, 0.0);
+  EXPECT_EQ(h.Take().size(), 5u);
+  const std::vector<GatewayCore::FeatureUpdate> none;
+  h.core->Tick(none, h.terrain, 4.9);
+  EXPECT_TRUE(h.Take().empty());
+  // Due at 5 s with no update naming them: two a tick, in the order they were sent.
+  std::vector<uint32_t> resent;
+  for (double t : {5.0, 5.1, 5.2}) {
+    h.core->Tick(none, h.terrain, t);
+    const std::vector<Pdu> out = h.Take();
+    EXPECT_LE(out.size(), 2u) << "at " << t;
+    for (const Pdu& p : out) {
+      const auto& point = std::get<PointObjectStatePdu>(p);
+      EXPECT_EQ(point.update_number, 1);
+      resent.push_back(point.object_id.entity);
+    }
+  }
+  EXPECT_EQ(resent, (std::vector<uint32_t>{1, 2, 3, 4, 5}));
+  // Gone: deactivated once and no longer resent; the others' next heartbeat keeps its period.
+  h.core->Tick(std::vector<GatewayCore::FeatureUpdate>{{FeatureId{1, 1, 1}, std::nullopt}},
+               h.terrain, 6.0);
+  std::vector<Pdu> out = h.Take();
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_TRUE(IsDeactivated(ObjectStatePdu(std::get<PointObjectStatePdu>(out[0]))));
+  EXPECT_EQ(h.core->features_out(), 4u);
 }
 
 PointObjectStatePdu OutsideCrater(const GeodeticFrame& frame, bool deactivated) {

@@ -228,5 +228,35 @@ TEST(RecordStoreTest, AFeatureOffTheTerrainIsKeptButNotPlaced) {
   EXPECT_EQ(ComputeDigest(s.terrain()), ComputeDigest(Ground()));
 }
 
+TEST(RecordStoreTest, TrackedTouchesNameEveryRecordWhosePlacementMayHaveChanged) {
+  RecordStore s(Ground());
+  (void)s.Apply(Make(ChangeKind::kConstruct, kId, FeatureParams::Crater(50, 50, 6), kA, 1, 1));
+  EXPECT_TRUE(s.TakeTouched().empty());  // not tracking yet
+  s.TrackTouched();
+  const FeatureId low{1, 1, 5};
+  const FeatureId high{1, 2, 1};
+  (void)s.Apply(Make(ChangeKind::kConstruct, high,
+                     FeatureParams::Bridge(50, 60, 0.0, 6, 8, 30, 8, 3, 3), kB, 1, 1));
+  EXPECT_EQ(s.TakeTouched(), std::vector<FeatureId>{high});
+  // A stale change touches nothing; the lower bridge displaces the higher one: both named.
+  EXPECT_EQ(s.Apply(Make(ChangeKind::kConstruct, kId, FeatureParams::Crater(60, 60, 3), kA, 1, 0)),
+            RecordStore::Outcome::kStale);
+  EXPECT_TRUE(s.TakeTouched().empty());
+  (void)s.Apply(Make(ChangeKind::kConstruct, low,
+                     FeatureParams::Bridge(40, 60, 0.0, 6, 8, 30, 8, 3, 3), kA, 2, 2));
+  std::vector<FeatureId> touched = s.TakeTouched();
+  EXPECT_NE(std::find(touched.begin(), touched.end(), low), touched.end());
+  EXPECT_NE(std::find(touched.begin(), touched.end(), high), touched.end());
+  EXPECT_FALSE(s.Find(high)->placed);
+  // Destroyed, and a record rebuilt to nothing: both named.
+  (void)s.Apply(Destruct(kId, kA, 3, 3));
+  s.Rebuild(low, {});
+  touched = s.TakeTouched();
+  EXPECT_NE(std::find(touched.begin(), touched.end(), kId), touched.end());
+  EXPECT_NE(std::find(touched.begin(), touched.end(), low), touched.end());
+  EXPECT_EQ(s.Find(low), nullptr);
+  EXPECT_TRUE(s.Find(high)->placed);
+}
+
 }  // namespace
 }  // namespace dt

@@ -13,9 +13,14 @@ FaultyTransport::FaultyTransport(std::unique_ptr<Transport> inner, NodeAddress l
 
 int64_t FaultyTransport::Now() const {
   if (unit_ == DelayUnit::kHandleCalls) return calls_;
-  return std::chrono::duration_cast<std::chrono::milliseconds>(
+  return std::chrono::duration_cast<std::chrono::microseconds>(
              std::chrono::steady_clock::now().time_since_epoch())
       .count();
+}
+
+int64_t FaultyTransport::ReleaseAt(int64_t delay) const {
+  if (unit_ == DelayUnit::kHandleCalls) return Now() + delay;
+  return Now() + delay * 1000 + 1;  // Now() truncates: never released before the delay
 }
 
 Status FaultyTransport::Publish(PduType type, std::span<const uint8_t> bytes) {
@@ -40,7 +45,8 @@ void FaultyTransport::Receive(PduType type, std::span<const uint8_t> bytes) {
     if (d == 0) {
       delivered_in_call_ += Deliver(type, bytes);
     } else {
-      held_.push(Held{Now() + d, order_++, type, std::vector<uint8_t>(bytes.begin(), bytes.end())});
+      held_.push(
+          Held{ReleaseAt(d), order_++, type, std::vector<uint8_t>(bytes.begin(), bytes.end())});
     }
   }
 }
@@ -58,10 +64,11 @@ Result<int> FaultyTransport::HandleTimeout(int timeout_ms) {
   int wait_ms = timeout_ms;
   if (!held_.empty()) {
     // Wait for new traffic no longer than until the next held message is due.
-    const int64_t until_release = held_.top().release_at - Now();
-    wait_ms = unit_ == DelayUnit::kHandleCalls
-                  ? 0
-                  : static_cast<int>(std::clamp<int64_t>(until_release, 0, timeout_ms));
+    const int64_t until_release_us = held_.top().release_at - Now();
+    wait_ms =
+        unit_ == DelayUnit::kHandleCalls
+            ? 0
+            : static_cast<int>(std::clamp<int64_t>((until_release_us + 999) / 1000, 0, timeout_ms));
   }
   auto r = inner_->HandleTimeout(wait_ms);
   if (!r) return r;

@@ -41,7 +41,7 @@ class FaultyTransport final : public Transport {
 
  private:
   struct Held {
-    int64_t release_at;  // a HandleTimeout call number, or steady-clock milliseconds
+    int64_t release_at;  // a HandleTimeout call number, or steady-clock microseconds
     uint64_t order;
     PduType type;
     std::vector<uint8_t> bytes;
@@ -49,7 +49,11 @@ class FaultyTransport final : public Transport {
       return release_at != o.release_at ? release_at > o.release_at : order > o.order;
     }
   };
+  // The HandleTimeout call number, or the steady clock in microseconds: a clock in whole
+  // milliseconds would release a message up to 1 ms before its delay.
   int64_t Now() const;
+  // When a message received now with this delay of the fault model is due, in Now()'s units.
+  int64_t ReleaseAt(int64_t delay) const;
 
   void Receive(PduType type, std::span<const uint8_t> bytes);
   int Deliver(PduType type, std::span<const uint8_t> bytes) noexcept;

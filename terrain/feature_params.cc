@@ -4,9 +4,11 @@
 
 #include <fmt/format.h>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <initializer_list>
 #include <iterator>
+#include <span>
 
 namespace dt {
 namespace {
@@ -135,7 +137,22 @@ FeatureParams FeatureParams::Area(std::vector<FeaturePoint> points, Material mat
 namespace {
 
 // The fields a type leaves unused must be 0, so params() gives back exactly what was sent.
-Status CheckZero(FeatureType type, std::initializer_list<std::pair<const char*, double>> fields) {
+using NamedField = std::pair<const char*, double>;
+
+// Every scalar field of a feature by its name (validation names the field it refuses).
+std::array<NamedField, 9> ScalarFields(const FeatureParams& p) {
+  return {{{"x_m", p.x_m},
+           {"z_m", p.z_m},
+           {"direction_rad", p.direction_rad},
+           {"height_m[0]", p.height_m[0]},
+           {"height_m[1]", p.height_m[1]},
+           {"length_m[0]", p.length_m[0]},
+           {"length_m[1]", p.length_m[1]},
+           {"length_m[2]", p.length_m[2]},
+           {"width_m", p.width_m}}};
+}
+
+Status CheckZero(FeatureType type, std::span<const NamedField> fields) {
   for (auto [name, v] : fields) {
     if (v != 0.0) {
       return Error{fmt::format("a {} does not use {}; it must be 0, not {}", FeatureTypeName(type),
@@ -143,6 +160,10 @@ Status CheckZero(FeatureType type, std::initializer_list<std::pair<const char*, 
     }
   }
   return Status::Ok();
+}
+
+Status CheckZero(FeatureType type, std::initializer_list<NamedField> fields) {
+  return CheckZero(type, std::span(fields.begin(), fields.size()));
 }
 
 // The point list of a polyline (open) or polygon (closed): count, finite coordinates in range,
@@ -303,16 +324,7 @@ namespace {
 constexpr int kMaxEarthMovePostIndex = kMaxGridPostsPerSide;
 
 Status ValidateEarthMove(const FeatureParams& p) {
-  if (auto s = CheckZero(FeatureType::kEarthMove, {{"x_m", p.x_m},
-                                                   {"z_m", p.z_m},
-                                                   {"direction_rad", p.direction_rad},
-                                                   {"height_m[0]", p.height_m[0]},
-                                                   {"height_m[1]", p.height_m[1]},
-                                                   {"length_m[0]", p.length_m[0]},
-                                                   {"length_m[1]", p.length_m[1]},
-                                                   {"length_m[2]", p.length_m[2]},
-                                                   {"width_m", p.width_m}});
-      !s) {
+  if (auto s = CheckZero(FeatureType::kEarthMove, ScalarFields(p)); !s) {
     return s;
   }
   if (p.material != Material::kFromGround) {
@@ -376,15 +388,7 @@ Status ValidateFeatureParams(const FeatureParams& p) {
                           std::isfinite(p.length_m[1]) && std::isfinite(p.length_m[2]) &&
                           std::isfinite(p.width_m);
   if (!all_finite) {
-    for (auto [name, v] : {std::pair{"x_m", p.x_m},
-                           {"z_m", p.z_m},
-                           {"direction_rad", p.direction_rad},
-                           {"height_m[0]", p.height_m[0]},
-                           {"height_m[1]", p.height_m[1]},
-                           {"length_m[0]", p.length_m[0]},
-                           {"length_m[1]", p.length_m[1]},
-                           {"length_m[2]", p.length_m[2]},
-                           {"width_m", p.width_m}}) {
+    for (auto [name, v] : ScalarFields(p)) {
       if (auto s = CheckFinite(name, v); !s) return s;
     }
   }

@@ -466,6 +466,19 @@ std::unique_ptr<Terrain> Rectangle(int nx = 9, int nz = 4) {
   return t;
 }
 
+// `t`, loaded back, is Rectangle(nx, nz) as saved: its grid, soils (at the far corner too), blade
+// work, features and digest.
+void ExpectTheRectangle(const Terrain& t, const Terrain& original, int nx, int nz) {
+  EXPECT_EQ(t.ground().posts_x(), nx);
+  EXPECT_EQ(t.ground().posts_z(), nz);
+  EXPECT_TRUE(std::ranges::equal(t.ground().posts(), original.ground().posts()));
+  EXPECT_TRUE(std::ranges::equal(t.ground().soils(), original.ground().soils()));
+  EXPECT_EQ(t.ground().soil({nx - 2, nz - 2}, TriangleHalf::kUpper), Material::kRock);
+  EXPECT_EQ(t.BladeDeltaMm(nx - 1, nz - 1), 250);
+  EXPECT_EQ(t.feature_count(), 3u);
+  EXPECT_EQ(ComputeDigest(t), ComputeDigest(original));
+}
+
 TEST(TerrainFileTest, ARectangularTerrainIsVersionFourAndRoundTrips) {
   for (const auto& [nx, nz] : {std::pair{9, 4}, std::pair{4, 9}}) {
     SCOPED_TRACE(fmt::format("{} x {}", nx, nz));
@@ -487,15 +500,8 @@ TEST(TerrainFileTest, ARectangularTerrainIsVersionFourAndRoundTrips) {
     auto loaded = DecodeTerrainFile(bytes, "rect.dtt");
     ASSERT_TRUE(loaded.ok()) << loaded.error().message;
     const Terrain& t = *loaded.value();
-    EXPECT_EQ(t.ground().posts_x(), nx);
-    EXPECT_EQ(t.ground().posts_z(), nz);
-    EXPECT_TRUE(std::ranges::equal(t.ground().posts(), original->ground().posts()));
-    EXPECT_TRUE(std::ranges::equal(t.ground().soils(), original->ground().soils()));
-    EXPECT_EQ(t.ground().soil({nx - 2, nz - 2}, TriangleHalf::kUpper), Material::kRock);
+    ExpectTheRectangle(t, *original, nx, nz);
     EXPECT_EQ(t.ground().soil({0, nz - 2}, TriangleHalf::kLower), Material::kMud);
-    EXPECT_EQ(t.BladeDeltaMm(nx - 1, nz - 1), 250);
-    EXPECT_EQ(t.feature_count(), 3u);
-    EXPECT_EQ(ComputeDigest(t), ComputeDigest(*original));
     EXPECT_EQ(EncodeTerrainFile(t), bytes);
   }
 }
@@ -523,15 +529,7 @@ TEST_F(TerrainFiles, AGroundWiderThan4097PostsSavesAndLoadsBack) {
     ASSERT_TRUE(saved.ok()) << saved.error().message;
     auto loaded = LoadTerrain(path);
     ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-    const Terrain& t = *loaded.value();
-    EXPECT_EQ(t.ground().posts_x(), nx);
-    EXPECT_EQ(t.ground().posts_z(), nz);
-    EXPECT_TRUE(std::ranges::equal(t.ground().posts(), original->ground().posts()));
-    EXPECT_TRUE(std::ranges::equal(t.ground().soils(), original->ground().soils()));
-    EXPECT_EQ(t.ground().soil({nx - 2, nz - 2}, TriangleHalf::kUpper), Material::kRock);
-    EXPECT_EQ(t.BladeDeltaMm(nx - 1, nz - 1), 250);
-    EXPECT_EQ(t.feature_count(), 3u);
-    EXPECT_EQ(ComputeDigest(t), ComputeDigest(*original));
+    ExpectTheRectangle(*loaded.value(), *original, nx, nz);
     // The file written a piece at a time is the file encoded whole.
     const auto whole = EncodeTerrainFile(*original);
     std::ifstream in(path, std::ios::binary);

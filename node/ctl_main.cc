@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
   std::string line;
   for (const std::string& w : words) line += (line.empty() ? "" : " ") + w;
   try {
-    dt::ExerciseConfig exercise = dt::LoadExerciseConfig(config_path);
+    dt::ExerciseConfig exercise = dt::LoadExerciseConfig(config_path, dt::GroundReading::kSkip);
     dt::ApplyOverrides(exercise, transport_override, run_dir_override);
     if (exercise.FindProcess(name) == nullptr) {
       std::fprintf(stderr, "dt_ctl: %s has no process named \"%s\"\n", config_path.c_str(),

@@ -3,6 +3,7 @@
 #include <arpa/inet.h>
 
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <set>
 #include <sstream>
@@ -82,10 +83,12 @@ VehicleGroupConfig ReadGroup(const TomlReader& r, double size_x_m, double size_z
   return g;
 }
 
-// [terrain] ground_file, after the grid keys were read with their defaults: the saved terrain is
-// read here, so every process holds the same ground
-// from the start or none starts (docs/node.md "Starting from a saved terrain").
-void ReadGroundFile(const TomlReader& t, const std::filesystem::path& base_dir, ExerciseConfig& c) {
+// [terrain] ground_file, after the grid keys were read with their defaults: the saved terrain's
+// header is read here for the grid's shape, so a missing or foreign file stops every process at
+// once; its ground is read where it is built (BuildExerciseGround, docs/node.md "Starting from a
+// saved terrain").
+void ReadGroundFile(const TomlReader& t, const std::filesystem::path& base_dir,
+                    GroundReading reading, ExerciseConfig& c) {
   for (const char* key :
        {"posts_per_side", "posts_x", "posts_z", "spacing_m", "relief_m", "seed"}) {
     if (t.Has(key)) {
@@ -97,15 +100,20 @@ void ReadGroundFile(const TomlReader& t, const std::filesystem::path& base_dir, 
   const std::filesystem::path base =
       base_dir.empty() ? std::filesystem::current_path() : std::filesystem::absolute(base_dir);
   c.ground_file = std::filesystem::absolute(base / file).lexically_normal();
-  Result<std::unique_ptr<Terrain>> loaded = LoadTerrain(c.ground_file);
-  if (!loaded) {
-    t.Fail("ground_file", fmt::format("{}: {}", c.ground_file.string(), loaded.error().message));
+  if (t.Has("ground_cache_dir")) {
+    const std::string dir = t.String("ground_cache_dir");
+    if (dir.empty()) t.Fail("ground_cache_dir", "must name a directory");
+    c.ground_file_cache_dir = std::filesystem::absolute(base / dir).lexically_normal();
   }
-  auto ground = std::make_shared<const BaseGround>(BaseGroundFromTerrain(*loaded.value()));
-  c.terrain.posts_x = ground->grid.posts_x();
-  c.terrain.posts_z = ground->grid.posts_z();
-  c.terrain.spacing_m = ground->grid.spacing_m();
-  c.ground = std::move(ground);
+  if (reading == GroundReading::kSkip) return;
+  Result<TerrainFileShape> shape = ProbeTerrainFile(c.ground_file);
+  if (!shape) {
+    t.Fail("ground_file", fmt::format("{}: {}", c.ground_file.string(), shape.error().message));
+  }
+  c.terrain.posts_x = shape.value().posts_x;
+  c.terrain.posts_z = shape.value().posts_z;
+  c.terrain.spacing_m = shape.value().spacing_m;
+  c.ground_file_shape = shape.value();
 }
 
 ProcessConfig ReadProcess(const TomlReader& r, const std::filesystem::path& base_dir, bool is_node,
@@ -276,7 +284,7 @@ std::string_view HostsModeName(HostsMode mode) {
 }
 
 ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,
-                                   const std::filesystem::path& base_dir) {
+                                   const std::filesystem::path& base_dir, GroundReading ground) {
   const toml::table root = TomlReader::ParseText(toml_text, source_name);
   const TomlReader top(root, std::string(source_name), "",
                        {"exercise", "terrain", "protocol", "faults", "server", "standby", "node",
@@ -311,13 +319,18 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     for (const char* key : {"posts_per_side", "posts_x", "posts_z", "relief_m", "seed"}) {
       if (t.Has(key)) t.Fail(key, "elevation_file gives the ground: remove it");
     }
-    c.elevation = ReadElevationTerrain(t, base_dir.empty() ? std::filesystem::current_path()
-                                                           : std::filesystem::absolute(base_dir));
+    c.elevation = ReadElevationTerrain(
+        t, base_dir.empty() ? std::filesystem::current_path() : std::filesystem::absolute(base_dir),
+        ground == GroundReading::kRead);
   } else {
     for (const std::string& key : kElevationKeys) {
-      if (key != "elevation_file" && t.Has(key)) t.Fail(key, "only with elevation_file");
+      if (key == "elevation_file" || !t.Has(key)) continue;
+      if (key == "ground_cache_dir" && t.Has("ground_file")) continue;  // read with it
+      t.Fail(key, key == "ground_cache_dir" ? "only with elevation_file or ground_file"
+                                            : "only with elevation_file");
     }
   }
+  c.ground_read = ground == GroundReading::kRead;
   // A square (posts_per_side, the default) or a rectangle (posts_x and posts_z, both given).
   const bool rectangle = t.Has("posts_x") || t.Has("posts_z");
   if (rectangle) {
@@ -340,8 +353,8 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   c.terrain.spacing_m = t.Double("spacing_m", 10.0, 0.01, 10000.0);
   c.terrain.relief_m = t.Double("relief_m", 50.0, 0.0, 10000.0);
   c.terrain.seed = static_cast<uint64_t>(t.Int("seed", 1, 0, INT64_MAX));
-  if (t.Has("ground_file")) ReadGroundFile(t, base_dir, c);
-  if (c.elevation) {
+  if (t.Has("ground_file")) ReadGroundFile(t, base_dir, ground, c);
+  if (c.elevation && c.ground_read) {
     c.terrain.posts_x = c.elevation->layout.posts_x;
     c.terrain.posts_z = c.elevation->layout.posts_z;
     c.terrain.spacing_m = c.elevation->layout.spacing_m;
@@ -444,6 +457,11 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     v->Finish();
   }
 
+  // Where vehicles may stand: anywhere when the ground was not read (its shape is unknown).
+  const double size_x_m =
+      c.ground_read ? c.terrain_size_x_m() : std::numeric_limits<double>::infinity();
+  const double size_z_m =
+      c.ground_read ? c.terrain_size_z_m() : std::numeric_limits<double>::infinity();
   if (require_server) {
     top.FailOnUnknownKeys();  // a mistyped [srever] is named, not "server: missing"
     if (!top.Has("server")) {
@@ -451,8 +469,7 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
                "missing: an exercise needs a [server], or [protocol] "
                "require_server = false for one without");
     }
-    c.server = ReadProcess(top.Table("server", kServerKeys), base, false, c.terrain_size_x_m(),
-                           c.terrain_size_z_m());
+    c.server = ReadProcess(top.Table("server", kServerKeys), base, false, size_x_m, size_z_m);
     if (auto s = top.OptionalTable("standby", kServerKeys)) {
       c.standby = ReadProcess(*s, base, false, 0.0, 0.0);
     }
@@ -468,7 +485,7 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
     }
   }
   for (const TomlReader& n : top.TableArray("node", kNodeKeys)) {
-    c.nodes.push_back(ReadProcess(n, base, true, c.terrain_size_x_m(), c.terrain_size_z_m()));
+    c.nodes.push_back(ReadProcess(n, base, true, size_x_m, size_z_m));
   }
   if (c.nodes.empty()) top.Fail("node", "an exercise needs at least one [[node]]");
   if (auto v = top.OptionalTable("view", {"name", "site", "host", "http_address", "http_port"})) {
@@ -484,7 +501,7 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
            "multicast_ttl", "dis_exercise_id", "import_craters", "latitude_deg", "longitude_deg",
            "height_m", "feature_period_ms", "bundle_max_bytes"})) {
     c.dis = ReadDis(*d, base);
-    if (c.elevation) {
+    if (c.elevation && c.ground_read) {
       const bool typed = d->Has("latitude_deg") || d->Has("longitude_deg") || d->Has("height_m");
       ApplyFileOrigin(*c.elevation, typed, *c.dis, std::string(source_name));
     }
@@ -509,7 +526,7 @@ ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view 
   return c;
 }
 
-ExerciseConfig LoadExerciseConfig(const std::filesystem::path& path) {
+ExerciseConfig LoadExerciseConfig(const std::filesystem::path& path, GroundReading ground) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw std::invalid_argument(fmt::format("{}: cannot read the exercise config", path.string()));
@@ -518,7 +535,7 @@ ExerciseConfig LoadExerciseConfig(const std::filesystem::path& path) {
   text << in.rdbuf();
   // absolute() first: a bare file name has an empty parent, which absolute() refuses.
   return ParseExerciseConfig(text.str(), path.string(),
-                             std::filesystem::absolute(path).parent_path());
+                             std::filesystem::absolute(path).parent_path(), ground);
 }
 
 }  // namespace dt

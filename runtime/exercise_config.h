@@ -16,6 +16,7 @@
 #include "terrain/base_ground.h"
 #include "terrain/friction_table.h"
 #include "terrain/random_terrain.h"
+#include "terrain/terrain_file.h"
 #include "transport/fault_model.h"
 #include "vehicle/dead_reckoning_policy.h"
 #include "vehicle/simulated_vehicle.h"
@@ -135,10 +136,16 @@ struct ExerciseConfig {
   // elevation file, posts and spacing are the file's layout's.
   RandomTerrainParams terrain;
   // [terrain] ground_file: a saved terrain (terrain/terrain_file.h, what the server's `export`
-  // writes) the exercise starts on instead of random ground, read at load (absolute; empty:
-  // none). Its grid's posts and spacing are then `terrain`'s; `ground` holds it as base ground.
+  // writes) the exercise starts on instead of random ground (absolute; empty: none). Only its
+  // header is read at load (ground_file_shape): the grid's posts and spacing are then
+  // `terrain`'s. BuildExerciseGround reads the ground, through the host's ground cache where
+  // GroundFileCacheDir names one, so a process that never builds the ground never reads it.
   std::filesystem::path ground_file;
-  std::shared_ptr<const BaseGround> ground;
+  std::optional<TerrainFileShape> ground_file_shape;  // absent when the ground was skipped
+  // [terrain] ground_cache_dir beside a ground_file (relative to the exercise file; absolute here).
+  std::filesystem::path ground_file_cache_dir;
+  // False when the file was read with GroundReading::kSkip: no ground can be built from it.
+  bool ground_read = true;
   // [terrain] elevation_file and its keys (docs/real-ground.md); absent for random ground.
   std::optional<ElevationTerrain> elevation;
   ProtocolTiming protocol;
@@ -169,16 +176,25 @@ struct ExerciseConfig {
   std::filesystem::path SocketPath(std::string_view name) const;
 };
 
+// What reading the exercise file reads of the ground. kRead: the ground_file's header or the
+// elevation file's (GDAL's probe), for the grid's shape and the elevation file's origin; never the
+// ground itself (BuildExerciseGround). kSkip: neither file is opened, for a process that needs
+// only the names, addresses and keys (dt_ctl): the grid's shape is then unknown, vehicles are not
+// checked against it, and ground_read is false.
+enum class GroundReading { kRead, kSkip };
+
 // Parses TOML text. Relative paths (scenarios, the key file) resolve against base_dir; a relative
 // run_dir resolves against the current directory. The key file is read here. Throws
 // std::invalid_argument naming `source_name`, the key and the offending value for a syntax
 // error, a missing or mistyped key, a value out of range, an unknown key, duplicate process names
-// or addresses, a ground_file that does not load (its path and the reason) or comes with grid
-// keys, a missing [server] (unless [protocol] require_server = false) or a [server] or
-// [standby] in an exercise without a server, a missing [auth] table, a key file that cannot be
-// read or is too short (the message names its path and length), or a bad friction file.
+// or addresses, a ground_file whose header does not read (its path and the reason; the rest of
+// the file is checked where the ground is built) or that comes with grid keys, a missing [server]
+// (unless [protocol] require_server = false) or a [server] or [standby] in an exercise without a
+// server, a missing [auth] table, a key file that cannot be read or is too short (the message names
+// its path and length), or a bad friction file.
 ExerciseConfig ParseExerciseConfig(std::string_view toml_text, std::string_view source_name,
-                                   const std::filesystem::path& base_dir);
+                                   const std::filesystem::path& base_dir,
+                                   GroundReading ground = GroundReading::kRead);
 
 // Replaces the transport URL and run_dir when the strings are non-empty (command-line flags).
 // Throws std::invalid_argument for a transport that is not udpm://, dds:// or memq://.
@@ -187,6 +203,7 @@ void ApplyOverrides(ExerciseConfig& exercise, const std::string& transport_url,
 
 // Reads and parses a file (relative paths resolve against its folder). Throws
 // std::invalid_argument as ParseExerciseConfig, or if the file cannot be read.
-ExerciseConfig LoadExerciseConfig(const std::filesystem::path& path);
+ExerciseConfig LoadExerciseConfig(const std::filesystem::path& path,
+                                  GroundReading ground = GroundReading::kRead);
 
 }  // namespace dt

@@ -6,15 +6,18 @@
 
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 
+#include "base/demand.h"
 #include "log/log.h"
 #include "runtime/exercise_config.h"
 #include "runtime/process_runtime.h"
 #include "runtime/toml_reader.h"
 #include "terrain/ground_cache.h"
 #include "terrain/random_terrain.h"
+#include "terrain/terrain_file.h"
 
 namespace dt {
 
@@ -38,7 +41,8 @@ std::array<double, 4> ReadArea(const TomlReader& t, std::string_view key, double
 
 }  // namespace
 
-ElevationTerrain ReadElevationTerrain(const TomlReader& t, const std::filesystem::path& base_dir) {
+ElevationTerrain ReadElevationTerrain(const TomlReader& t, const std::filesystem::path& base_dir,
+                                      bool probe) {
   ElevationTerrain e;
   ElevationSource& s = e.source;
   const std::string file = t.String("elevation_file");
@@ -85,6 +89,7 @@ ElevationTerrain ReadElevationTerrain(const TomlReader& t, const std::filesystem
     if (dir.empty()) t.Fail("ground_cache_dir", "must name a directory");
     e.ground_cache_dir = std::filesystem::absolute(base_dir / dir).lexically_normal();
   }
+  if (!probe) return e;
   try {
     e.layout = ProbeElevation(s);
   } catch (const std::exception& ex) {
@@ -115,11 +120,93 @@ void ApplyFileOrigin(const ElevationTerrain& elevation, bool origin_typed, DisCo
   dis.height_m = file.height_m;
 }
 
-std::filesystem::path GroundCacheDir(const ElevationTerrain& e) {
-  if (!e.ground_cache_dir.empty()) return e.ground_cache_dir;
-  const uint64_t posts = static_cast<uint64_t>(e.layout.posts_x) * e.layout.posts_z;
+namespace {
+
+std::filesystem::path CacheDirFor(const std::filesystem::path& given, int posts_x, int posts_z) {
+  if (!given.empty()) return given;
+  const uint64_t posts = static_cast<uint64_t>(posts_x) * static_cast<uint64_t>(posts_z);
   if (posts <= kGroundCachePostsThreshold) return {};
   return std::filesystem::temp_directory_path() / fmt::format("dynterrain-ground-{}", getuid());
+}
+
+// The file's size and modification time for a cache key (zeros if it cannot be read: the key
+// then names no file built from a readable one).
+std::string FileStamp(const std::filesystem::path& file) {
+  struct stat st {};
+  if (stat(file.c_str(), &st) != 0) st = {};
+  return fmt::format("size {} mtime {}.{:09d}", static_cast<int64_t>(st.st_size),
+                     static_cast<int64_t>(st.st_mtim.tv_sec), st.st_mtim.tv_nsec);
+}
+
+std::invalid_argument GroundFileError(const ExerciseConfig& exercise, const Error& e) {
+  return std::invalid_argument(fmt::format("{}: terrain.ground_file: {}: {}",
+                                           exercise.source.string(), exercise.ground_file.string(),
+                                           e.message));
+}
+
+// [terrain] ground_file: the whole file through LoadTerrain where no cache is used or this
+// process builds it; otherwise the cache's grid and the file's feature section.
+BaseGround BuildGroundFileGround(const ExerciseConfig& exercise) {
+  const int64_t t0 = MonotonicMs();
+  const std::filesystem::path& file = exercise.ground_file;
+  auto load_whole = [&] {
+    Result<std::unique_ptr<Terrain>> loaded = LoadTerrain(file);
+    if (!loaded) throw GroundFileError(exercise, loaded.error());
+    return BaseGroundFromTerrain(*loaded.value());
+  };
+  const std::filesystem::path cache_dir = GroundFileCacheDir(exercise);
+  std::string how = "read by this process";
+  std::optional<BaseGround> base;
+  if (cache_dir.empty()) {
+    base = load_whole();
+  } else {
+    // The checksum as the file holds it now (the header read at load may be stale).
+    const Result<TerrainFileShape> shape = ProbeTerrainFile(file);
+    if (!shape) throw GroundFileError(exercise, shape.error());
+    std::optional<BaseGround> whole;
+    GroundCacheOpened c =
+        OpenGroundCache(cache_dir, GroundFileCacheKey(file, shape.value().checksum), [&] {
+          whole = load_whole();
+          return std::move(whole->grid);  // the features stay in `whole`
+        });
+    if (whole) {
+      base = BaseGround{std::move(c.grid), std::move(whole->features)};
+      how = fmt::format("read into the ground cache {} ({})", c.file.string(), c.build_reason);
+    } else {
+      Result<std::vector<std::pair<FeatureId, FeatureParams>>> features =
+          LoadTerrainFileFeatures(file);
+      if (!features) throw GroundFileError(exercise, features.error());
+      base = BaseGroundFromParts(std::move(c.grid), features.value());
+      how = fmt::format("mapped from the ground cache {}", c.file.string());
+    }
+    for (const std::string& r : c.removed) DT_LOG_INFO("ground cache: removed {}", r);
+    // The posts read are freed; give their heap back (see BuildExerciseGround).
+    if (c.built) malloc_trim(0);
+  }
+  const HeightGrid& g = base->grid;
+  DT_LOG_INFO(
+      "terrain {} x {} posts ({} x {} m at {} m) from ground_file {} with {} features, {}, "
+      "in {} ms",
+      g.posts_x(), g.posts_z(), g.size_x_m(), g.size_z_m(), g.spacing_m(), file.string(),
+      base->features.size(), how, MonotonicMs() - t0);
+  return std::move(*base);
+}
+
+}  // namespace
+
+std::filesystem::path GroundCacheDir(const ElevationTerrain& e) {
+  return CacheDirFor(e.ground_cache_dir, e.layout.posts_x, e.layout.posts_z);
+}
+
+std::filesystem::path GroundFileCacheDir(const ExerciseConfig& exercise) {
+  DT_DEMAND(exercise.ground_file_shape.has_value());
+  return CacheDirFor(exercise.ground_file_cache_dir, exercise.ground_file_shape->posts_x,
+                     exercise.ground_file_shape->posts_z);
+}
+
+std::string GroundFileCacheKey(const std::filesystem::path& file, uint64_t stored_checksum) {
+  return fmt::format("dynterrain ground_file v1\nfile {}\n{}\nchecksum {:016x}\n", file.string(),
+                     FileStamp(file), stored_checksum);
 }
 
 std::string GroundCacheKey(const ElevationTerrain& e) {
@@ -139,7 +226,8 @@ std::string GroundCacheKey(const ElevationTerrain& e) {
 }
 
 BaseGround BuildExerciseGround(const ExerciseConfig& exercise) {
-  if (exercise.ground) return *exercise.ground;
+  DT_DEMAND(exercise.ground_read);
+  if (!exercise.ground_file.empty()) return BuildGroundFileGround(exercise);
   const int64_t t0 = MonotonicMs();
   if (!exercise.elevation) {
     HeightGrid g = MakeRandomTerrain(exercise.terrain);
@@ -177,7 +265,9 @@ BaseGround BuildExerciseGround(const ExerciseConfig& exercise) {
 }
 
 std::string ExerciseGroundSource(const ExerciseConfig& exercise) {
-  if (exercise.ground) return fmt::format("ground_file {}", exercise.ground_file.string());
+  if (!exercise.ground_file.empty()) {
+    return fmt::format("ground_file {}", exercise.ground_file.string());
+  }
   if (exercise.elevation) {
     return fmt::format("elevation_file {}", exercise.elevation->source.file.string());
   }

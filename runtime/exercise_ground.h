@@ -37,6 +37,17 @@ inline constexpr uint64_t kGroundCachePostsThreshold =
 // temporary directory (one per host and user); otherwise none (each process reads the file).
 std::filesystem::path GroundCacheDir(const ElevationTerrain& elevation);
 
+// Where a ground_file's ground is cached, or empty for none, by the same rule: [terrain]
+// ground_cache_dir if given, else the default directory for a ground beyond
+// kGroundCachePostsThreshold posts (by the file's header), else none (each process loads the
+// file). Needs the header read (ground_file_shape).
+std::filesystem::path GroundFileCacheDir(const ExerciseConfig& exercise);
+
+// What a ground_file's cached ground is made from: the file (absolute path, size, modification
+// time) and the checksum it ends with, which names its contents; any change names another cache
+// file.
+std::string GroundFileCacheKey(const std::filesystem::path& file, uint64_t stored_checksum);
+
 // What the cached ground is made from: the file (absolute path, size, modification time), the
 // area, spacing, resampling and fill, and the layout; any change names another cache file.
 std::string GroundCacheKey(const ElevationTerrain& elevation);
@@ -48,8 +59,9 @@ extern const std::vector<std::string> kElevationKeys;
 // resampling, nodata_fill, nodata_fill_m and max_load_mb, and probes the file. Throws
 // std::invalid_argument naming the key for a bad value and, for a file GDAL cannot read, without
 // a georeference or too large, ProbeElevation's message (file, sizes, GDAL's own message).
+// With probe false the file is not opened and `layout` stays empty (GroundReading::kSkip).
 ElevationTerrain ReadElevationTerrain(const TomlReader& terrain,
-                                      const std::filesystem::path& base_dir);
+                                      const std::filesystem::path& base_dir, bool probe = true);
 
 // The greatest distance a hand-typed [dis] origin may lie from the file's, metres.
 inline constexpr double kOriginToleranceM = 1.0;
@@ -61,11 +73,15 @@ void ApplyFileOrigin(const ElevationTerrain& elevation, bool origin_typed, DisCo
                      const std::string& source_name);
 
 // The one place a process builds its ground from the exercise file: the saved terrain of
-// [terrain] ground_file (read when the file was loaded) with its features, else the elevation
-// file's ground (mapped from the host's ground cache where GroundCacheDir names one, the file read
-// by the first process that needs it), else seeded random ground, both without features. Every
-// member of an exercise must build the same (docs/pdu.md "Ground identity"). Throws as
-// LoadElevation (nodata without a fill, GDAL read errors) and OpenGroundCache.
+// [terrain] ground_file with its features, else the elevation file's ground, else seeded random
+// ground without features. A ground_file's or elevation file's bare ground is mapped from the
+// host's ground cache where GroundFileCacheDir or GroundCacheDir names one (the file read whole by
+// the first process that needs it, which builds the cache file; the others map it and read a
+// ground_file's feature section alone); otherwise each process reads the file. Every member of an
+// exercise must build the same (docs/pdu.md "Ground identity"). Throws std::invalid_argument
+// naming the exercise file, the key and the ground_file's path with LoadTerrain's message (a
+// damaged file with the offset), as LoadElevation (nodata without a fill, GDAL read errors) and
+// as OpenGroundCache. Not for a file read with GroundReading::kSkip (DT_DEMAND).
 BaseGround BuildExerciseGround(const ExerciseConfig& exercise);
 
 // What the ground came from, for messages and `status`: "ground_file <path>", "elevation_file

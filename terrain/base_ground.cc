@@ -1,6 +1,7 @@
 #include "terrain/base_ground.h"
 
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -8,14 +9,28 @@
 
 namespace dt {
 
+namespace {
+
+// Numbers the features under kGroundOrigin in their order, but earth moves (already in the posts).
+void AddRenumbered(const FeatureParams& params, BaseGround& base) {
+  if (params.type == FeatureType::kEarthMove) return;
+  const auto number = static_cast<uint32_t>(base.features.size() + 1);
+  base.features.emplace_back(FeatureId{kGroundOrigin.site, kGroundOrigin.host, number}, params);
+}
+
+}  // namespace
+
 BaseGround BaseGroundFromTerrain(const Terrain& terrain) {
   BaseGround base{terrain.ground(), {}};
-  uint32_t number = 0;
-  for (const Feature* f : terrain.FeaturesById()) {
-    if (f->type() == FeatureType::kEarthMove) continue;  // already in the posts
-    base.features.emplace_back(FeatureId{kGroundOrigin.site, kGroundOrigin.host, ++number},
-                               f->params());
-  }
+  for (const Feature* f : terrain.FeaturesById()) AddRenumbered(f->params(), base);
+  return base;
+}
+
+BaseGround BaseGroundFromParts(HeightGrid grid,
+                               const std::vector<std::pair<FeatureId, FeatureParams>>& features) {
+  BaseGround base{std::move(grid), {}};
+  base.features.reserve(features.size());
+  for (const auto& [id, params] : features) AddRenumbered(params, base);
   return base;
 }
 

@@ -31,6 +31,13 @@ struct BaseGround {
 // that it keeps its place among the others (a lower ID's bridge still wins an overlap).
 BaseGround BaseGroundFromTerrain(const Terrain& terrain);
 
+// The same base ground from a saved terrain's parts: its posts as they stand (blade work
+// included, as a ground cache built from BaseGroundFromTerrain holds them) and the file's
+// feature records in ID order (LoadTerrainFileFeatures), renumbered as BaseGroundFromTerrain
+// does, earth moves left out.
+BaseGround BaseGroundFromParts(HeightGrid grid,
+                               const std::vector<std::pair<FeatureId, FeatureParams>>& features);
+
 // A terrain holding the base ground. Throws std::invalid_argument if a feature does not place
 // (a BaseGround not made by BaseGroundFromTerrain).
 std::unique_ptr<Terrain> MakeTerrain(const BaseGround& base);

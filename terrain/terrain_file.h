@@ -6,6 +6,7 @@
 #include <memory>
 #include <span>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "base/result.h"
@@ -51,5 +52,30 @@ Status SaveTerrain(const Terrain& terrain, const std::filesystem::path& path);
 // does, reading it a piece at a time: once for the checksum, once into the terrain's own grid, so
 // a ground of 10^8 posts costs no second copy. Never throws.
 Result<std::unique_ptr<Terrain>> LoadTerrain(const std::filesystem::path& path);
+
+// What a terrain file's header and the first bytes of its ground section say: the grid's shape,
+// and the checksum the file ends with (which names its contents: a ground cache is keyed by it).
+struct TerrainFileShape {
+  uint32_t version = 0;
+  int posts_x = 0;
+  int posts_z = 0;
+  double spacing_m = 0.0;
+  uint64_t file_bytes = 0;
+  uint64_t checksum = 0;  // as stored, not computed
+};
+
+// Opens `path` as LoadTerrain does and reads the header, the grid's counts and spacing and the
+// stored checksum: some 60 bytes, whatever the file's size. Checks what it reads as LoadTerrain
+// does, with the same messages and offsets; the posts, soils, features and checksum are not
+// checked (LoadTerrain does that). Never throws.
+Result<TerrainFileShape> ProbeTerrainFile(const std::filesystem::path& path);
+
+// The feature records of a terrain file in their order (by ID), read without its ground: the
+// header and shape are checked as by ProbeTerrainFile, then every record as LoadTerrain checks
+// it (same messages and offsets), except that nothing is placed on the ground and the checksum is
+// not computed (that would read the ground). For a process whose ground comes from a ground
+// cache built from this file by LoadTerrain. Never throws.
+Result<std::vector<std::pair<FeatureId, FeatureParams>>> LoadTerrainFileFeatures(
+    const std::filesystem::path& path);
 
 }  // namespace dt

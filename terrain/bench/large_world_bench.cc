@@ -45,7 +45,14 @@ struct World {
   std::unique_ptr<Terrain> terrain;
   std::vector<std::pair<double, double>> uniform;  // anywhere on the world
   std::vector<std::pair<double, double>> local;    // a vehicle's 200 m neighbourhood, moving
+  // The same, the vehicle covering the same distance (kSteadyPathM) in every world: `local`'s
+  // vehicle crosses the world's middle third, ten times farther on the 10001^2 world than on the
+  // 1001^2 one in the same number of queries, so its neighbourhood is renewed ten times as often.
+  std::vector<std::pair<double, double>> steady;
 };
+
+// The distance the `steady` vehicle covers over kPoints queries: the 1001^2 world's middle third.
+constexpr double kSteadyPathM = 1000.0 / 3;
 
 // posts x posts at 1 m, mapped from a ground cache file when `mapped`, with craters at
 // kCratersPerKm2.
@@ -77,16 +84,21 @@ World& Get(int posts, bool mapped) {
     w.uniform.emplace_back(pos(rng), pos(rng));
     // The vehicle crosses the world's middle third; each point within 100 m of it.
     const double t = static_cast<double>(k) / kPoints;
-    w.local.emplace_back(size_m * (1.0 / 3 + t / 3) + unit(rng), size_m / 2 + unit(rng));
+    const double dx = unit(rng), dz = unit(rng);
+    w.local.emplace_back(size_m * (1.0 / 3 + t / 3) + dx, size_m / 2 + dz);
+    w.steady.emplace_back(size_m / 2 + kSteadyPathM * (t - 0.5) + dx, size_m / 2 + dz);
   }
   return w;
 }
 
 // `ground_only`: the bare ground's elevation alone (no feature tables), which tells the posts'
 // share of a query from the features'.
-void Query(benchmark::State& state, bool local, bool ground_only = false) {
+enum class Where { kUniform, kLocal, kSteady };
+
+void Query(benchmark::State& state, Where where, bool ground_only = false) {
   const World& w = Get(static_cast<int>(state.range(0)), state.range(1) != 0);
-  const auto& points = local ? w.local : w.uniform;
+  const auto& points =
+      where == Where::kLocal ? w.local : (where == Where::kSteady ? w.steady : w.uniform);
   size_t k = 0;
   double sum = 0.0;
   for (auto _ : state) {
@@ -97,13 +109,15 @@ void Query(benchmark::State& state, bool local, bool ground_only = false) {
   state.counters["features"] = static_cast<double>(w.terrain->feature_count());
 }
 
-void BM_QueryUniform(benchmark::State& state) { Query(state, false); }
-void BM_QueryLocal(benchmark::State& state) { Query(state, true); }
+void BM_QueryUniform(benchmark::State& state) { Query(state, Where::kUniform); }
+void BM_QueryLocal(benchmark::State& state) { Query(state, Where::kLocal); }
+void BM_QuerySteady(benchmark::State& state) { Query(state, Where::kSteady); }
 // {posts a side, mapped}: the 1001^2 grid in memory against the 10001^2 mapped world.
 BENCHMARK(BM_QueryUniform)->Args({1001, 0})->Args({10001, 1});
 BENCHMARK(BM_QueryLocal)->Args({1001, 0})->Args({10001, 1});
-void BM_GroundQueryUniform(benchmark::State& state) { Query(state, false, true); }
-void BM_GroundQueryLocal(benchmark::State& state) { Query(state, true, true); }
+BENCHMARK(BM_QuerySteady)->Args({1001, 0})->Args({10001, 1});
+void BM_GroundQueryUniform(benchmark::State& state) { Query(state, Where::kUniform, true); }
+void BM_GroundQueryLocal(benchmark::State& state) { Query(state, Where::kLocal, true); }
 BENCHMARK(BM_GroundQueryUniform)->Args({1001, 0})->Args({10001, 1});
 BENCHMARK(BM_GroundQueryLocal)->Args({1001, 0})->Args({10001, 1});
 

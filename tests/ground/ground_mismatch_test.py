@@ -13,7 +13,8 @@ output line by line (readiness is a line read, never a sleep):
         source; the server and node-1 log a refusal of 1:2 naming its digest and theirs;
      b. `status`: node-2 says ground_refused 1, its own digest and the exercise's, signed_on 0;
         the server and node-1 say ground_digest (the file's), ground_source (the file) and a
-        ground_mismatch line naming 1:2 and node-2's digest;
+        ground_mismatch line naming 1:2 and node-2's digest. These dt_ctl calls run with
+        field.dtt moved away (and back after): dt_ctl never reads the ground file;
      c. node-1 places a crater, and the server's export holds the file's crater as 0:0:1 (the
         ground's, renumbered under 0:0, which no member issues) beside node-1's new one;
      d. dt_launch's ready timeout names node-2 and quotes its ground line, and exits non-zero.
@@ -185,6 +186,27 @@ def make_field(launch_bin, node_bin, server_bin, ctl_bin, key, work):
             print("dt_launch's output:\n" + "\n".join(launch.lines), file=sys.stderr)
 
 
+def check_statuses(ctl_bin, config, field, odd_ground, field_ground):
+    """Step 2b: node-2's status and the server's and node-1's name both grounds."""
+    single, _ = status(ctl_bin, config, ODD)
+    want = {"ground_refused": "1", "ground_digest": odd_ground,
+            "exercise_ground_digest": field_ground, "signed_on": "0"}
+    for k, v in want.items():
+        if single.get(k) != v:
+            raise Failure(f"{ODD}'s status: {k} {single.get(k)}, not {v}")
+    for who in ("server", "node-1"):
+        single, mismatches = status(ctl_bin, config, who)
+        want = {"ground_refused": "0", "ground_digest": field_ground,
+                "ground_source": f"ground_file {field}", "exercise_ground_digest": "-"}
+        for k, v in want.items():
+            if single.get(k) != v:
+                raise Failure(f"{who}'s status: {k} {single.get(k)}, not {v}")
+        if mismatches != [f"{ODD_ADDRESS} digest={odd_ground}"]:
+            raise Failure(f"{who}'s status: ground_mismatch lines {mismatches}")
+        if int(single.get("refused_ground", "0")) < 1:
+            raise Failure(f"{who}'s status: refused_ground {single.get('refused_ground')}")
+
+
 def battle(launch_bin, node_bin, server_bin, ctl_bin, key, work, field_crater):
     """Step 2; returns (battle config, other config, the file's ground, node-2's ground)."""
     run_dir = os.path.join(work, "run-battle")
@@ -221,25 +243,14 @@ def battle(launch_bin, node_bin, server_bin, ctl_bin, key, work, field_crater):
                            rf"{field_ground} \(ground_file {re.escape(field)}\)"))
             print(f"PASS: {who} refuses {ODD_ADDRESS}, naming both grounds and the file")
 
-        # b. Every status says the same.
-        single, _ = status(ctl_bin, config, ODD)
-        want = {"ground_refused": "1", "ground_digest": odd_ground,
-                "exercise_ground_digest": field_ground, "signed_on": "0"}
-        for k, v in want.items():
-            if single.get(k) != v:
-                raise Failure(f"{ODD}'s status: {k} {single.get(k)}, not {v}")
-        for who in ("server", "node-1"):
-            single, mismatches = status(ctl_bin, config, who)
-            want = {"ground_refused": "0", "ground_digest": field_ground,
-                    "ground_source": f"ground_file {field}", "exercise_ground_digest": "-"}
-            for k, v in want.items():
-                if single.get(k) != v:
-                    raise Failure(f"{who}'s status: {k} {single.get(k)}, not {v}")
-            if mismatches != [f"{ODD_ADDRESS} digest={odd_ground}"]:
-                raise Failure(f"{who}'s status: ground_mismatch lines {mismatches}")
-            if int(single.get("refused_ground", "0")) < 1:
-                raise Failure(f"{who}'s status: refused_ground {single.get('refused_ground')}")
-        print("PASS: every status names both grounds")
+        # b. Every status says the same, asked by dt_ctl with the ground file gone: it needs the
+        # exercise file's names and addresses, never the ground (docs/node.md).
+        os.rename(field, field + ".away")
+        try:
+            check_statuses(ctl_bin, config, field, odd_ground, field_ground)
+        finally:
+            os.rename(field + ".away", field)
+        print("PASS: every status names both grounds, asked with the ground file moved away")
 
         # c. The file's crater is the ground's; node-1 signs on beside the refused node-2.
         launch.wait_for("[node-1] READY", re.compile(r"^\[node-1\] READY node-1$"))

@@ -23,8 +23,14 @@ gateway) holds the N craters and the same digest, and the DIS gateway's Point Ob
 sampled craters (decoded here from the gateway's UDP port) lies within 1 m of the crater's place by
 the raster's georeference (the PDU's geocentric point taken back to UTM 33N by gdaltransform).
 
+With --ground-file the world is a saved terrain instead ([terrain] ground_file, docs/node.md
+"Starting from a saved terrain"): the same surface written here as a terrain file
+(docs/terrain-file-format.md; the checksum through libxxhash), no raster and no georeference (so
+not with --features). The same sharing checks hold; the test also times dt_ctl's `status` against
+the exercise (dt_ctl reads no ground), and that of --ctl-compare <dt_ctl> if given.
+
 Usage: large_world_test.py <bin dir> <key file> <work dir> [--posts N] [--spacing-m S]
-       [--baseline-posts M] [--features F] [--keep]
+       [--baseline-posts M] [--features F] [--ground-file [--ctl-compare P]] [--keep]
   <bin dir> holds dt_server, dt_node, dt_view, dt_dis and dt_ctl (build/<preset>/bin or the
   programs' folders: each is looked for as <bin dir>/<room>/<program> then <bin dir>/<program>).
   --baseline-posts M also runs the same processes on an M x M world first and prints the host's
@@ -67,7 +73,7 @@ tick_hz = 30
 key_file = "{key}"
 
 [terrain]
-elevation_file = "{raster}"
+{terrain}
 ground_cache_dir = "cache"
 
 [server]
@@ -140,16 +146,10 @@ def find_program(bin_dir, program):
 def make_raster(work, posts, spacing_m):
     """A tiled GeoTIFF of posts x posts pixels `spacing_m` apart: ridges and a slope, written row
     block by row block so the script never holds the whole grid."""
-    import numpy as np
     raw = os.path.join(work, f"area{posts}.bil")
     with open(raw, "wb") as f:
-        x = np.arange(posts, dtype=np.float64) * spacing_m
         for r0 in range(0, posts, 256):
-            rows = np.arange(r0, min(posts, r0 + 256), dtype=np.float64)
-            n = (posts - 1 - rows)[:, None] * spacing_m  # row 0 is the north edge
-            z = 200.0 + 0.01 * x[None, :] + 0.005 * n + 40.0 * np.sin(x[None, :] / 900.0) * \
-                np.cos(n / 700.0)
-            f.write(z.astype("<f4").tobytes())
+            f.write(surface_rows(posts, spacing_m, r0, min(posts, r0 + 256), north_up=True).tobytes())
     with open(os.path.join(work, f"area{posts}.hdr"), "w") as f:
         f.write(f"BYTEORDER I\nLAYOUT BIL\nNROWS {posts}\nNCOLS {posts}\nNBANDS 1\nNBITS 32\n"
                 f"PIXELTYPE FLOAT\nULXMAP {E0}\nULYMAP {N0 + (posts - 1) * spacing_m}\n"
@@ -160,6 +160,57 @@ def make_raster(work, posts, spacing_m):
     os.remove(raw)
     os.remove(os.path.join(work, f"area{posts}.hdr"))
     return tif
+
+
+def surface_rows(posts, spacing_m, r0, r1, north_up):
+    """Rows r0 .. r1 - 1 of the analytic surface as float32; row 0 is the north edge when
+    north_up (a raster's order), else the south edge (a terrain file's, z northwards)."""
+    import numpy as np
+    x = np.arange(posts, dtype=np.float64) * spacing_m
+    rows = np.arange(r0, r1, dtype=np.float64)
+    n = ((posts - 1 - rows) if north_up else rows)[:, None] * spacing_m
+    z = 200.0 + 0.01 * x[None, :] + 0.005 * n + 40.0 * np.sin(x[None, :] / 900.0) * \
+        np.cos(n / 700.0)
+    return z.astype("<f4")
+
+
+def make_ground_file(work, posts, spacing_m):
+    """A terrain file (version 3, square) of the same surface, grass soils, no features, written a
+    block of rows at a time."""
+    path = os.path.join(work, f"area{posts}.dtt")
+    ground_bytes = 4 + 8 + 4 * posts * posts + 2 * 2 * (posts - 1) ** 2
+    h = Xxh3()
+    with open(path, "wb") as out:
+        def put(data):
+            h.update(data)
+            out.write(data)
+        put(struct.pack("<8sIQQ", b"\x89DTER\r\n\x1a", 3, ground_bytes, 4))
+        put(struct.pack("<Id", posts, spacing_m))
+        for r0 in range(0, posts, 256):
+            put(surface_rows(posts, spacing_m, r0, min(posts, r0 + 256), north_up=False).tobytes())
+        row_soils = struct.pack("<H", 1) * (2 * (posts - 1))  # grass
+        for r0 in range(0, posts - 1, 256):
+            put(row_soils * (min(posts - 1, r0 + 256) - r0))
+        put(struct.pack("<I", 0))
+        out.write(struct.pack("<Q", h.digest()))
+    return path
+
+
+def time_ctl(ctl, exercise, run_dir, repeats=5):
+    """The median wall times, seconds, of `dt_ctl ... --name server status` and of dt_ctl's start
+    alone: reading the exercise file, then refusing a name it does not hold (exit 2)."""
+    def median(name, command, code):
+        times = []
+        for _ in range(repeats):
+            t = time.monotonic()
+            r = subprocess.run([ctl, "--config", exercise, "--run-dir", run_dir, "--name", name,
+                                command], capture_output=True, timeout=60)
+            times.append(time.monotonic() - t)
+            if r.returncode != code:
+                raise RuntimeError(f"dt_ctl --name {name} {command}: exit {r.returncode}: "
+                                   f"{r.stderr.decode(errors='replace')}")
+        return sorted(times)[len(times) // 2]
+    return median("server", "status", 0), median("no-such-process", "status", 2)
 
 
 class Xxh3:
@@ -433,13 +484,18 @@ def run_world(args, programs, posts, work, features=0):
     """Starts the six processes on a posts x posts world; returns the figures."""
     os.makedirs(work, exist_ok=True)
     t0 = time.time()
-    raster = make_raster(work, posts, args.spacing_m)
-    print(f"raster {posts} x {posts} made in {time.time() - t0:.1f} s "
-          f"({os.path.getsize(raster) >> 20} MB)")
+    if args.ground_file:
+        source = make_ground_file(work, posts, args.spacing_m)
+        terrain = f'ground_file = "{source}"'
+    else:
+        source = make_raster(work, posts, args.spacing_m)
+        terrain = f'elevation_file = "{source}"'
+    print(f"{os.path.basename(source)}: {posts} x {posts} made in {time.time() - t0:.1f} s "
+          f"({os.path.getsize(source) >> 20} MB)")
     size_m = (posts - 1) * args.spacing_m
     exercise = os.path.join(work, "large.toml")
     with open(exercise, "w") as f:
-        f.write(EXERCISE.format(key=args.key, raster=raster, x1=size_m * 0.3, z1=size_m * 0.3,
+        f.write(EXERCISE.format(key=args.key, terrain=terrain, x1=size_m * 0.3, z1=size_m * 0.3,
                                 x2=size_m * 0.6))
     with open(os.path.join(work, "drive.toml"), "w") as f:
         f.write(DRIVE)
@@ -467,6 +523,11 @@ def run_world(args, programs, posts, work, features=0):
             figures["procs"][name].update(rss_mb=r["Rss"] / 1024, pss_mb=r["Pss"] / 1024,
                                           cache_rss_mb=rss / 1024, cache_pss_mb=pss / 1024,
                                           load=(m.group(1), int(m.group(2))) if m else None)
+        if args.ground_file:
+            run_dir = os.path.join(work, "run")
+            figures["ctl_s"] = time_ctl(programs["dt_ctl"], exercise, run_dir)
+            if args.ctl_compare:
+                figures["ctl_compare_s"] = time_ctl(args.ctl_compare, exercise, run_dir)
         if features:
             check_features(args, ex, work, size_m, dis, figures)
     finally:
@@ -495,6 +556,10 @@ def report(f):
         if p["load"]:
             per = p["load"][1] / (f["posts"] ** 2 / 1e6)
             print(f"load {name}: {p['load'][0]} the cache, {per:.1f} ms per 10^6 posts")
+    for key, what in (("ctl_s", "dt_ctl"), ("ctl_compare_s", "--ctl-compare")):
+        if key in f:
+            print(f"{what}: status {f[key][0]:.3f} s, start alone {f[key][1]:.3f} s "
+                  "(medians of 5)")
     return total, cache_pss
 
 
@@ -509,8 +574,12 @@ def main():
     a.add_argument("--ready-s", type=float, default=600.0)
     a.add_argument("--features", type=int, default=0)
     a.add_argument("--converge-s", type=float, default=600.0)
+    a.add_argument("--ground-file", action="store_true")
+    a.add_argument("--ctl-compare", default="")
     a.add_argument("--keep", action="store_true")
     args = a.parse_args()
+    if args.ground_file and args.features:
+        a.error("--features needs the raster's georeference: not with --ground-file")
     args.key = os.path.abspath(args.key)
     args.bin_dir = os.path.abspath(args.bin_dir)
     programs = {p: find_program(args.bin_dir, p) for p in PROGRAMS}

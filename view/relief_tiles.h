@@ -28,7 +28,7 @@ namespace dt {
 // of their own; the view's loop only takes each asked tile's posts and features (SampleReliefTile).
 class ReliefTiles {
  public:
-  // 64 MiB: about 400 tiles of 256 x 256 (a PNG of shaded relief is 100-200 kB), the views of a
+  // 64 MiB: about 800 tiles of 256 x 256 (a PNG of shaded relief is 65-92 kB), the views of a
   // few pages zoomed in and out several times.
   static constexpr size_t kDefaultCacheBytes = size_t{64} << 20;
   // Tiles asked and not yet taken by the loop: more are refused at once (503), so a page cannot

@@ -12,14 +12,16 @@ ReliefTiles::ReliefTiles(const HeightGrid& ground, size_t cache_bytes)
       cache_(cache_bytes),
       thread_([this] { Run(); }) {}
 
-ReliefTiles::~ReliefTiles() {
+ReliefTiles::~ReliefTiles() { Stop(); }
+
+void ReliefTiles::Stop() {
   {
     std::lock_guard lock(mu_);
     stop_ = true;
   }
   work_.notify_all();
   done_.notify_all();
-  thread_.join();
+  if (thread_.joinable()) thread_.join();
 }
 
 int64_t ReliefTiles::VersionLocked(const TileKey& key) const {
@@ -96,6 +98,7 @@ void ReliefTiles::Serve(const Terrain& terrain, size_t max) {
 ReliefTiles::Answer ReliefTiles::Get(const TileKey& key, int timeout_ms) {
   std::unique_lock lock(mu_);
   if (broken_) return {503, nullptr, "the relief cannot be drawn (no OSMesa context)"};
+  if (stop_) return {503, nullptr, "the view is stopping"};
   const int64_t version = VersionLocked(key);
   const ReliefTileCache::Tile* tile = cache_.Find(key);
   if (tile == nullptr || tile->version < version) {

@@ -37,7 +37,11 @@ class ReliefTiles {
 
   // The pyramid over `ground` (its size and spacing; nothing of it is kept).
   explicit ReliefTiles(const HeightGrid& ground, size_t cache_bytes = kDefaultCacheBytes);
+  // Stop()s.
   ~ReliefTiles();
+  // Pages waiting get 503 at once and later ones too; the drawing thread ends. Before the web
+  // server stops, so its threads are not held by a tile.
+  void Stop();
   ReliefTiles(const ReliefTiles&) = delete;
   ReliefTiles& operator=(const ReliefTiles&) = delete;
 

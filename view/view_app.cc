@@ -90,7 +90,9 @@ ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOp
                                      std::move(handlers));
 }
 
-ViewApp::~ViewApp() = default;
+ViewApp::~ViewApp() {
+  relief_->Stop();  // a page's thread waiting for a tile would hold the web server's stop
+}
 
 std::string ViewApp::url() const {
   return fmt::format("http://{}:{}/", view_.http_address, view_.http_port);

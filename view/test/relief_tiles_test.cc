@@ -117,5 +117,18 @@ TEST(ReliefTilesTest, ATileIsDrawnWhenAskedAndAgainOnlyWhenAChangeTouchedIt) {
   EXPECT_EQ(tiles.rendered(), 3u);
 }
 
+// A page waiting for a tile nobody will draw (no loop serves it) is answered 503 when the tiles
+// stop, not after its minute: the web server's stop is not held by it.
+TEST(ReliefTilesTest, StopAnswersAWaitingPageAtOnce) {
+  Terrain t = Rolling();
+  ReliefTiles tiles(t.ground());
+  (void)tiles.Track(t);
+  auto page = std::async(std::launch::async, [&] { return tiles.Get({0, 0, 0}, 60000); });
+  tiles.Stop();
+  ASSERT_EQ(page.wait_for(std::chrono::seconds(10)), std::future_status::ready);
+  EXPECT_EQ(page.get().status, 503);
+  EXPECT_EQ(tiles.Get({0, 0, 0}, 60000).status, 503);
+}
+
 }  // namespace
 }  // namespace dt

@@ -25,6 +25,33 @@ Status WritePng(const Image& image, const std::string& path) {
   return Status::Ok();
 }
 
+Result<std::string> EncodePng(const Image& image) {
+  if (image.empty()) throw std::invalid_argument("EncodePng: the image is empty");
+  png_image png;
+  std::memset(&png, 0, sizeof png);
+  png.version = PNG_IMAGE_VERSION;
+  png.width = static_cast<png_uint_32>(image.width());
+  png.height = static_cast<png_uint_32>(image.height());
+  png.format = PNG_FORMAT_RGBA;
+  // First the size, then the bytes (libpng's two-call form).
+  png_alloc_size_t size = 0;
+  if (!png_image_write_to_memory(&png, nullptr, &size, 0, image.bytes().data(), 0, nullptr)) {
+    Error e{fmt::format("cannot encode a {} x {} px PNG: {}", image.width(), image.height(),
+                        png.message)};
+    png_image_free(&png);
+    return e;
+  }
+  std::string out(size, '\0');
+  if (!png_image_write_to_memory(&png, out.data(), &size, 0, image.bytes().data(), 0, nullptr)) {
+    Error e{fmt::format("cannot encode a {} x {} px PNG: {}", image.width(), image.height(),
+                        png.message)};
+    png_image_free(&png);
+    return e;
+  }
+  out.resize(size);
+  return out;
+}
+
 Result<Image> ReadPng(const std::string& path) {
   png_image png;
   std::memset(&png, 0, sizeof png);

@@ -12,6 +12,8 @@ namespace dt {
 // an expected failure. An empty image is misuse and throws std::invalid_argument.
 Status WritePng(const Image& image, const std::string& path);
 
+// The same PNG as WritePng writes, in memory. Throws like WritePng.
+Result<std::string> EncodePng(const Image& image);
 // Reads any PNG libpng understands, converted to 8-bit RGBA.
 Result<Image> ReadPng(const std::string& path);
 

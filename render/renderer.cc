@@ -108,7 +108,10 @@ Image Renderer::Render(const Terrain& terrain, std::span<const VehicleSprite> ve
   // the depth test.
   glEnable(GL_POLYGON_OFFSET_FILL);
   glPolygonOffset(1.0f, 1.0f);
-  const ElevationRange range = GroundElevationRange(terrain.ground());
+  const ElevationRange range =
+      options.elevation_range_m
+          ? ElevationRange{options.elevation_range_m->first, options.elevation_range_m->second}
+          : GroundElevationRange(terrain.ground());
   const auto [first, end] = VisibleSquares(terrain, camera);
   Mesh batch;
   for (int j = first.j; j < end.j; j += kRowsPerBatch) {

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
+#include <utility>
 
 #include "render/camera.h"
 #include "render/image.h"
@@ -21,6 +23,10 @@ struct RenderOptions {
   bool scale_bar = true;
   // Most sub-squares per grid-square side where earthworks lie (TerrainMeshOptions).
   int max_subdivisions = 16;
+  // The lowest and highest elevation of the ground's tint (palette.h ElevationFactor); unset:
+  // the terrain's own lowest and highest post. Pieces of one picture drawn apart (the live view's
+  // relief tiles) share the whole ground's, so they meet without a seam.
+  std::optional<std::pair<double, double>> elevation_range_m;
   // Outside the terrain, and the sky of perspective views.
   Rgba background = {170, 200, 230, 255};
 };

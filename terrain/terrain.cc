@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -44,6 +45,7 @@ Terrain::Terrain(HeightGrid ground) : ground_(std::move(ground)) {
   square_stamps_ = ZeroPagedArray<uint64_t>(squares);
   GroundChanged();
   stamps_floor_ = stamp_;
+  changes_floor_ = stamp_;
 }
 
 SquareList& Terrain::MutableSquareFeatures(size_t slot) {
@@ -81,12 +83,42 @@ void Terrain::GroundChanged() {
 void Terrain::MarkChanged(const Rect& rect) {
   SquareIndex lo, hi;
   SquareRange(rect, lo, hi);
+  LogChange(SquareRect(lo).Union(SquareRect(hi)));
   for (int j = lo.j; j <= hi.j; ++j) {
     for (int i = lo.i; i <= hi.i; ++i) square_stamps_[SquareSlot({i, j})] = stamp_;
   }
 }
 
-void Terrain::MarkChanged(SquareIndex square) { square_stamps_[SquareSlot(square)] = stamp_; }
+void Terrain::MarkChanged(SquareIndex square) {
+  square_stamps_[SquareSlot(square)] = stamp_;
+  LogChange(SquareRect(square));
+}
+
+Rect Terrain::SquareRect(SquareIndex square) const {
+  const double s = ground_.spacing_m();
+  return {square.i * s, square.j * s, (square.i + 1) * s, (square.j + 1) * s};
+}
+
+void Terrain::LogChange(const Rect& area) {
+  if (!changes_.empty() && changes_.back().stamp == stamp_) {
+    changes_.back().area = changes_.back().area.Union(area);
+    return;
+  }
+  if (changes_.size() == kChangeLogEntries) {
+    changes_floor_ = changes_.front().stamp;
+    changes_.pop_front();
+  }
+  changes_.push_back({stamp_, area});
+}
+
+std::optional<std::vector<Rect>> Terrain::ChangedAreasSince(uint64_t since) const {
+  if (since < changes_floor_) return std::nullopt;
+  auto first = changes_.end();
+  while (first != changes_.begin() && std::prev(first)->stamp > since) --first;
+  std::vector<Rect> out;
+  for (auto it = first; it != changes_.end(); ++it) out.push_back(it->area);
+  return out;
+}
 
 uint64_t Terrain::AreaStamp(const Rect& area) const {
   SquareIndex lo, hi;
@@ -166,6 +198,7 @@ void Terrain::Index(const Feature* feature) {
       square_stamps_[slot] = stamp_;
     }
   }
+  LogChange(SquareRect(lo).Union(SquareRect(hi)));
 }
 
 void Terrain::Unindex(const Feature* feature) {
@@ -376,6 +409,8 @@ void Terrain::RemoveAll() {
   GroundChanged();  // the blade work's posts went back
   square_stamps_.Clear();
   stamps_floor_ = stamp_;
+  changes_.clear();
+  changes_floor_ = stamp_;
 }
 
 Status Terrain::SetPostElevation(int i, int j, float elevation_m) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <span>
@@ -45,6 +46,13 @@ class Terrain {
   // the ground moved, a post of one of its squares, a soil of one. At most stamp(); while it is
   // at most a stamp a caller saw, every answer inside is the one it was then.
   uint64_t AreaStamp(const Rect& area) const;
+  // The areas changed after stamp `since` (a stamp the caller saw), oldest first: per change the
+  // rectangle of the squares it touched (a feature's bounds, the squares around a post). nullopt
+  // when the terrain no longer holds them all (more than kChangeLogEntries changes since, or a
+  // RemoveAll): the caller takes everything as changed. What a drawing of the terrain needs to
+  // redraw only where it changed, without asking every square.
+  std::optional<std::vector<Rect>> ChangedAreasSince(uint64_t since) const;
+  static constexpr size_t kChangeLogEntries = 4096;
 
   // Adds a feature. Refused if the ID exists, the parameters are invalid, the feature leaves the
   // terrain, or it conflicts with another (overlapping bridges). An earth move adds its post
@@ -142,6 +150,10 @@ class Terrain {
   // Gives the squares the rectangle touches (clipped), or one square, the current stamp.
   void MarkChanged(const Rect& rect);
   void MarkChanged(SquareIndex square);
+  // Notes the area in the change log under the current stamp (joined with the last entry when it
+  // has the same stamp, so one change is one entry).
+  void LogChange(const Rect& area);
+  Rect SquareRect(SquareIndex square) const;
   // Adds (sign +1) or takes off (-1) an earth move's deltas and recomputes the features on the
   // squares around the posts it changed.
   void ApplyEarthMove(const std::vector<PostDelta>& deltas, int sign);
@@ -186,6 +198,13 @@ class Terrain {
   // stamp every square had at the terrain's making or its last RemoveAll.
   ZeroPagedArray<uint64_t> square_stamps_;
   uint64_t stamps_floor_ = 0;
+  // The change log (ChangedAreasSince): entries after changes_floor_, oldest first.
+  struct AreaChange {
+    uint64_t stamp = 0;
+    Rect area;
+  };
+  std::deque<AreaChange> changes_;
+  uint64_t changes_floor_ = 0;
   // Blade work, per post an earth move touched (index j * posts_x + i): the post as set without
   // blade work and the sum of the earth moves' millimetres. The ground post is always float(bare_m
   // + sum_mm * kPostDeltaUnitM), a function of the sum alone, so the ground is the same in every

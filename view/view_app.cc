@@ -52,8 +52,7 @@ ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOp
   vehicles_ =
       std::make_unique<SharedVehicleSource>(*transport_.bus, names, exercise.dead_reckoning);
   model_ = std::make_unique<ViewModel>(*replica_, names);
-  relief_ =
-      std::make_unique<ReliefRenderer>(exercise.run_dir / (view_.process.name + "-relief.png"));
+  relief_ = std::make_unique<ReliefTiles>(replica_->terrain().ground());
   poller_ = std::make_unique<ProcessPoller>(polled, options_.poll_period_ms, 1000);
   WebServer::Handlers handlers;
   handlers.snapshot = [this] {
@@ -66,7 +65,8 @@ ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOp
                               {"silence_ms", exercise_.protocol.silence_ms},
                               {"view", view_.process.name},
                               {"commands", options_.allow_commands},
-                              {"nodes", nodes_}}}};
+                              {"nodes", nodes_}}},
+                            {"relief_tiles", relief_->Describe()}};
     return std::function<std::string()>(
         [copy, extra = std::move(extra)] { return copy->Text(WallMs(), extra); });
   };
@@ -79,27 +79,23 @@ ViewApp::ViewApp(const ExerciseConfig& exercise, const std::string& name, ViewOp
     if (!json) return {503, "the view's loop did not answer in time"};
     return {200, std::move(*json)};
   };
+  handlers.relief_tile = [this](const std::string& tile) -> std::pair<int, std::string> {
+    auto key = ParseTileKey(tile, relief_->pyramid());
+    if (!key) return {404, key.error().message};
+    ReliefTiles::Answer a = relief_->Get(key.value(), kTileTimeoutMs);
+    if (a.status != 200) return {a.status, std::move(a.why)};
+    return {200, *a.png};
+  };
   web_ = std::make_unique<WebServer>(view_.http_address, view_.http_port, options_.web_dir,
                                      std::move(handlers));
 }
 
-ViewApp::~ViewApp() = default;
+ViewApp::~ViewApp() {
+  relief_->Stop();  // a page's thread waiting for a tile would hold the web server's stop
+}
 
 std::string ViewApp::url() const {
   return fmt::format("http://{}:{}/", view_.http_address, view_.http_port);
-}
-
-void ViewApp::RenderRelief(int64_t now_ms) {
-  if (auto png = relief_->Take()) {
-    web_->SetRelief(std::move(*png));
-    ++relief_version_;
-  }
-  if (relief_at_ms_ >= 0 && now_ms - relief_at_ms_ < options_.relief_min_period_ms) return;
-  const uint64_t stamp = replica_->terrain().stamp();
-  if (stamp == relief_stamp_) return;
-  if (!relief_->Offer(replica_->terrain())) return;  // one under way: offered again next tick
-  relief_at_ms_ = now_ms;
-  relief_stamp_ = stamp;
 }
 
 void ViewApp::OnTick(int64_t now_ms) {
@@ -123,13 +119,17 @@ void ViewApp::OnTick(int64_t now_ms) {
     // The JSON delta first (new vehicles' rows name the slots), then the moves in binary.
     std::vector<WebServer::Message> out(2);
     out[1].binary = true;
+    // Under the publish lock, as the snapshot's Describe: a page misses no tile's change.
+    const nlohmann::json tiles = relief_->Track(replica_->terrain());
+    relief_version_ = static_cast<int>(relief_->Version({0, 0, 0}));
     nlohmann::json delta = model_->Update(WallMs(), rows, vehicles, relief_version_, &out[1].data);
     if (!delta.is_null()) out[0].data = delta.dump();
+    if (!tiles.is_null()) out.push_back({tiles.dump(), false});
     return out;
   });
-  // After the delta: the outlines reach the pages without waiting for the render (OSMesa, on
-  // the CPU), whose new version goes out with the next delta.
-  RenderRelief(now_ms);
+  // After the delta: the outlines reach the pages without waiting for the tiles (drawn with
+  // OSMesa, on the CPU, on the tiles' own thread).
+  relief_->Serve(replica_->terrain(), kTilesPerTick);
 }
 
 std::string ViewApp::OnMessage(const std::string& text) {

@@ -12,7 +12,7 @@
 #include "runtime/observer_process.h"
 #include "view/loop_requests.h"
 #include "view/process_poller.h"
-#include "view/relief_renderer.h"
+#include "view/relief_tiles.h"
 #include "view/shared_vehicle_source.h"
 #include "view/view_model.h"
 #include "view/web_server.h"
@@ -23,7 +23,6 @@ struct ViewOptions {
   std::filesystem::path web_dir;  // the page's files (view/web)
   bool allow_commands = false;    // operator actions from the page (off unless asked)
   int poll_period_ms = 100;       // each process's status
-  int relief_min_period_ms = 1000;
 };
 
 class ViewApp : public ObserverProcess {
@@ -36,14 +35,13 @@ class ViewApp : public ObserverProcess {
   std::string url() const;
 
  private:
-  void OnStart(int64_t now_ms) override { RenderRelief(now_ms); }
-  // The protocol's tick is done: the pages' delta (and the relief when the terrain changed).
+  // The protocol's tick is done: the pages' delta, the relief tiles a change touched, and the
+  // posts of the tiles pages asked for.
   void OnTick(int64_t now_ms) override;
   std::string RefusalText() const override;
   std::string ReadyLines() const override { return "VIEW " + url(); }
   std::string StopSummary() const override;
   std::string OnMessage(const std::string& text);
-  void RenderRelief(int64_t now_ms);
 
   const ViewConfig& view_;
   ViewOptions options_;
@@ -55,14 +53,15 @@ class ViewApp : public ObserverProcess {
   LoopRequests windows_;
   static constexpr int kWindowTimeoutMs = 2000;
   static constexpr size_t kWindowsPerTick = 2;  // each is a few ms at 129^2 samples
+  // The relief's tiles (docs/view.md "The relief"): asked on the web server's threads, sampled on
+  // the loop, drawn on their own thread. Before web_, like windows_.
+  std::unique_ptr<ReliefTiles> relief_;
+  static constexpr int kTileTimeoutMs = 5000;
+  static constexpr size_t kTilesPerTick = 4;  // each reads 257^2 to 513^2 posts and squares
   std::unique_ptr<WebServer> web_;
-  std::unique_ptr<ReliefRenderer> relief_;
   std::set<std::string> nodes_;
-  // The stamp of the terrain last offered for rendering: a changed terrain draws a new one, so
-  // no relief period reads the whole ground for a digest.
-  uint64_t relief_stamp_ = 0;
+  // The version of tile 0/0/0 (the whole world), as the delta's "relief" for /relief.png.
   int relief_version_ = 0;
-  int64_t relief_at_ms_ = -1;
 };
 
 }  // namespace dt

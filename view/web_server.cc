@@ -37,6 +37,8 @@ WebServer::WebServer(const std::string& address, int port, std::filesystem::path
         "the view cannot listen on {} (in use, or not an address of this host)", ports));
   }
   mg_set_request_handler(ctx_, "/relief.png", &WebServer::HandleRelief, this);
+  if (handlers_.relief_tile)
+    mg_set_request_handler(ctx_, "/relief/", &WebServer::HandleReliefTile, this);
   if (handlers_.terrain3d)
     mg_set_request_handler(ctx_, "/terrain3d", &WebServer::HandleTerrain3d, this);
   mg_set_websocket_handler(ctx_, "/ws", &WebServer::WsConnect, &WebServer::WsReady,
@@ -70,6 +72,7 @@ int WebServer::HandleFile(mg_connection* conn, void* self_ptr) {
 
 int WebServer::HandleRelief(mg_connection* conn, void* self_ptr) {
   auto* self = static_cast<WebServer*>(self_ptr);
+  if (self->handlers_.relief_tile) return HandleReliefTile(conn, self_ptr);
   std::string png;
   {
     std::lock_guard lock(self->relief_mu_);
@@ -93,6 +96,27 @@ int WebServer::HandleTerrain3d(mg_connection* conn, void* self_ptr) {
     return status;
   }
   mg_send_http_ok(conn, "application/json", static_cast<long long>(body.size()));
+  mg_write(conn, body.data(), body.size());
+  return 200;
+}
+
+int WebServer::HandleReliefTile(mg_connection* conn, void* self_ptr) {
+  auto* self = static_cast<WebServer*>(self_ptr);
+  const std::string uri = mg_get_request_info(conn)->local_uri;
+  const std::string prefix = "/relief/";
+  const std::string tile = uri.starts_with(prefix) ? uri.substr(prefix.size()) : "0/0/0";
+  const auto [status, body] = self->handlers_.relief_tile(tile);
+  if (status != 200) {
+    mg_send_http_error(conn, status, "%s", body.c_str());
+    return status;
+  }
+  // A URL naming the tile's version (?v=, as the page asks) stays right and may be kept.
+  const char* query = mg_get_request_info(conn)->query_string;
+  const bool versioned = query != nullptr && std::strstr(query, "v=") != nullptr;
+  mg_printf(conn,
+            "HTTP/1.1 200 OK\r\nContent-Type: image/png\r\nContent-Length: %zu\r\n"
+            "Cache-Control: %s\r\n\r\n",
+            body.size(), versioned ? "private, max-age=3600" : "no-cache");
   mg_write(conn, body.data(), body.size());
   return 200;
 }

@@ -38,6 +38,9 @@ class WebServer {
     // GET /terrain3d?<query>: the HTTP status and the JSON body. Called on a civetweb thread;
     // absent, the path is not found.
     std::function<std::pair<int, std::string>(const std::string& query)> terrain3d;
+    // GET /relief/<level>/<x>/<z>.png: the HTTP status and the PNG (or, not 200, why). Called on
+    // a civetweb thread; present, /relief.png is its tile 0/0/0.
+    std::function<std::pair<int, std::string>(const std::string& tile)> relief_tile;
   };
 
   // Serves `web_dir`'s files (index.html at /) on address:port. Throws std::runtime_error naming
@@ -59,6 +62,7 @@ class WebServer {
   static int HandleFile(mg_connection* conn, void* self);
   static int HandleRelief(mg_connection* conn, void* self);
   static int HandleTerrain3d(mg_connection* conn, void* self);
+  static int HandleReliefTile(mg_connection* conn, void* self);
   static int WsConnect(const mg_connection* conn, void* self);
   static void WsReady(mg_connection* conn, void* self);
   static int WsData(mg_connection* conn, int flags, char* data, size_t len, void* self);

@@ -56,6 +56,17 @@ TEST_F(PngIoTest, SamePixelsGiveTheSameBytes) {
   EXPECT_EQ(slurp(Path("a.png")), slurp(Path("b.png")));
 }
 
+// The bytes in memory are the file's bytes, so the two serve alike.
+TEST_F(PngIoTest, EncodedInMemoryIsTheFileWritten) {
+  ASSERT_TRUE(WritePng(Pattern(), Path("a.png")));
+  std::ifstream in(Path("a.png"), std::ios::binary);
+  const std::string file(std::istreambuf_iterator<char>(in), {});
+  const Result<std::string> encoded = EncodePng(Pattern());
+  ASSERT_TRUE(encoded.ok()) << encoded.error().message;
+  EXPECT_EQ(encoded.value(), file);
+  EXPECT_THROW((void)EncodePng(Image()), std::invalid_argument);
+}
+
 TEST_F(PngIoTest, UnwritablePathIsAnError) {
   const Status s = WritePng(Pattern(), Path("missing/dir/a.png"));
   ASSERT_FALSE(s.ok());

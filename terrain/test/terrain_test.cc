@@ -547,6 +547,61 @@ TEST(TerrainAreaStamp, MovesOnlyWhereAChangeCanAlterAnAnswer) {
   EXPECT_TRUE(moved(here));
 }
 
+// The change log names the squares each change touched, after a stamp the caller saw: a crater's
+// squares when it is added and removed, the squares around a moved post; and says when it no
+// longer holds every change since (overflow, RemoveAll).
+TEST(TerrainChangeLog, NamesTheAreasChangedSinceAStamp) {
+  Terrain t(SlopedGround());  // 2 m squares
+  const Rect far{150.0, 150.0, 151.0, 151.0};
+  uint64_t seen = t.stamp();
+  ASSERT_TRUE(t.ChangedAreasSince(seen).has_value());
+  EXPECT_TRUE(t.ChangedAreasSince(seen)->empty());
+
+  ASSERT_TRUE(t.Add(Id(1), FeatureParams::Crater(55.0, 51.0, 5.0)).ok());
+  auto areas = t.ChangedAreasSince(seen);
+  ASSERT_TRUE(areas.has_value());
+  ASSERT_EQ(areas->size(), 1u);
+  const Rect b = t.Find(Id(1))->Bounds();
+  const Rect a = areas->front();
+  // The squares the bounds touch: whole squares holding the bounds, less than a square larger.
+  EXPECT_LE(a.min_x, b.min_x);
+  EXPECT_GE(a.min_x, b.min_x - 2.0);
+  EXPECT_GE(a.max_x, b.max_x);
+  EXPECT_LE(a.max_x, b.max_x + 2.0);  // a bound on a square's edge takes the square beyond
+  EXPECT_LE(a.min_z, b.min_z);
+  EXPECT_GE(a.max_z, b.max_z);
+  EXPECT_FALSE(a.Intersects(far));
+
+  seen = t.stamp();
+  ASSERT_TRUE(t.SetPostElevation(75, 75, 3.0f).ok());  // x 150, z 150: away from the crater
+  areas = t.ChangedAreasSince(seen);
+  ASSERT_TRUE(areas.has_value());
+  ASSERT_EQ(areas->size(), 1u);
+  EXPECT_TRUE(areas->front().Intersects(far));
+  EXPECT_FALSE(areas->front().Intersects(b));
+
+  seen = t.stamp();
+  ASSERT_TRUE(t.Remove(Id(1)).ok());
+  areas = t.ChangedAreasSince(seen);
+  ASSERT_TRUE(areas.has_value());
+  ASSERT_EQ(areas->size(), 1u);
+  EXPECT_TRUE(areas->front().Intersects(b));
+
+  // Older than the log holds: nullopt, not a partial list.
+  seen = t.stamp();
+  for (size_t k = 0; k <= Terrain::kChangeLogEntries; ++k) {
+    ASSERT_TRUE(t.SetSoil({static_cast<int>(k % 90), static_cast<int>(k / 90)},
+                          TriangleHalf::kLower, k % 2 ? Material::kMud : Material::kSand)
+                    .ok());
+  }
+  EXPECT_FALSE(t.ChangedAreasSince(seen).has_value());
+  seen = t.stamp();
+  EXPECT_TRUE(t.ChangedAreasSince(seen).has_value());
+  t.RemoveAll();
+  EXPECT_FALSE(t.ChangedAreasSince(seen).has_value());
+  EXPECT_TRUE(t.ChangedAreasSince(t.stamp())->empty());
+}
+
 // Each thread draws stamps from a block of its own: a terrain handed to a thread whose block is
 // older than the terrain's last stamp must still draw greater stamps there, and two terrains on
 // two threads never share one.

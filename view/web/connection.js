@@ -42,7 +42,9 @@ function onSnapshot(s) {
   state.vehicles.clear();
   s.vehicles.forEach(setVehicle);
   frame.dirty = true;
-  setRelief(s.relief);
+  // dt_view serves the relief as tiles; a server without them, the one picture /relief.png.
+  if (s.relief_tiles) setReliefTiles(s.relief_tiles);
+  else setRelief(s.relief);
   ++window.dtView.terrainVersion;
   if (s.exercise.commands) setUpOperator(s.exercise.nodes);
   window.dtView.snapshotAt = Date.now();
@@ -54,7 +56,7 @@ function onDelta(d) {
   if (d.processes) { state.processes = d.processes; processesDirty = true; }
   if (d.vehicles_removed) d.vehicles_removed.forEach(removeVehicle);
   if (d.vehicles) d.vehicles.forEach(setVehicle);
-  if (d.relief !== undefined) setRelief(d.relief);
+  if (d.relief !== undefined && !relief.info) setRelief(d.relief);
   // The 3D view asks for its terrain window again (the ground or a feature changed).
   if (d.removed || d.features || d.relief !== undefined) ++window.dtView.terrainVersion;
   window.dtView.deltas++;
@@ -91,6 +93,7 @@ function noteLag(t_ms, arrived) {
 function applyMessage(m, arrived) {
   if (m.type === "snapshot") onSnapshot(m);
   else if (m.type === "delta") onDelta(m);
+  else if (m.type === "relief_tiles") applyReliefTiles(m);
   else if (m.type === "reply") {
     $("op-reply").textContent = `${m.ok ? "ok" : "refused"}: ${m.line || ""} ${m.text}`;
     window.dtView.lastReply = m;

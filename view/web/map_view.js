@@ -23,6 +23,7 @@ function applyView() {
   $("map").setAttribute("viewBox", `${v.x} ${v.y} ${v.w} ${v.h}`);
   frame.dirty = true;
   frame.viewChangedAt = performance.now();
+  if (typeof updateRelief === "function") updateRelief();  // relief_tiles.js, loaded next
 }
 window.addEventListener("resize", () => { frame.dirty = true; });
 function toMap(ev) {

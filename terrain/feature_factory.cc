@@ -17,15 +17,8 @@ Result<std::unique_ptr<Feature>> MakeFeature(FeatureId id, const FeatureParams& 
   if (id.number == 0) {
     return Error{fmt::format("feature {} has number 0, which means 'no feature'", id.ToString())};
   }
-  if (auto s = ValidateFeatureParams(params); !s) {
-    return Error{fmt::format("feature {}: {}", id.ToString(), s.error().message)};
-  }
-  if (!ground.Contains(params.x_m, params.z_m)) {
-    return Error{
-        fmt::format("feature {}: placement point (x {}, z {}) m is off the terrain [0, {}] x [0, "
-                    "{}] m",
-                    id.ToString(), params.x_m, params.z_m, ground.size_x_m(), ground.size_z_m())};
-  }
+  // Each maker validates the parameters and the placement point first (CheckPlacementBasics):
+  // checked here as well, they were checked twice for every feature added.
   switch (params.type) {
     case FeatureType::kCrater:
       return MakeCrater(id, params, ground);
@@ -40,6 +33,10 @@ Result<std::unique_ptr<Feature>> MakeFeature(FeatureId id, const FeatureParams& 
       return MakeAreaFeature(id, params, ground);
     case FeatureType::kEarthMove:
       return MakeEarthMove(id, params, ground);
+  }
+  // Not a feature type: ValidateFeatureParams says so.
+  if (auto s = ValidateFeatureParams(params); !s) {
+    return Error{fmt::format("feature {}: {}", id.ToString(), s.error().message)};
   }
   DT_UNREACHABLE();  // ValidateFeatureParams refuses an unknown type
 }

@@ -43,7 +43,8 @@ void PduBus::Flush() noexcept {
   if (waiting_count_ == 0) return;
   PduType type = waiting_[0].type;
   if (waiting_count_ == 1) {
-    batch_buffer_.assign(waiting_[0].bytes.begin(), waiting_[0].bytes.end());
+    // A lone PDU is swapped in, not copied: nothing extra on a single change's way.
+    batch_buffer_.swap(waiting_[0].bytes);
   } else {
     members_.clear();
     for (size_t i = 0; i < waiting_count_; ++i) {

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <list>
 #include <utility>
+#include <vector>
 
 #include "transport/transport.h"
 
@@ -75,22 +76,30 @@ void ReplicaThread::Loop() {
       }
     }
     // One round is a process's tick: what it publishes leaves packed at its end (PduBus::Batch).
-    PduBus::Batch tick(*bus_);
-    const auto dispatched = bus_->HandleTimeout(0);
-    replica_->Tick(NowMs());
+    // A finished step is dated when it finished but reported only once the tick's PDUs are out:
+    // waking the waiting thread first let it take a core before a lone change had left, which
+    // unbatched sends never waited for.
+    std::vector<std::pair<std::promise<int64_t>, int64_t>> finished;
+    Result<int> dispatched = 0;
     {
-      std::lock_guard lock(mutex_);
-      for (Pending& p : incoming_) steps.push_back(std::move(p));
-      incoming_.clear();
-    }
-    for (auto it = steps.begin(); it != steps.end();) {
-      if (it->step(*replica_)) {
-        it->done.set_value(SteadyNowNs());
-        it = steps.erase(it);
-      } else {
-        ++it;
+      PduBus::Batch tick(*bus_);
+      dispatched = bus_->HandleTimeout(0);
+      replica_->Tick(NowMs());
+      {
+        std::lock_guard lock(mutex_);
+        for (Pending& p : incoming_) steps.push_back(std::move(p));
+        incoming_.clear();
+      }
+      for (auto it = steps.begin(); it != steps.end();) {
+        if (it->step(*replica_)) {
+          finished.emplace_back(std::move(it->done), SteadyNowNs());
+          it = steps.erase(it);
+        } else {
+          ++it;
+        }
       }
     }
+    for (auto& [done, at_ns] : finished) done.set_value(at_ns);
     busy = dispatched && dispatched.value() > 0;
   }
 }

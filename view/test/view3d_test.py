@@ -81,16 +81,13 @@ def write_png(path, rgb):
                 chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
-# The 3D canvas's pixels, copied through a 2D canvas (the WebGL one keeps its drawing buffer).
+# The 3D canvas's pixels, from the page's snapshot(): drawn and read in one task (the canvas keeps
+# no drawing buffer once shown).
 PIXELS = """() => {
-  const s = document.getElementById('view3d'), c = document.createElement('canvas');
-  c.width = s.width; c.height = s.height;
-  const g = c.getContext('2d');
-  g.drawImage(s, 0, 0);
-  const d = g.getImageData(0, 0, c.width, c.height).data;
+  const s = window.dtView3d.snapshot(), d = s.rgba;
   let bin = '';
   for (let i = 0; i < d.length; i += 32768) bin += String.fromCharCode.apply(null, d.subarray(i, i + 32768));
-  return [c.width, c.height, btoa(bin)];
+  return [s.width, s.height, btoa(bin)];
 }"""
 
 

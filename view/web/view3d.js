@@ -8,7 +8,7 @@ const SUN = [0.45, 0.8, 0.35].map((c, _, v) => c / Math.hypot(...v));
 const POSTS = 129;            // samples per side asked of dt_view (it sends at most 257)
 const REFETCH_MS = 500;       // a changed terrain is asked again at most this often
 const WHOLE_MAX = 250;        // vehicles drawn as whole shapes at most: the nearest
-const NEAR_MAX = 1000;        // as shapes at most (beyond WHOLE_MAX their hull alone); the rest points
+const NEAR_MAX = 500;         // as shapes at most (beyond WHOLE_MAX their hull alone); the rest points
 const POINTS_ALL = 12000;     // points drawn all up to this many; beyond, the far ones thinned
 const VEHICLE_REDRAW_MS = 100;  // a frame for the vehicles' moves alone at most this often
 const MAX_PIXELS = 250000;    // the canvas's backing store at most: a CPU rasteriser's fill rate

@@ -230,23 +230,29 @@ function heightAt(x, z) {
 // The vehicles' instances follow the table's moved slots on every animation frame (no GL
 // call: the buffers are filled when a frame is drawn); all slots again when the terrain window
 // (the heights) or the table's size changed. Returns whether a vehicle on the window moved.
+// Named functions, not closures made per call: nothing allocated on an animation frame.
+let movedOnWindow = false;
+function followSlot(s) {
+  const tb = window.dtView.state.vehicles;
+  const y = tb.used[s] ? heightAt(tb.x[s], tb.z[s]) : null;
+  if (v3.instances.set(tb, s, y, y === null ? null : window.dtView.ownerRgb(tb.owners[tb.owner[s]]))) {
+    movedOnWindow = true;
+  }
+}
+function ignoreSlot() {}
 function updateVehicles() {
-  const tb = window.dtView.state.vehicles, vi = v3.instances, dv = window.dtView;
+  const tb = window.dtView.state.vehicles, vi = v3.instances;
   if (!v3.win) return false;
-  const one = (s) => {
-    const y = tb.used[s] ? heightAt(tb.x[s], tb.z[s]) : null;
-    return vi.set(tb, s, y, y === null ? null : dv.ownerRgb(tb.owners[tb.owner[s]]));
-  };
+  movedOnWindow = false;
   if (v3.vehiclesAt === -1 || vi.cap !== tb.cap) {
     vi.reset(tb.cap);
-    tb.takeChanged(() => {});
-    for (let s = 0; s < tb.end; ++s) one(s);
+    tb.takeChanged(ignoreSlot);
+    for (let s = 0; s < tb.end; ++s) followSlot(s);
     v3.vehiclesAt = 0;
     return true;
   }
-  let moved = false;
-  tb.takeChanged((s) => { if (one(s)) moved = true; });
-  return moved;
+  tb.takeChanged(followSlot);
+  return movedOnWindow;
 }
 
 // A uniform buffer of whole blocks holding `data`'s first n instances.

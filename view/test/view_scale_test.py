@@ -11,7 +11,10 @@ uncovered by the vehicles' drawing (the relief and features readable). Printed, 
 measure): frames per second, the worst frame and the page's lag behind its messages over 10 s of
 panning and zooming, and the WebSocket's bytes per second (the vehicles' moves in the binary
 message, or with `json` as JSON rows, the format before it); then the 3D view's frames per second with
-every vehicle on the feed's terrain window. Exits 77 (skipped) when playwright or
+every vehicle on the feed's terrain window. Asserted after the panning: the view is back where it
+began (the panning's moves undo each other, so its picture shows the terrain). Asserted in 3D, on
+one picture: the vehicles it placed are the model's on its window, shapes (the nearest, up to the
+page's cap), points and thinned add up to them, and every owner's colour shows. Exits 77 (skipped) when playwright or
 chromium is not installed. Run inside tests/run_in_netns.sh.
 
   view_scale_test.py <vehicles> <features> <run_dir> [<seconds of panning> [json]]
@@ -107,12 +110,50 @@ IN_VIEW = """() => {
   return n;
 }"""
 
+# The 3D view: a picture drawn now (snapshot), the vehicles on its terrain window counted from the
+# page's vehicle table (not by the 3D view's code), what the picture drew, and per owner the pixels
+# of exactly its colour (alive points are drawn unlit in it).
+COUNT_3D = """() => {
+  const v = window.dtView3d, st = window.dtView.state, tb = st.vehicles, w = v.win;
+  const shot = v.snapshot(), d = shot.rgba;
+  const x1 = w.x0 + (w.nx - 1) * w.step, z1 = w.z0 + (w.nz - 1) * w.step;
+  let model = 0;
+  for (const r of tb.values()) if (r[3] >= w.x0 && r[3] <= x1 && r[4] >= w.z0 && r[4] <= z1) ++model;
+  const owners = ['node-1', 'node-2', 'node-3'], rgb = owners.map(o => window.dtView.ownerRgb(o));
+  const pixels = Object.fromEntries(owners.map(o => [o, 0]));
+  for (let i = 0; i < d.length; i += 4) for (let k = 0; k < 3; ++k) {
+    if (Math.abs(d[i] - rgb[k][0]) <= 2 && Math.abs(d[i + 1] - rgb[k][1]) <= 2 &&
+        Math.abs(d[i + 2] - rgb[k][2]) <= 2) { ++pixels[owners[k]]; break; }
+  }
+  return {model, drawn: Object.assign({}, v.drawn), pixels, near_max: v.instances.nearMax,
+          points_all: v.instances.pointsAll};
+}"""
+
 # What is in view, what the last frame drew and the owners' pixels, read in one task of the page.
 READ_MARKERS = f"""() => ({{
   in_view: ({IN_VIEW})(),
   drawn: Object.assign({{}}, window.dtView.drawn),
   pixels: ({COUNT_PIXELS})(),
 }})"""
+
+# The panning's drags in pixels, a cycle of six moves (see the panning below); 1.2 is the page's
+# zoom step (map_view.js): 125 * 1.2^3 = 216. Whole pixels, from a whole pixel, as the browser's
+# mouse events are.
+PAN_PX = [(125, 125), (-120, 80), (90, -110), (-216, -216), (-90, 110), (120, -80)]
+SETTLE = "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))"
+
+
+def pan_and_zoom(page, cx, cy, step):
+    """Move `step` of the panning's cycle: a drag from the map's centre, then a wheel step there."""
+    page.mouse.move(cx, cy)
+    page.mouse.down()
+    dx, dy = PAN_PX[step % 6]
+    page.mouse.move(cx + dx, cy + dy, steps=12)
+    page.mouse.up()
+    # The page ends a drag in a task after mouseup: past it, moving back is not a drag.
+    page.evaluate("new Promise(r => setTimeout(r, 0))")
+    page.mouse.move(cx, cy)
+    page.mouse.wheel(0, -240 if step % 6 < 3 else 240)
 
 with sync_playwright() as pw:
     browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True,
@@ -149,12 +190,14 @@ with sync_playwright() as pw:
 
         # Zoomed in until the vehicles in view are drawn one marker each.
         box = page.locator("#map").bounding_box()
-        cx, cy = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        cx, cy = round(box["x"] + box["width"] / 2), round(box["y"] + box["height"] / 2)
         page.mouse.move(cx, cy)
+        zoomed_in = 0  # wheel steps in, each undone on the way back to the whole terrain
         for _ in range(40):
             if page.evaluate("window.dtView.drawn.mode") == "markers":
                 break
             page.mouse.wheel(0, -120)
+            zoomed_in += 1
             page.wait_for_timeout(30)
         # The vehicles move: one may cross into view and turn the markers back into cells between
         # the zoom and the reads. The reads are one task of the page (no frame between them); if
@@ -165,6 +208,7 @@ with sync_playwright() as pw:
             if read["drawn"]["mode"] == "markers":
                 break
             page.mouse.wheel(0, -120)
+            zoomed_in += 1
         else:
             fail("the page went back to cells each of 10 times it was read zoomed in")
         in_view, drawn, pixels = read["in_view"], read["drawn"], read["pixels"]
@@ -178,11 +222,14 @@ with sync_playwright() as pw:
         if sum(pixels.values()) < 3 * live_marks:
             fail(f"{live_marks} live markers drawn but the canvas holds {pixels} owner pixels")
 
-        # Back to the whole terrain, then 10 s of panning and zooming with a pause every fourth
-        # move, timed by the page's own animation frames.
-        for _ in range(60):
+        # Back to the whole terrain (as many steps out as in, about the same point: the view as it
+        # was), then 10 s of panning and zooming with a pause every fourth move, timed by the
+        # page's own animation frames.
+        page.mouse.move(cx, cy)
+        for _ in range(zoomed_in):
             page.mouse.wheel(0, 120)
             page.wait_for_timeout(10)
+        whole_view = page.evaluate("Object.assign({}, window.dtView.state.view)")
         page.evaluate("""() => { const d = window.dtView; d.maxLagMs = 0; d.frameMs = [];
             d.maxTransitMs = 0; d.maxQueuedMs = 0; performance.clearMeasures();
             d.longTasks = []; d.from = performance.now(); d.renders0 = featureCache.renders || 0;
@@ -199,11 +246,11 @@ with sync_playwright() as pw:
         feed.max_send_s = 0.0
         step = 0
         while time.monotonic() - t0 < pan_s:
-            page.mouse.move(cx, cy)
-            page.mouse.down()
-            page.mouse.move(cx + 200 * ((step % 4) - 1.5), cy + 120 * ((step % 3) - 1), steps=12)
-            page.mouse.up()
-            page.mouse.wheel(0, -240 if step % 6 < 3 else 240)
+            # A cycle of six moves that ends where it began, so the view stays over the terrain
+            # however long the panning: zoomed about the map's centre (three steps in, three out)
+            # and each drag undone by one at the same zoom (moves 1 and 5, 2 and 4) or, between
+            # moves 0 and 3, by one as long in metres (three 1.2x steps in: 1.2^3 the pixels).
+            pan_and_zoom(page, cx, cy, step)
             step += 1
             if step % 4 == 0:
                 # The operator pauses (the view rests, so the features' cache is rendered again,
@@ -245,6 +292,15 @@ with sync_playwright() as pw:
               f"longest send {1000 * feed.max_send_s:.0f} ms")
         if features > 2000:
             print(f"the features' cache rendered {timing['renders']} times, the last {timing['last']}")
+        # The cycles complete, the view is where the panning began: the after picture shows the
+        # terrain, its vehicles and features.
+        while step % 6:
+            pan_and_zoom(page, cx, cy, step)
+            step += 1
+        page.evaluate(SETTLE)
+        after_view = page.evaluate("Object.assign({}, window.dtView.state.view)")
+        if any(abs(after_view[k] - whole_view[k]) > 1e-6 * whole_view["w"] for k in "xywh"):
+            fail(f"the view drifted while panning: {whole_view} before, {after_view} after")
         page.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-after.png"))
 
         # The 3D view over the whole terrain with every vehicle, while the deltas keep coming:
@@ -287,11 +343,29 @@ with sync_playwright() as pw:
             dt = time.monotonic() - t0
             d3 = r["drawn"]
             load = os.getloadavg()
-            print(f"3D view, {d3['vehicles']} vehicles ({d3['shapes']} shapes, {d3['points']} points)"
-                  f" on {d3['posts']} posts, {d3['pixels']} pixels, the camera turning: "
+            print(f"3D view, {d3['vehicles']} vehicles ({d3['whole']} whole shapes, "
+                  f"{d3['shapes'] - d3['whole']} hulls, {d3['points']} points, {d3['thinned']} "
+                  f"thinned) on {d3['posts']} posts, {d3['pixels']} pixels, the camera turning: "
                   f"{(r['frames'] - f0) / dt:.1f} fps, animation frames {r['raf'] / dt:.1f}/s, "
                   f"lag max {r['lag']} ms, load average {load[0]:.2f}")
             p3.screenshot(path=os.path.join(run_dir, f"scale-{vehicles}-3d.png"))
+            # The instances drawn against the page's model, in one task: a picture drawn now,
+            # the vehicles on the terrain window counted here from the vehicle table, and the
+            # owners' colours among the picture's pixels (the points are drawn unlit).
+            got = p3.evaluate(COUNT_3D)
+            model, drawn3, cap = got["model"], got["drawn"], got["near_max"]
+            print(f"3D view, one picture: model {model} vehicles on the window, drawn {drawn3}, "
+                  f"owner pixels {got['pixels']}")
+            if drawn3["vehicles"] != model:
+                fail(f"{model} vehicles on the 3D window, the page placed {drawn3['vehicles']}")
+            if drawn3["shapes"] + drawn3["points"] + drawn3["thinned"] != model:
+                fail(f"shapes, points and thinned do not add up to the {model} vehicles: {drawn3}")
+            if not 0.9 * min(cap, model) <= drawn3["shapes"] <= cap:
+                fail(f"{drawn3['shapes']} shapes drawn, the nearest {min(cap, model)} expected")
+            if model <= got["points_all"] and drawn3["thinned"]:
+                fail(f"{drawn3['thinned']} thinned with only {model} vehicles")
+            if min(got["pixels"].values()) < drawn3["points"] // 20:
+                fail(f"{drawn3['points']} points drawn, owner pixels {got['pixels']}")
             if page_errors:
                 fail(f"errors in the 3D page: {page_errors}")
         finally:

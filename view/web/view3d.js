@@ -4,84 +4,81 @@
 "use strict";
 (function () {
 const SKY = [0.53, 0.66, 0.80];
-const SUN = norm([0.45, 0.8, 0.35]);
+const SUN = [0.45, 0.8, 0.35].map((c, _, v) => c / Math.hypot(...v));
 const POSTS = 129;            // samples per side asked of dt_view (it sends at most 257)
 const REFETCH_MS = 500;       // a changed terrain is asked again at most this often
-const NEAR_MAX = 250;         // vehicles drawn as shapes at most: the nearest; the rest as points
-const NEAR_M = 600;           // and only those nearer the eye than this, when there are more
+const WHOLE_MAX = 250;        // vehicles drawn as whole shapes at most: the nearest
+const NEAR_MAX = 500;         // as shapes at most (beyond WHOLE_MAX their hull alone); the rest points
+const POINTS_ALL = 12000;     // points drawn all up to this many; beyond, the far ones thinned
 const VEHICLE_REDRAW_MS = 100;  // a frame for the vehicles' moves alone at most this often
 const MAX_PIXELS = 250000;    // the canvas's backing store at most: a CPU rasteriser's fill rate
-const HIDDEN_Y = -1e9;        // an instance not drawn (no vehicle in its slot, or off the window)
-const VEHICLE_L = 7, VEHICLE_W = 3.2, VEHICLE_H = 2.4;  // metres, before the zoom's scale
+const M = dtMesh3d, VEHICLE_H = M.VEHICLE_H;
 const v3 = {
   on: false, gl: null, cam: { x: 500, z: 500, yaw: 0.6, pitch: 0.55, dist: 600, follow: null },
   win: null, fetching: false, fetchedAt: 0, terrainVersion: -1, vehiclesAt: -1,
-  frames: 0, fps: 0, key: new Float64Array(9), drawnKey: new Float64Array(9).fill(NaN), drawn: { posts: 0, solids: 0, vehicles: 0 }, windows: 0, error: null,
+  frames: 0, fps: 0, key: new Float64Array(9), drawnKey: new Float64Array(9).fill(NaN),
+  drawn: { posts: 0, solids: 0, vehicles: 0 }, windows: 0, error: null,
+  instances: new VehicleInstances(WHOLE_MAX, NEAR_MAX, POINTS_ALL), pendingMove: false,
+  // The page's own time in render() (JS and GL calls; with `finish` set, the rasteriser's too).
+  cost: { frames: 0, ms: 0, finish: false },
+  mats: { proj: new Float32Array(16), view: new Float32Array(16), mvp: new Float32Array(16),
+          eye: new Float64Array(3), at: new Float64Array(3) },
 };
 window.dtView3d = v3;
 const $ = (id) => document.getElementById(id);
 
-function norm(v) { const l = Math.hypot(...v); return v.map((c) => c / l); }
-function cross(a, b) { return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]; }
-function sub(a, b) { return [a[0] - b[0], a[1] - b[1], a[2] - b[2]]; }
-function dot(a, b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-// Column-major 4x4 matrices, as WebGL takes them.
-function perspective(fovy, aspect, near, far) {
-  const f = 1 / Math.tan(fovy / 2), nf = 1 / (near - far);
-  return [f / aspect, 0, 0, 0, 0, f, 0, 0, 0, 0, (far + near) * nf, -1, 0, 0, 2 * far * near * nf, 0];
-}
-function lookAt(eye, at, up) {
-  const z = norm(sub(eye, at)), x = norm(cross(up, z)), y = cross(z, x);
-  return [x[0], y[0], z[0], 0, x[1], y[1], z[1], 0, x[2], y[2], z[2], 0,
-          -dot(x, eye), -dot(y, eye), -dot(z, eye), 1];
-}
-function mul(a, b) {
-  const o = new Array(16).fill(0);
-  for (let c = 0; c < 4; ++c) for (let r = 0; r < 4; ++r)
-    for (let k = 0; k < 4; ++k) o[c * 4 + r] += a[k * 4 + r] * b[c * 4 + k];
-  return o;
-}
-
 // The terrain's frame is x east, z north, y up (docs/conventions.md): GL's z is the terrain's -z,
 // so the picture is not mirrored.
-const VS = `#version 300 es
-uniform mat4 mvp; uniform float scale; uniform float pointPx; uniform vec3 eye; uniform float nearM;
+// Shapes are drawn without instancing: SwiftShader (chromium's WebGL without a GPU) runs an
+// instanced draw instance by instance, about 27 us each (2000 shapes of 2 triangles cost as much
+// as of 36), so each of SHAPES_PER_DRAW instances' data is a uniform block's entry, the one mesh
+// another block, and one plain draw of n x the mesh's vertices finds both by gl_VertexID.
+const SHAPES_PER_DRAW = 512;  // 16 kB of instances: the least uniform block size WebGL 2 allows
+const vertexShader = (shapeVerts) => `#version 300 es
+uniform mat4 mvp; uniform float scale; uniform float pointPx; uniform int mode;  // 0 meshes, 1 shapes, 2 points
+uniform int shapeVerts;  // the shape's first vertices drawn: all, or the hull's
+layout(std140) uniform Shape { vec4 shapeV[${shapeVerts * 3}]; };  // per vertex: place, normal, shade
+layout(std140) uniform Instances { vec4 instV[${SHAPES_PER_DRAW * 2}]; };  // as inst, instCol
 in vec3 pos; in vec3 nrm; in vec3 col;
-in vec4 inst; in vec3 instCol;  // vehicles: x, y, z, heading; colour (zero for the meshes)
-out vec3 vCol; out float vLight;
+in vec4 inst; in vec4 instCol;  // points: x, y, z, heading; owner's colour, dead (1) or not (0)
+out vec3 vCol; out float vLight; out float vDeadPoint;
 void main() {
-  vec3 p = pos, n = nrm, c = col;
-  if (inst.y < ${HIDDEN_Y / 2}.0 || pointPx > 0.0 &&
-      distance(vec3(inst.x, inst.y, -inst.z), eye) < nearM) {  // not drawn, or drawn as a shape
-    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
-    gl_PointSize = 0.0;
-    vCol = vec3(0.0); vLight = 0.0;
-    return;
-  }
-  if (pointPx > 0.0) {  // a vehicle as one point: its place, lifted by its height
+  vDeadPoint = 0.0;
+  if (mode == 2) {  // a vehicle as one point: its place, lifted by its height, unlit
     gl_Position = mvp * vec4(inst.x, inst.y + scale * ${VEHICLE_H}, -inst.z, 1.0);
     gl_PointSize = pointPx;
-    vCol = instCol;
+    vCol = instCol.rgb * (instCol.a > 0.5 ? 0.55 : 1.0);
+    vDeadPoint = instCol.a;
     vLight = 1.0;
     return;
   }
-  if (scale > 0.0) {
-    float ch = cos(inst.w), sh = sin(inst.w);
-    p = vec3(inst.x + scale * (p.x * ch - p.z * sh), inst.y + scale * p.y,
-             inst.z + scale * (p.x * sh + p.z * ch));
+  vec3 p = pos, n = nrm, c = col;
+  if (mode == 1) {  // a vehicle's shape: turned to its heading, tinted by its owner
+    int i = gl_VertexID / shapeVerts, v = gl_VertexID - i * shapeVerts;
+    vec4 at = instV[2 * i], ic = instV[2 * i + 1];
+    p = shapeV[3 * v].xyz; n = shapeV[3 * v + 1].xyz;
+    float shade = shapeV[3 * v + 2].x, ch = cos(at.w), sh = sin(at.w);
+    p = vec3(at.x + scale * (p.x * ch - p.z * sh), at.y + scale * p.y,
+             at.z + scale * (p.x * sh + p.z * ch));
     n = vec3(n.x * ch - n.z * sh, n.y, n.x * sh + n.z * ch);
-    c = instCol * col;
+    // Dead: the hull its owner's colour darkened, the turret and gun burnt.
+    c = ic.a < 0.5 ? ic.rgb * shade : shade > 0.9 ? ic.rgb * 0.55 : vec3(0.30, 0.07, 0.04);
   }
   gl_Position = mvp * vec4(p.x, p.y, -p.z, 1.0);
   vCol = c;
   vLight = 0.45 + 0.55 * max(dot(normalize(n), vec3(${SUN[0]}, ${SUN[1]}, ${SUN[2]})), 0.0);
 }`;
+// A dead vehicle's point has a red centre, as the map's dead markers a red cross.
 const FS = `#version 300 es
 precision mediump float;
-in vec3 vCol; in float vLight; out vec4 outColour;
-void main() { outColour = vec4(vCol * vLight, 1.0); }`;
+in vec3 vCol; in float vLight; in float vDeadPoint; out vec4 outColour;
+void main() {
+  vec3 c = vCol * vLight;
+  if (vDeadPoint > 0.5 && length(gl_PointCoord - 0.5) < 0.3) c = vec3(1.0, 0.23, 0.17);
+  outColour = vec4(c, 1.0);
+}`;
 
-function compile(gl) {
+function compile(gl, VS) {
   const prog = gl.createProgram();
   for (const [type, text] of [[gl.VERTEX_SHADER, VS], [gl.FRAGMENT_SHADER, FS]]) {
     const s = gl.createShader(type);
@@ -114,140 +111,56 @@ function release(gl, m) {
   gl.deleteVertexArray(m.vao); gl.deleteBuffer(m.vb); gl.deleteBuffer(m.ib);
 }
 
-// The ground: a grid of the window's samples, coloured by height and tinted where earthworks cut
-// (craters, ditches: dark earth) or raise it (berms: light earth). Level of detail: every sample
-// in the middle half of the window (around the camera's target), every other one beyond it, where
-// the ground is far and small on the screen: a software rasteriser's frame follows the triangles.
-function groundMesh(w) {
-  const { nx, nz, step, x0, z0, h, d } = w;
-  const verts = new Float32Array(nx * nz * 9);
-  let lo = Infinity, hi = -Infinity;
-  for (const e of h) { lo = Math.min(lo, e); hi = Math.max(hi, e); }
-  const span = Math.max(hi - lo, 1);
-  const at = (i, j) => h[Math.min(nz - 1, Math.max(0, j)) * nx + Math.min(nx - 1, Math.max(0, i))];
-  for (let j = 0; j < nz; ++j) {
-    for (let i = 0; i < nx; ++i) {
-      const k = (j * nx + i) * 9, e = h[j * nx + i], dd = d[j * nx + i];
-      const n = norm([(at(i - 1, j) - at(i + 1, j)) / (2 * step), 1, (at(i, j - 1) - at(i, j + 1)) / (2 * step)]);
-      const t = (e - lo) / span;
-      let c = [0.32 + 0.28 * t, 0.46 + 0.18 * t, 0.24 + 0.14 * t];
-      if (dd < -0.05) c = mix(c, [0.36, 0.25, 0.16], Math.min(1, -dd / 1.5));
-      else if (dd > 0.05) c = mix(c, [0.78, 0.66, 0.44], Math.min(1, dd / 1.0));
-      verts.set([x0 + i * step, e, z0 + j * step, n[0], n[1], n[2], c[0], c[1], c[2]], k);
-    }
-  }
-  // The coarse lines: every other sample, and the last; the fine block between two of them on
-  // each axis, a quarter of the window either side of the target.
-  const lines = (n) => { const l = []; for (let i = 0; i < n; i += 2) l.push(i); if (l[l.length - 1] !== n - 1) l.push(n - 1); return l; };
-  const xs = lines(nx), zs = lines(nz);
-  const block = (lines, n, centre) => {
-    const near = (v) => lines.reduce((b, l) => (Math.abs(l - v) < Math.abs(b - v) ? l : b), lines[0]);
-    return [near(centre - (n - 1) / 4), near(centre + (n - 1) / 4)];
-  };
-  const [fi0, fi1] = block(xs, nx, ((w.cx ?? x0 + (nx - 1) * step / 2) - x0) / step);
-  const [fj0, fj1] = block(zs, nz, ((w.cz ?? z0 + (nz - 1) * step / 2) - z0) / step);
-  const fine = (i, j) => i >= fi0 && i < fi1 && j >= fj0 && j < fj1;
-  const idx = [];
-  const quad = (i0, j0, i1, j1) => {
-    const a = j0 * nx + i0, b = j0 * nx + i1, c = j1 * nx + i0, e = j1 * nx + i1;
-    idx.push(a, c, b, b, c, e);
-  };
-  for (let b = 0; b + 1 < zs.length; ++b) {
-    for (let a = 0; a + 1 < xs.length; ++a) {
-      if (!fine(xs[a], zs[b])) { quad(xs[a], zs[b], xs[a + 1], zs[b + 1]); continue; }
-      for (let j = zs[b]; j < zs[b + 1]; ++j) for (let i = xs[a]; i < xs[a + 1]; ++i) quad(i, j, i + 1, j + 1);
-    }
-  }
-  // No cracks: a fine sample on the block's edge between two coarse ones lies on their line.
-  const y = (i, j) => verts[(j * nx + i) * 9 + 1];
-  const onLine = (i, j, ia, ja, ib, jb) => { verts[(j * nx + i) * 9 + 1] = (y(ia, ja) + y(ib, jb)) / 2; };
-  for (let i = fi0 + 1; i < fi1; i += 2) {
-    if (fj0 > 0) onLine(i, fj0, i - 1, fj0, i + 1, fj0);
-    if (fj1 < nz - 1) onLine(i, fj1, i - 1, fj1, i + 1, fj1);
-  }
-  for (let j = fj0 + 1; j < fj1; j += 2) {
-    if (fi0 > 0) onLine(fi0, j, fi0, j - 1, fi0, j + 1);
-    if (fi1 < nx - 1) onLine(fi1, j, fi1, j - 1, fi1, j + 1);
-  }
-  return { verts, idx: new Uint32Array(idx), triangles: idx.length / 3 };
+// The context's attributes (a test may pass others in window.dtView3dContext to compare them):
+// no drawing buffer kept after it is shown, which would cost a copy a frame; the tests read the
+// pixels through snapshot(), which draws and reads in one task.
+function contextAttributes() {
+  return Object.assign({ antialias: false, preserveDrawingBuffer: false, depth: true,
+                         powerPreference: "high-performance" }, window.dtView3dContext || {});
 }
-function mix(a, b, t) { return a.map((v, k) => v + (b[k] - v) * t); }
-
-// A bridge solid (vehicle/bridge_solids.h Solid) as its six faces, flat-shaded: the same boxes
-// render/bridge_mesh draws and the vehicles drive on.
-const BRIDGE_RGB = { deck: [0.72, 0.72, 0.70], pier: [0.55, 0.55, 0.53], rubble: [0.42, 0.36, 0.32] };
-function solidFaces(s, verts, idx) {
-  const [ox, oz] = s.o, [ux, uz] = s.u;
-  const P = (a, r, top) => {
-    const first = a === s.a[0];
-    const y = top ? (first ? s.top[0] : s.top[1]) : (first ? s.bottom[0] : s.bottom[1]);
-    return [ox + a * ux + r * uz, y, oz + a * uz - r * ux];
-  };
-  const [a0, a1] = s.a, [r0, r1] = s.r;
-  const t00 = P(a0, r0, 1), t10 = P(a1, r0, 1), t11 = P(a1, r1, 1), t01 = P(a0, r1, 1);
-  const b00 = P(a0, r0, 0), b10 = P(a1, r0, 0), b11 = P(a1, r1, 0), b01 = P(a0, r1, 0);
-  const c = BRIDGE_RGB[s.kind] || BRIDGE_RGB.deck;
-  const quad = (p, q, r, t) => {
-    // The face's normal from its corners, in the terrain's frame (z north).
-    const n = norm(cross(sub(q, p), sub(r, p)));
-    const base = verts.length / 9;
-    for (const v of [p, q, r, t]) verts.push(v[0], v[1], v[2], n[0], n[1], n[2], c[0], c[1], c[2]);
-    idx.push(base, base + 1, base + 2, base, base + 2, base + 3);
-  };
-  quad(t00, t10, t11, t01); quad(b00, b01, b11, b10);
-  quad(t00, b00, b10, t10); quad(t01, t11, b11, b01);
-  quad(t00, t01, b01, b00); quad(t10, b10, b11, t11);
-}
-
-// A vehicle: a hull and a smaller turret, 1 long along +x (its heading), white (tinted by owner).
-function vehicleShape() {
-  const verts = [], idx = [];
-  const box = (x0, x1, y0, y1, w, shade) => {
-    const s = { o: [0, 0], u: [1, 0], a: [x0, x1], r: [-w / 2, w / 2], bottom: [y0, y0], top: [y1, y1], kind: "v" };
-    const before = verts.length;
-    solidFaces(s, verts, idx);
-    for (let k = before; k < verts.length; k += 9) verts[k + 6] = verts[k + 7] = verts[k + 8] = shade;
-  };
-  box(-VEHICLE_L / 2, VEHICLE_L / 2, 0, VEHICLE_H * 0.55, VEHICLE_W, 1.0);
-  box(-VEHICLE_L * 0.15, VEHICLE_L * 0.3, VEHICLE_H * 0.55, VEHICLE_H, VEHICLE_W * 0.6, 0.8);
-  box(VEHICLE_L * 0.3, VEHICLE_L * 0.75, VEHICLE_H * 0.72, VEHICLE_H * 0.82, 0.35, 0.6);  // gun
-  // solidFaces writes z as the terrain's north: the vertex shader flips it with the rest.
-  return { verts: new Float32Array(verts), idx: new Uint32Array(idx) };
-}
-
 function setUp() {
   const canvas = $("view3d");
-  const gl = canvas.getContext("webgl2", { antialias: false, preserveDrawingBuffer: true });
+  const gl = canvas.getContext("webgl2", contextAttributes());
   if (!gl) { v3.error = "this browser has no WebGL 2"; return false; }
   v3.gl = gl;
-  v3.prog = compile(gl);
+  // The shape's vertices unindexed: place, normal and shade, each a vec4 of the Shape block.
+  const shape = M.vehicleShape(), sv = new Float32Array(shape.idx.length * 12);
+  shape.idx.forEach((k, v) => {
+    for (let c = 0; c < 3; ++c) for (let e = 0; e < 3; ++e) sv[v * 12 + c * 4 + e] = shape.verts[k * 9 + c * 3 + e];
+  });
+  v3.shapeVerts = shape.idx.length;
+  v3.prog = compile(gl, vertexShader(v3.shapeVerts));
   v3.loc = {};
-  for (const u of ["mvp", "scale", "pointPx", "eye", "nearM"]) v3.loc[u] = gl.getUniformLocation(v3.prog, u);
+  for (const u of ["mvp", "scale", "pointPx", "mode", "shapeVerts"]) v3.loc[u] = gl.getUniformLocation(v3.prog, u);
+  gl.uniformBlockBinding(v3.prog, gl.getUniformBlockIndex(v3.prog, "Shape"), 0);
+  gl.uniformBlockBinding(v3.prog, gl.getUniformBlockIndex(v3.prog, "Instances"), 1);
+  v3.shapeBuffer = gl.createBuffer();
+  gl.bindBuffer(gl.UNIFORM_BUFFER, v3.shapeBuffer);
+  gl.bufferData(gl.UNIFORM_BUFFER, sv, gl.STATIC_DRAW);
+  gl.bindBufferBase(gl.UNIFORM_BUFFER, 0, v3.shapeBuffer);
+  // The nearest vehicles' instances (whole shapes, hulls: a buffer each), SHAPES_PER_DRAW a draw
+  // (the buffer a whole number of them: a block's range is always full); every block is bound
+  // whatever is drawn, as GL asks.
+  v3.blockBytes = SHAPES_PER_DRAW * INSTANCE_FLOATS * 4;
+  v3.wholeBuffer = { buffer: gl.createBuffer(), bytes: 0 };
+  v3.hullBuffer = { buffer: gl.createBuffer(), bytes: 0 };
+  gl.bindBuffer(gl.UNIFORM_BUFFER, v3.wholeBuffer.buffer);
+  gl.bufferData(gl.UNIFORM_BUFFER, v3.blockBytes, gl.DYNAMIC_DRAW);
+  gl.bindBufferRange(gl.UNIFORM_BUFFER, 1, v3.wholeBuffer.buffer, 0, v3.blockBytes);
+  // The hull's vertices: the shape's first box.
+  v3.hullVerts = 36;
+  v3.noAttributes = gl.createVertexArray();
   const inst = gl.getAttribLocation(v3.prog, "inst"), col = gl.getAttribLocation(v3.prog, "instCol");
-  // The shape's vertices, and per instance the vehicle's place and colour: every slot's instance
-  // in one buffer (drawn as points), the nearest vehicles' in another (drawn as shapes).
-  const shape = vehicleShape();
-  const withInstances = (buffer) => {
-    const m = upload(gl, shape.verts, shape.idx);
-    gl.bindVertexArray(m.vao);
-    gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
-    gl.enableVertexAttribArray(inst); gl.vertexAttribPointer(inst, 4, gl.FLOAT, false, 28, 0);
-    gl.vertexAttribDivisor(inst, 1);
-    gl.enableVertexAttribArray(col); gl.vertexAttribPointer(col, 3, gl.FLOAT, false, 28, 16);
-    gl.vertexAttribDivisor(col, 1);
-    gl.bindVertexArray(null);
-    return m;
-  };
-  v3.instances = gl.createBuffer();
-  v3.nearInstances = gl.createBuffer();
-  v3.near = withInstances(v3.nearInstances);
-  // The points: the same buffer read per vertex, not per instance, so all are one plain draw (a
-  // CPU rasteriser runs an instanced draw instance by instance: 9000 points took it 130 ms).
+  const F = INSTANCE_FLOATS * 4;
+  // The points: the far vehicles' buffer read per vertex, not per instance, so all are one plain
+  // draw (a CPU rasteriser runs an instanced draw instance by instance: 9000 points took it 130 ms).
+  v3.farBuffer = gl.createBuffer();
+  v3.farBytes = 0;
   v3.points = gl.createVertexArray();
   gl.bindVertexArray(v3.points);
-  gl.bindBuffer(gl.ARRAY_BUFFER, v3.instances);
-  gl.enableVertexAttribArray(inst); gl.vertexAttribPointer(inst, 4, gl.FLOAT, false, 28, 0);
-  gl.enableVertexAttribArray(col); gl.vertexAttribPointer(col, 3, gl.FLOAT, false, 28, 16);
+  gl.bindBuffer(gl.ARRAY_BUFFER, v3.farBuffer);
+  gl.enableVertexAttribArray(inst); gl.vertexAttribPointer(inst, 4, gl.FLOAT, false, F, 0);
+  gl.enableVertexAttribArray(col); gl.vertexAttribPointer(col, 4, gl.FLOAT, false, F, 16);
   gl.bindVertexArray(null);
   return true;
 }
@@ -276,11 +189,11 @@ async function fetchWindow(now) {
     Object.assign(w, { cx, cz, half });
     const gl = v3.gl;
     release(gl, v3.ground); release(gl, v3.bridges);
-    const g = groundMesh(w);
+    const g = M.groundMesh(w);
     v3.ground = upload(gl, g.verts, g.idx);
     v3.groundTriangles = g.triangles;
     const verts = [], idx = [];
-    for (const s of w.solids) solidFaces(s, verts, idx);
+    for (const s of w.solids) M.solidFaces(s, verts, idx);
     v3.bridges = idx.length ? upload(gl, new Float32Array(verts), new Uint32Array(idx)) : null;
     v3.decks = w.solids.filter((s) => s.kind !== "pier");
     v3.win = w;
@@ -314,73 +227,67 @@ function heightAt(x, z) {
   return y;
 }
 
-// The vehicles as instances (x, y, z, heading, r, g, b), one per slot of the page's vehicle
-// table: the slots a message moved are rewritten and the range they span uploaded; the whole
-// buffer only when the terrain window (the heights) or the table's size changed.
-function instanceOf(tb, s, data, shown) {
-  const o = s * 7;
+// The vehicles' instances follow the table's moved slots on every animation frame (no GL
+// call: the buffers are filled when a frame is drawn); all slots again when the terrain window
+// (the heights) or the table's size changed. Returns whether a vehicle on the window moved.
+// Named functions, not closures made per call: nothing allocated on an animation frame.
+let movedOnWindow = false;
+function followSlot(s) {
+  const tb = window.dtView.state.vehicles;
   const y = tb.used[s] ? heightAt(tb.x[s], tb.z[s]) : null;
-  const was = shown[s];
-  shown[s] = y === null ? 0 : 1;
-  v3.vehicleCount += shown[s] - was;
-  if (y === null) { data[o + 1] = HIDDEN_Y; return; }
-  const c = tb.alive[s] ? window.dtView.ownerRgb(tb.owners[tb.owner[s]]) : [70, 70, 70];
-  data[o] = tb.x[s]; data[o + 1] = y; data[o + 2] = tb.z[s]; data[o + 3] = tb.heading[s];
-  data[o + 4] = c[0] / 255; data[o + 5] = c[1] / 255; data[o + 6] = c[2] / 255;
-}
-function updateVehicles() {
-  const tb = window.dtView.state.vehicles, gl = v3.gl;
-  gl.bindBuffer(gl.ARRAY_BUFFER, v3.instances);
-  if (v3.vehiclesAt === -1 || !v3.inst || v3.inst.length !== tb.cap * 7) {
-    v3.inst = new Float32Array(tb.cap * 7).fill(HIDDEN_Y);
-    v3.shown = new Uint8Array(tb.cap);
-    v3.vehicleCount = 0;
-    tb.takeChanged(() => {});
-    for (let s = 0; s < tb.end; ++s) instanceOf(tb, s, v3.inst, v3.shown);
-    gl.bufferData(gl.ARRAY_BUFFER, v3.inst, gl.DYNAMIC_DRAW);
-    v3.vehiclesAt = 0;
-    v3.uploaded = tb.cap;
-    return;
+  if (v3.instances.set(tb, s, y, y === null ? null : window.dtView.ownerRgb(tb.owners[tb.owner[s]]))) {
+    movedOnWindow = true;
   }
-  let lo = Infinity, hi = -1;
-  tb.takeChanged((s) => { instanceOf(tb, s, v3.inst, v3.shown); lo = Math.min(lo, s); hi = Math.max(hi, s); });
-  if (hi >= lo) {
-    gl.bufferSubData(gl.ARRAY_BUFFER, lo * 28, v3.inst, lo * 7, (hi - lo + 1) * 7);
-    v3.uploaded += hi - lo + 1;
+}
+function ignoreSlot() {}
+function updateVehicles() {
+  const tb = window.dtView.state.vehicles, vi = v3.instances;
+  if (!v3.win) return false;
+  movedOnWindow = false;
+  if (v3.vehiclesAt === -1 || vi.cap !== tb.cap) {
+    vi.reset(tb.cap);
+    tb.takeChanged(ignoreSlot);
+    for (let s = 0; s < tb.end; ++s) followSlot(s);
+    v3.vehiclesAt = 0;
+    return true;
+  }
+  tb.takeChanged(followSlot);
+  return movedOnWindow;
+}
+
+// A uniform buffer of whole blocks holding `data`'s first n instances.
+function fillBlocks(b, data, n) {
+  if (!n) return;
+  const gl = v3.gl, bytes = Math.ceil(data.length / INSTANCE_FLOATS / SHAPES_PER_DRAW) * v3.blockBytes;
+  gl.bindBuffer(gl.UNIFORM_BUFFER, b.buffer);
+  if (b.bytes !== bytes) { b.bytes = bytes; gl.bufferData(gl.UNIFORM_BUFFER, bytes, gl.DYNAMIC_DRAW); }
+  gl.bufferSubData(gl.UNIFORM_BUFFER, 0, data, 0, n * INSTANCE_FLOATS);
+}
+// n shapes of `verts` vertices each from buffer b, SHAPES_PER_DRAW a draw.
+function drawShapes(b, n, verts) {
+  const gl = v3.gl;
+  gl.uniform1i(v3.loc.shapeVerts, verts);
+  for (let from = 0; from < n; from += SHAPES_PER_DRAW) {
+    gl.bindBufferRange(gl.UNIFORM_BUFFER, 1, b.buffer, from * INSTANCE_FLOATS * 4, v3.blockBytes);
+    gl.drawArrays(gl.TRIANGLES, 0, Math.min(SHAPES_PER_DRAW, n - from) * verts);
   }
 }
 
-// Level of detail: shapes for the nearest vehicles (all of them while they are NEAR_MAX or fewer),
-// points for the rest; returns the radius from the eye inside which vehicles are shapes.
-function nearVehicles(eye) {
-  const tb = window.dtView.state.vehicles, data = v3.inst, shown = v3.shown;
-  const all = v3.vehicleCount <= NEAR_MAX;
-  const limit = all ? Infinity : NEAR_M * NEAR_M;
-  if (!v3.nearD || v3.nearD.length < tb.cap) {
-    v3.nearD = new Float32Array(tb.cap); v3.nearS = new Uint32Array(tb.cap);
+// The frame's vehicles: the nearest as shapes, the rest as points (the far ones thinned), each
+// buffer filled in place and uploaded with bufferSubData; reallocated only when the table grew.
+function uploadVehicles(eye) {
+  const gl = v3.gl, vi = v3.instances;
+  vi.select(window.dtView.state.vehicles.end, eye[0], eye[1], eye[2]);
+  fillBlocks(v3.wholeBuffer, vi.whole, vi.wholeCount);
+  fillBlocks(v3.hullBuffer, vi.hulls, vi.nearCount - vi.wholeCount);
+  if (vi.farCount) {
+    gl.bindBuffer(gl.ARRAY_BUFFER, v3.farBuffer);
+    if (v3.farBytes !== vi.far.byteLength) {
+      v3.farBytes = vi.far.byteLength;
+      gl.bufferData(gl.ARRAY_BUFFER, v3.farBytes, gl.DYNAMIC_DRAW);
+    }
+    gl.bufferSubData(gl.ARRAY_BUFFER, 0, vi.far, 0, vi.farCount * INSTANCE_FLOATS);
   }
-  let n = 0;
-  for (let s = 0; s < tb.end; ++s) {
-    if (!shown[s]) continue;
-    const o = s * 7, dx = data[o] - eye[0], dy = data[o + 1] - eye[1], dz = -data[o + 2] - eye[2];
-    const d = dx * dx + dy * dy + dz * dz;
-    if (d < limit) { v3.nearD[n] = d; v3.nearS[n] = s; ++n; }
-  }
-  let radius2 = limit;
-  if (n > NEAR_MAX) radius2 = v3.nearD.slice(0, n).sort()[NEAR_MAX];
-  const near = v3.nearBuf && v3.nearBuf.length >= NEAR_MAX * 7 ? v3.nearBuf
-    : (v3.nearBuf = new Float32Array(NEAR_MAX * 7));
-  let k = 0;
-  for (let i = 0; i < n && k < NEAR_MAX; ++i) {
-    if (v3.nearD[i] >= radius2) continue;
-    near.set(data.subarray(v3.nearS[i] * 7, v3.nearS[i] * 7 + 7), k * 7);
-    ++k;
-  }
-  const gl = v3.gl;
-  gl.bindBuffer(gl.ARRAY_BUFFER, v3.nearInstances);
-  gl.bufferData(gl.ARRAY_BUFFER, near.subarray(0, k * 7), gl.DYNAMIC_DRAW);
-  v3.nearCount = k;
-  return all ? Infinity : Math.sqrt(radius2);
 }
 
 function draw(now) {
@@ -392,29 +299,39 @@ function draw(now) {
     if (r) { cam.x = r[3]; cam.z = r[4]; }
   }
   if (needsWindow(now)) fetchWindow(now);
+  if (updateVehicles()) v3.pendingMove = true;
   const gl = v3.gl, canvas = gl.canvas;
-  const W = canvas.clientWidth, H = canvas.clientHeight;
-  // Drawn only when something it shows changed (the camera, the window, a vehicle, the size):
-  // the work follows the messages and the operator, not the display's rate.
+  // Drawn only when something it shows changed (the camera, the window, a vehicle on it, the
+  // size): the work follows the messages and the operator, not the display's rate, and v3.fps
+  // counts the frames drawn when there was something to draw.
   // The vehicles' moves alone redraw at most every VEHICLE_REDRAW_MS: the page keeps applying its
   // messages (and stays current) however slowly the rasteriser draws.
   const dv = window.dtView;
   // What the picture depends on, compared in place: nothing allocated on a frame not drawn.
   const key = v3.key, was = v3.drawnKey;
   key[0] = cam.x; key[1] = cam.z; key[2] = cam.yaw; key[3] = cam.pitch; key[4] = cam.dist;
-  key[5] = v3.windows; key[6] = dv.snapshotAt; key[7] = W; key[8] = H;
+  key[5] = v3.windows; key[6] = dv.snapshotAt; key[7] = canvas.clientWidth; key[8] = canvas.clientHeight;
   let same = true;
   for (let i = 0; i < key.length; ++i) same = same && key[i] === was[i];
-  const moved = dv.deltas !== v3.drawnDeltas && now - (v3.drawnAt || 0) >= VEHICLE_REDRAW_MS;
+  const moved = v3.pendingMove && now - (v3.drawnAt || 0) >= VEHICLE_REDRAW_MS;
   if (same && !moved) return;
   was.set(key);
-  v3.drawnDeltas = dv.deltas;
   v3.drawnAt = now;
   ++v3.frames;
   if (now - (v3.fpsFrom || 0) >= 1000) {
     v3.fps = v3.fpsFrom ? Math.round((v3.frames - v3.fpsFrames) * 1000 / (now - v3.fpsFrom)) : 0;
     v3.fpsFrom = now; v3.fpsFrames = v3.frames;
+    v3.helpDue = true;
   }
+  render();
+}
+
+// One picture of the scene as it is now.
+function render() {
+  const t0 = performance.now();
+  v3.pendingMove = false;
+  const gl = v3.gl, canvas = gl.canvas, cam = v3.cam, mats = v3.mats;
+  const W = canvas.clientWidth, H = canvas.clientHeight;
   // Fewer pixels than the screen's on a large canvas: the picture scaled up, not a stalled page.
   const k = Math.min(1, Math.sqrt(MAX_PIXELS / Math.max(1, W * H)));
   const PW = Math.round(W * k), PH = Math.round(H * k);
@@ -426,55 +343,74 @@ function draw(now) {
   gl.enable(gl.DEPTH_TEST);
   gl.useProgram(v3.prog);
   const ty = heightAt(cam.x, cam.z) ?? 0;
-  const at = [cam.x, ty, -cam.z];
-  const eye = [at[0] - cam.dist * Math.cos(cam.pitch) * Math.sin(cam.yaw),
-               at[1] + cam.dist * Math.sin(cam.pitch),
-               at[2] + cam.dist * Math.cos(cam.pitch) * Math.cos(cam.yaw)];
-  const mvp = mul(perspective(0.9, W / Math.max(H, 1), Math.max(0.5, cam.dist / 200), cam.dist * 8 + 4000),
-                  lookAt(eye, at, [0, 1, 0]));
-  gl.uniformMatrix4fv(v3.loc.mvp, false, mvp);
-  gl.uniform1f(v3.loc.scale, 0);
-  gl.uniform1f(v3.loc.nearM, 0);
-  gl.uniform3fv(v3.loc.eye, eye);
-  for (const m of [v3.ground, v3.bridges]) {
-    if (!m) continue;
-    gl.bindVertexArray(m.vao);
-    gl.drawElements(gl.TRIANGLES, m.count, gl.UNSIGNED_INT, 0);
-  }
-  updateVehicles();
-  const nearM = nearVehicles(eye);
+  const at = mats.at, eye = mats.eye;
+  at[0] = cam.x; at[1] = ty; at[2] = -cam.z;
+  eye[0] = at[0] - cam.dist * Math.cos(cam.pitch) * Math.sin(cam.yaw);
+  eye[1] = at[1] + cam.dist * Math.sin(cam.pitch);
+  eye[2] = at[2] + cam.dist * Math.cos(cam.pitch) * Math.cos(cam.yaw);
+  M.mul(mats.mvp, M.perspective(mats.proj, 0.9, W / Math.max(H, 1), Math.max(0.5, cam.dist / 200),
+                                cam.dist * 8 + 4000),
+        M.lookAt(mats.view, eye, at));
+  gl.uniformMatrix4fv(v3.loc.mvp, false, mats.mvp);
+  gl.uniform1i(v3.loc.mode, 0);
+  if (v3.ground) { gl.bindVertexArray(v3.ground.vao); gl.drawElements(gl.TRIANGLES, v3.ground.count, gl.UNSIGNED_INT, 0); }
+  if (v3.bridges) { gl.bindVertexArray(v3.bridges.vao); gl.drawElements(gl.TRIANGLES, v3.bridges.count, gl.UNSIGNED_INT, 0); }
+  uploadVehicles(eye);
+  const vi = v3.instances;
   // Vehicles at their size up close, larger when far so a marker stays a few pixels.
   gl.uniform1f(v3.loc.scale, Math.max(1, cam.dist / 250));
-  gl.uniform1f(v3.loc.pointPx, 0);
-  if (v3.nearCount) {
-    gl.bindVertexArray(v3.near.vao);
-    gl.drawElementsInstanced(gl.TRIANGLES, v3.near.count, gl.UNSIGNED_INT, 0, v3.nearCount);
+  if (vi.nearCount) {
+    gl.uniform1i(v3.loc.mode, 1);
+    gl.bindVertexArray(v3.noAttributes);
+    drawShapes(v3.wholeBuffer, vi.wholeCount, v3.shapeVerts);
+    drawShapes(v3.hullBuffer, vi.nearCount - vi.wholeCount, v3.hullVerts);
+    gl.bindBufferRange(gl.UNIFORM_BUFFER, 1, v3.wholeBuffer.buffer, 0, v3.blockBytes);
   }
   // The rest as one point each (a shape of 72 vertices each costs a CPU rasteriser too much at
-  // thousands); the shader leaves out those inside nearM, drawn as shapes.
-  const points = v3.vehicleCount - v3.nearCount;
-  if (points > 0) {
+  // thousands).
+  if (vi.farCount) {
+    gl.uniform1i(v3.loc.mode, 2);
     gl.uniform1f(v3.loc.pointPx, 5);
-    gl.uniform1f(v3.loc.nearM, nearM === Infinity ? 1e30 : nearM);
     gl.bindVertexArray(v3.points);
-    gl.drawArrays(gl.POINTS, 0, window.dtView.state.vehicles.end);
+    gl.drawArrays(gl.POINTS, 0, vi.farCount);
   }
-  gl.uniform1f(v3.loc.pointPx, 0);
   gl.bindVertexArray(null);
-  v3.drawn = { posts: v3.win.nx * v3.win.nz, step: v3.win.step, solids: v3.win.solids.length,
-               triangles: v3.groundTriangles,
-               vehicles: v3.vehicleCount, shapes: v3.nearCount, points, pixels: PW * PH };
-  $("help3d").textContent = `3D: ${v3.fps} fps, ${v3.win.nx}×${v3.win.nz} posts every ` +
-    `${v3.win.step} m, ${v3.win.solids.length} bridge solids, ${v3.vehicleCount} vehicles` +
-    (cam.follow ? `, following ${cam.follow}` : "") + (v3.error ? ` (${v3.error})` : "");
+  if (v3.cost.finish) gl.finish();
+  const d = v3.drawn, w = v3.win;
+  d.posts = w.nx * w.nz; d.step = w.step; d.solids = w.solids.length; d.triangles = v3.groundTriangles;
+  d.vehicles = vi.shown; d.shapes = vi.nearCount; d.whole = vi.wholeCount; d.points = vi.farCount; d.thinned = vi.thinned;
+  d.wholeWithinM = vi.wholeM; d.shapesWithinM = vi.nearM; d.thinnedBeyondM = vi.thinM; d.pixels = PW * PH;
+  if (v3.helpDue || v3.helpWindow !== v3.windows) {
+    v3.helpDue = false; v3.helpWindow = v3.windows;
+    $("help3d").textContent = `3D: ${v3.fps} fps, ${w.nx}×${w.nz} posts every ` +
+      `${w.step} m, ${w.solids.length} bridge solids, ${vi.shown} vehicles` +
+      (cam.follow ? `, following ${cam.follow}` : "") + (v3.error ? ` (${v3.error})` : "");
+  }
+  const t1 = performance.now();
+  ++v3.cost.frames; v3.cost.ms += t1 - t0;
+  noteSlow("dt:draw3d", t0, t1);
 }
+// The picture as it is now, drawn and read in one task (the canvas keeps no drawing buffer once
+// shown): {width, height, rgba} with the top row first. For tests and a saved picture.
+v3.snapshot = () => {
+  if (!v3.on) return null;
+  render();
+  const gl = v3.gl, w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+  const up = new Uint8Array(w * h * 4), rgba = new Uint8Array(w * h * 4);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, up);
+  for (let y = 0; y < h; ++y) rgba.set(up.subarray((h - 1 - y) * w * 4, (h - y) * w * 4), y * w * 4);
+  return { width: w, height: h, rgba };
+};
 
 function show(on) {
   if (on && !v3.gl && !setUp()) { $("help3d").textContent = v3.error; }
   v3.on = on && !!v3.gl;
   v3.drawnKey.fill(NaN);  // drawn at once
   v3.vehiclesAt = -1;  // the table's moves were not followed while hidden
+  // The map is hidden, not only covered, while the 3D view shows (no layer of it composited),
+  // and drawn again when it shows.
   $("mapbox").classList.toggle("three", v3.on);
+  if (!v3.on) frame.dirty = true;
   $("toggle3d").textContent = v3.on ? "2D" : "3D";
   if (v3.on) requestAnimationFrame(draw);
 }

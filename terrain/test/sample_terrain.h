@@ -1,4 +1,5 @@
-// SampleTerrain: a small terrain with every kind of feature, shared by the state tests.
+// SampleTerrain: a small terrain with every kind of feature, shared by the state tests, and the
+// sloped ground the terrain tests build on.
 #pragma once
 
 #include <memory>
@@ -11,6 +12,17 @@
 #include "terrain/terrain.h"
 
 namespace dt::test {
+
+// 101 x 101 posts, 2 m apart (200 m square), rising 0.25 m per metre toward +x and 0.1 toward +z,
+// so "follows the ground" is visible.
+inline HeightGrid SlopedGround() {
+  const int n = 101;
+  std::vector<float> posts(n * n);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) posts[j * n + i] = static_cast<float>(0.5 * i + 0.2 * j);
+  }
+  return HeightGrid(n, 2.0, std::move(posts), Material::kGrass);
+}
 
 using Placement = std::pair<FeatureId, FeatureParams>;
 

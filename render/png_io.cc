@@ -9,14 +9,25 @@
 
 namespace dt {
 
-Status WritePng(const Image& image, const std::string& path) {
-  if (image.empty()) throw std::invalid_argument("WritePng: the image is empty");
+namespace {
+
+// libpng's description of `image` for writing (RGBA, 8 bits a channel); `caller` names the
+// function refusing an empty image.
+png_image PngOf(const Image& image, const char* caller) {
+  if (image.empty()) throw std::invalid_argument(fmt::format("{}: the image is empty", caller));
   png_image png;
   std::memset(&png, 0, sizeof png);
   png.version = PNG_IMAGE_VERSION;
   png.width = static_cast<png_uint_32>(image.width());
   png.height = static_cast<png_uint_32>(image.height());
   png.format = PNG_FORMAT_RGBA;
+  return png;
+}
+
+}  // namespace
+
+Status WritePng(const Image& image, const std::string& path) {
+  png_image png = PngOf(image, "WritePng");
   if (!png_image_write_to_file(&png, path.c_str(), 0, image.bytes().data(), 0, nullptr)) {
     Error e{fmt::format("cannot write PNG {}: {}", path, png.message)};
     png_image_free(&png);
@@ -26,28 +37,21 @@ Status WritePng(const Image& image, const std::string& path) {
 }
 
 Result<std::string> EncodePng(const Image& image) {
-  if (image.empty()) throw std::invalid_argument("EncodePng: the image is empty");
-  png_image png;
-  std::memset(&png, 0, sizeof png);
-  png.version = PNG_IMAGE_VERSION;
-  png.width = static_cast<png_uint_32>(image.width());
-  png.height = static_cast<png_uint_32>(image.height());
-  png.format = PNG_FORMAT_RGBA;
-  // First the size, then the bytes (libpng's two-call form).
+  png_image png = PngOf(image, "EncodePng");
   png_alloc_size_t size = 0;
-  if (!png_image_write_to_memory(&png, nullptr, &size, 0, image.bytes().data(), 0, nullptr)) {
-    Error e{fmt::format("cannot encode a {} x {} px PNG: {}", image.width(), image.height(),
-                        png.message)};
-    png_image_free(&png);
-    return e;
-  }
+  const auto write = [&](void* bytes) -> Status {
+    if (!png_image_write_to_memory(&png, bytes, &size, 0, image.bytes().data(), 0, nullptr)) {
+      Error e{fmt::format("cannot encode a {} x {} px PNG: {}", image.width(), image.height(),
+                          png.message)};
+      png_image_free(&png);
+      return e;
+    }
+    return Status::Ok();
+  };
+  // First the size, then the bytes (libpng's two-call form).
+  if (Status s = write(nullptr); !s) return s.error();
   std::string out(size, '\0');
-  if (!png_image_write_to_memory(&png, out.data(), &size, 0, image.bytes().data(), 0, nullptr)) {
-    Error e{fmt::format("cannot encode a {} x {} px PNG: {}", image.width(), image.height(),
-                        png.message)};
-    png_image_free(&png);
-    return e;
-  }
+  if (Status s = write(out.data()); !s) return s.error();
   out.resize(size);
   return out;
 }

@@ -392,7 +392,15 @@ Result<std::unique_ptr<Terrain>> LoadTerrain(const fs::path& path) {
   return DecodeTerrain(reader, path.string());
 }
 
-Result<TerrainFileShape> ProbeTerrainFile(const fs::path& path) {
+namespace {
+
+// Opens the terrain file at `path`, reads its header and shape, then hands the reader, the decoder
+// and the layout to `then` (the part of the file it reads is its own), returning what `then`
+// returns. A file refused before that: its error.
+template <typename Then>
+auto WithFileShape(const fs::path& path, Then&& then)
+    -> decltype(then(std::declval<FileReader&>(), std::declval<TerrainDecoder&>(),
+                     std::declval<const FileLayout&>())) {
   auto file = RegularFile::Open(path, kMaxTerrainFileBytes);
   if (!file) return file.error();
   FileReader reader(file.value());
@@ -400,33 +408,40 @@ Result<TerrainFileShape> ProbeTerrainFile(const fs::path& path) {
   FileLayout layout;
   if (Status s = decoder.Header(layout); !s) return s.error();
   if (Status s = decoder.Shape(layout); !s) return s.error();
-  const Result<uint64_t> checksum = decoder.StoredChecksum();
-  if (!checksum) return checksum.error();
-  return TerrainFileShape{layout.version,
-                          static_cast<int>(layout.nx),
-                          static_cast<int>(layout.nz),
-                          layout.spacing_m,
-                          reader.size(),
-                          checksum.value()};
+  return then(reader, decoder, layout);
+}
+
+}  // namespace
+
+Result<TerrainFileShape> ProbeTerrainFile(const fs::path& path) {
+  return WithFileShape(path,
+                       [](FileReader& reader, TerrainDecoder& decoder,
+                          const FileLayout& layout) -> Result<TerrainFileShape> {
+                         const Result<uint64_t> checksum = decoder.StoredChecksum();
+                         if (!checksum) return checksum.error();
+                         return TerrainFileShape{layout.version,
+                                                 static_cast<int>(layout.nx),
+                                                 static_cast<int>(layout.nz),
+                                                 layout.spacing_m,
+                                                 reader.size(),
+                                                 checksum.value()};
+                       });
 }
 
 Result<std::vector<std::pair<FeatureId, FeatureParams>>> LoadTerrainFileFeatures(
     const fs::path& path) {
-  auto file = RegularFile::Open(path, kMaxTerrainFileBytes);
-  if (!file) return file.error();
-  FileReader reader(file.value());
-  TerrainDecoder decoder(reader, path.string());
-  FileLayout layout;
-  if (Status s = decoder.Header(layout); !s) return s.error();
-  if (Status s = decoder.Shape(layout); !s) return s.error();
-  std::vector<std::pair<FeatureId, FeatureParams>> features;
-  const Status read =
-      decoder.Features(layout, [&](const FeatureId& id, const FeatureParams& params) -> Status {
-        features.emplace_back(id, params);
-        return Status::Ok();
+  using Features = std::vector<std::pair<FeatureId, FeatureParams>>;
+  return WithFileShape(
+      path, [](FileReader&, TerrainDecoder& decoder, const FileLayout& layout) -> Result<Features> {
+        Features features;
+        const Status read = decoder.Features(
+            layout, [&](const FeatureId& id, const FeatureParams& params) -> Status {
+              features.emplace_back(id, params);
+              return Status::Ok();
+            });
+        if (!read) return read.error();
+        return features;
       });
-  if (!read) return read.error();
-  return features;
 }
 
 }  // namespace dt

@@ -26,19 +26,15 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(HERE, "../../tests/pylib"))
+from browser_prerequisites import CHROMIUM, require_browser  # noqa: E402
 import scene3d  # noqa: E402
 
-CHROMIUM = "/usr/bin/chromium"
 PORT, LARGE_PORT = 8483, 8484
 REFERENCE = os.path.join(HERE, "view3d_reference.png")
 CAMERA = "#3d=460,560,0.35,0.42,260"
 DIFF_LEVEL = 40        # a channel differing by more than this makes a pixel differ
 DIFF_FRACTION = 0.01   # at most this share of the pixels may differ
-
-
-def skip(why):
-    print(f"SKIP: {why}")
-    sys.exit(77)
 
 
 def fail(why):
@@ -97,12 +93,7 @@ def pixels(page):
     return np.frombuffer(base64.b64decode(b64), dtype=np.uint8).reshape(h, w, 4)[:, :, :3].astype(np.int32)
 
 
-try:
-    from playwright.sync_api import sync_playwright
-except ImportError:
-    skip("the playwright Python module is not installed (scripts/setup.sh installs it)")
-if not os.access(CHROMIUM, os.X_OK):
-    skip(f"{CHROMIUM} is not installed (Debian package chromium; scripts/setup.sh installs it)")
+sync_playwright = require_browser()
 
 run_dir = sys.argv[1]
 update = "--update" in sys.argv

@@ -26,22 +26,12 @@ import sys
 import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../tests/pylib"))
+from browser_prerequisites import CHROMIUM, require_browser  # noqa: E402
 from exercise_processes import ExerciseProcesses  # noqa: E402
 
-CHROMIUM = "/usr/bin/chromium"
 
 
-def skip(why):
-    print(f"SKIP: {why}")
-    sys.exit(77)
-
-
-try:
-    from playwright.sync_api import sync_playwright
-except ImportError:
-    skip("the playwright Python module is not installed (scripts/setup.sh installs it)")
-if not os.access(CHROMIUM, os.X_OK):
-    skip(f"{CHROMIUM} is not installed (Debian package chromium; scripts/setup.sh installs it)")
+sync_playwright = require_browser()
 
 ex = ExerciseProcesses(dict(zip(["dt_server", "dt_node", "dt_view", "dt_ctl"], sys.argv[1:5])),
                        sys.argv[5], sys.argv[6])

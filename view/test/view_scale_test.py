@@ -25,15 +25,11 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(HERE, "../../tests/pylib"))
+from browser_prerequisites import CHROMIUM, require_browser  # noqa: E402
 import synthetic_feed  # noqa: E402
 
-CHROMIUM = "/usr/bin/chromium"
 PORT = 8482
-
-
-def skip(why):
-    print(f"SKIP: {why}")
-    sys.exit(77)
 
 
 def fail(why):
@@ -41,12 +37,7 @@ def fail(why):
     sys.exit(1)
 
 
-try:
-    from playwright.sync_api import sync_playwright
-except ImportError:
-    skip("the playwright Python module is not installed (scripts/setup.sh installs it)")
-if not os.access(CHROMIUM, os.X_OK):
-    skip(f"{CHROMIUM} is not installed (Debian package chromium; scripts/setup.sh installs it)")
+sync_playwright = require_browser()
 
 vehicles, features, run_dir = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
 pan_s = float(sys.argv[4]) if len(sys.argv) > 4 else 10.0

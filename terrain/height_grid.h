@@ -29,9 +29,9 @@ struct SquareIndex {
 // spacing, 8 bytes a post (elevation, two soils per square) held by each process.
 inline constexpr int kMaxPostsPerSide = 4097;
 // The most posts a side of any grid may have: an elevation file's ground beyond kMaxPostsPerSide
-// is read once per host into a ground cache file (terrain/ground_cache.h) that every process maps
-// and shares (docs/real-ground.md "Large worlds"), a terrain file's is read by each process that
-// loads it; 16385 posts, 16 km a side at 1 m.
+// or a terrain file's (ground_file) is read once per host into a ground cache file
+// (terrain/ground_cache.h) that every process maps and shares (docs/real-ground.md "Large
+// worlds"); 16385 posts, 16 km a side at 1 m.
 inline constexpr int kMaxGridPostsPerSide = 16385;
 
 // An open file holding a grid's posts (float, row by row) at posts_offset and its soils (u16, two

@@ -29,8 +29,15 @@ With --ground-file the world is a saved terrain instead ([terrain] ground_file, 
 not with --features). The same sharing checks hold; the test also times dt_ctl's `status` against
 the exercise (dt_ctl reads no ground), and that of --ctl-compare <dt_ctl> if given.
 
+With --page DIR the live view's page is opened in headless chromium (Playwright, as the browser
+tests): the test waits for the whole world's relief to be complete, then zooms to a 1 km window
+around node-1's vehicle and waits for the finest level there; it checks that the relief tiles
+served have the ground's shading (not one flat colour) and that the page raised no error, prints
+how long each picture took, waits for both vehicles on the map, and leaves DIR/page-whole.png and
+DIR/page-zoomed.png.
+
 Usage: large_world_test.py <bin dir> <key file> <work dir> [--posts N] [--spacing-m S]
-       [--baseline-posts M] [--features F] [--ground-file [--ctl-compare P]] [--keep]
+       [--baseline-posts M] [--features F] [--ground-file [--ctl-compare P]] [--page DIR] [--keep]
   <bin dir> holds dt_server, dt_node, dt_view, dt_dis and dt_ctl (build/<preset>/bin or the
   programs' folders: each is looked for as <bin dir>/<room>/<program> then <bin dir>/<program>).
   --baseline-posts M also runs the same processes on an M x M world first and prints the host's
@@ -434,6 +441,68 @@ def check_features(args, ex, work, size_m, dis, figures):
           f"seen: {sorted(entities())}")
 
 
+# A relief tile's size and the spread of its green channel, drawn into a canvas by the page.
+TILE_SPREAD = """async (url) => {
+  const img = new Image();
+  img.src = url;
+  await img.decode();
+  const c = document.createElement('canvas');
+  c.width = img.width; c.height = img.height;
+  const g = c.getContext('2d');
+  g.drawImage(img, 0, 0);
+  const d = g.getImageData(0, 0, c.width, c.height).data;
+  let lo = 255, hi = 0;
+  for (let i = 1; i < d.length; i += 4) { lo = Math.min(lo, d[i]); hi = Math.max(hi, d[i]); }
+  return [c.width, c.height, lo, hi];
+}"""
+
+
+def check_page(args, ex, size_m, figures):
+    """Opens the view's page: the whole world's relief, then 1 km around node-1's vehicle at the
+    finest level (module doc, --page)."""
+    from browser_prerequisites import CHROMIUM, require_browser
+    sync_playwright = require_browser()
+    os.makedirs(args.page, exist_ok=True)
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=CHROMIUM, headless=True, args=["--no-sandbox"])
+        errors = []
+        page = browser.new_page(viewport={"width": 1600, "height": 1000})
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        t0 = time.time()
+        page.goto("http://127.0.0.1:8480/")
+        page.wait_for_function("window.dtView.relief && window.dtView.relief.complete",
+                               timeout=180000)
+        whole_s = time.time() - t0
+        levels = page.evaluate("window.dtView.relief.info.levels")
+        # Both vehicles on the map: a newcomer learns of one at its next Entity State.
+        page.wait_for_function("window.dtView.state.vehicles.size >= 2", timeout=30000)
+        page.screenshot(path=os.path.join(args.page, "page-whole.png"))
+        x, z = size_m * 0.3, size_m * 0.3  # node-1's vehicle's start
+        t0 = time.time()
+        page.evaluate(f"() => {{ state.view = {{x: {x - 500}, y: {size_m - z - 500}, w: 1000, "
+                      f"h: 1000}}; applyView(); }}")
+        page.wait_for_function("window.dtView.relief.complete && "
+                               f"window.dtView.relief.level === {levels - 1}", timeout=180000)
+        zoomed_s = time.time() - t0
+        need = page.evaluate("window.dtView.relief.need")
+        page.screenshot(path=os.path.join(args.page, "page-zoomed.png"))
+        spreads = {k: page.evaluate(TILE_SPREAD, f"/relief/{k}.png") for k in need}
+        browser.close()
+    figures["page"] = dict(levels=levels, whole_s=whole_s, zoomed_s=zoomed_s, tiles=spreads)
+    print(f"the page: {levels} levels; the whole world's relief complete {whole_s:.1f} s after "
+          f"opening; 1 km around node-1's vehicle at level {levels - 1} {zoomed_s:.1f} s after "
+          f"zooming (tiles {sorted(need)})")
+    print("relief tiles shown, green channel: " +
+          ", ".join(f"{k} {lo}..{hi}" for k, (_, _, lo, hi) in sorted(spreads.items())))
+    if errors:
+        ex.fail(f"the page raised {errors}")
+    # The whole world's tile spans the surface's ridges; a finest tile (1.6 km at 5001 x 10 m) its
+    # gentle slopes: a blank or one-colour tile has no spread at all.
+    for key, (w, h, lo, hi) in spreads.items():
+        if (w, h) != (256, 256) or hi - lo < (16 if key == "0/0/0" else 3):
+            ex.fail(f"relief tile {key}: {w} x {h} px, green {lo}..{hi}: not the ground's shading")
+
+
 def stop_timed(ex, timeout_s):
     """SIGTERM to every process at once, then each one's exit code and seconds to exit (polled
     every 10 ms); one still running after timeout_s is killed (its code then tells)."""
@@ -530,6 +599,8 @@ def run_world(args, programs, posts, work, features=0):
                 figures["ctl_compare_s"] = time_ctl(args.ctl_compare, exercise, run_dir)
         if features:
             check_features(args, ex, work, size_m, dis, figures)
+        if args.page and posts == args.posts:
+            check_page(args, ex, size_m, figures)
     finally:
         if dis:
             dis.close()
@@ -576,12 +647,15 @@ def main():
     a.add_argument("--converge-s", type=float, default=600.0)
     a.add_argument("--ground-file", action="store_true")
     a.add_argument("--ctl-compare", default="")
+    a.add_argument("--page", default="")
     a.add_argument("--keep", action="store_true")
     args = a.parse_args()
     if args.ground_file and args.features:
         a.error("--features needs the raster's georeference: not with --ground-file")
     args.key = os.path.abspath(args.key)
     args.bin_dir = os.path.abspath(args.bin_dir)
+    if args.page:
+        args.page = os.path.abspath(args.page)
     programs = {p: find_program(args.bin_dir, p) for p in PROGRAMS}
     shutil.rmtree(args.work, ignore_errors=True)
     ok = True

@@ -441,26 +441,11 @@ def check_features(args, ex, work, size_m, dis, figures):
           f"seen: {sorted(entities())}")
 
 
-# A relief tile's size and the spread of its green channel, drawn into a canvas by the page.
-TILE_SPREAD = """async (url) => {
-  const img = new Image();
-  img.src = url;
-  await img.decode();
-  const c = document.createElement('canvas');
-  c.width = img.width; c.height = img.height;
-  const g = c.getContext('2d');
-  g.drawImage(img, 0, 0);
-  const d = g.getImageData(0, 0, c.width, c.height).data;
-  let lo = 255, hi = 0;
-  for (let i = 1; i < d.length; i += 4) { lo = Math.min(lo, d[i]); hi = Math.max(hi, d[i]); }
-  return [c.width, c.height, lo, hi];
-}"""
-
-
 def check_page(args, ex, size_m, figures):
     """Opens the view's page: the whole world's relief, then 1 km around node-1's vehicle at the
-    finest level (module doc, --page)."""
+    finer level the page picks (module doc, --page)."""
     from browser_prerequisites import CHROMIUM, require_browser
+    from relief_tile_pixels import tile_pixels
     sync_playwright = require_browser()
     os.makedirs(args.page, exist_ok=True)
     with sync_playwright() as pw:
@@ -483,14 +468,18 @@ def check_page(args, ex, size_m, figures):
         page.evaluate(f"() => {{ state.view = {{x: {x - 500}, y: {size_m - z - 500}, w: 1000, "
                       f"h: 1000}}; applyView(); }}")
         # The level the page picks for 1 km (its pixel no wider than the screen's, or the finest):
-        # finer than the whole world's.
-        page.wait_for_function("window.dtView.relief.complete && "
-                               f"window.dtView.relief.level > {whole_level}", timeout=180000)
+        # finer than the whole world's, unless that was the finest already (a small world).
+        page.wait_for_function("window.dtView.relief.complete && (window.dtView.relief.level > "
+                               f"{whole_level} || window.dtView.relief.level === {levels - 1})",
+                               timeout=180000)
         zoomed_s = time.time() - t0
         zoomed_level = page.evaluate("window.dtView.relief.level")
         need = page.evaluate("window.dtView.relief.need")
         page.screenshot(path=os.path.join(args.page, "page-zoomed.png"))
-        spreads = {k: page.evaluate(TILE_SPREAD, f"/relief/{k}.png") for k in need}
+        tiles = {k: tile_pixels(page, f"/relief/{k}.png") for k in need}
+        # Each tile's size and the spread of its green channel.
+        spreads = {k: (t.shape[1], t.shape[0], int(t[:, :, 1].min()), int(t[:, :, 1].max()))
+                   for k, t in tiles.items()}
         browser.close()
     figures["page"] = dict(levels=levels, whole_s=whole_s, zoomed_s=zoomed_s, tiles=spreads)
     print(f"the page: {levels} levels; the whole world's relief (level {whole_level}) complete "

@@ -13,7 +13,6 @@ when playwright or chromium is not installed. Run inside tests/run_in_netns.sh.
 
   relief_tiles_browser_test.py <dt_server> <dt_node> <dt_view> <dt_ctl> <exercise.toml> <run_dir>
 """
-import base64
 import os
 import sys
 import time
@@ -22,6 +21,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../tests/pylib"))
 from browser_prerequisites import CHROMIUM, require_browser  # noqa: E402
+from relief_tile_pixels import rgb_array, tile_pixels  # noqa: E402
 from exercise_processes import ExerciseProcesses  # noqa: E402
 
 
@@ -56,24 +56,6 @@ DRAWN = """async () => {
   for (let i = 0; i < d.length; i += 32768) bin += String.fromCharCode.apply(null, d.subarray(i, i + 32768));
   return [c.width, c.height, btoa(bin), t.s, t.ox, t.oy];
 }"""
-# One tile's own pixels.
-TILE = """async (url) => {
-  const img = new Image();
-  img.src = url;
-  await img.decode();
-  const c = document.createElement('canvas');
-  c.width = img.width; c.height = img.height;
-  const g = c.getContext('2d');
-  g.drawImage(img, 0, 0);
-  const d = g.getImageData(0, 0, c.width, c.height).data;
-  let bin = '';
-  for (let i = 0; i < d.length; i += 32768) bin += String.fromCharCode.apply(null, d.subarray(i, i + 32768));
-  return [c.width, c.height, btoa(bin)];
-}"""
-
-
-def as_array(w, h, b64):
-    return np.frombuffer(base64.b64decode(b64), dtype=np.uint8).reshape(h, w, 4)[:, :, :3].astype(np.int32)
 
 
 class Drawn:
@@ -81,7 +63,7 @@ class Drawn:
 
     def __init__(self, page):
         w, h, b64, self.s, self.ox, self.oy = page.evaluate(DRAWN)
-        self.rgb = as_array(w, h, b64)
+        self.rgb = rgb_array(w, h, b64)
 
     def at(self, x, z):
         col, row = int((x - self.ox) / self.s), int((SIZE_M - z - self.oy) / self.s)
@@ -122,8 +104,7 @@ with sync_playwright() as pw:
         fail(f"a 2048 m world at 1 m has levels of 8, 4, 2 and 1 m a pixel; the page has {levels}")
 
     # Level 0 (8 m a pixel) leaves the 6 m crater out: its pixel there is the ground's.
-    w, h, b64 = page.evaluate(TILE, "/relief/0/0/0.png")
-    tile0 = as_array(w, h, b64)
+    tile0 = tile_pixels(page, "/relief/0/0/0.png")
     px = lambda x, z: tile0[int((SIZE_M - z) / 8.0), int(x / 8.0)]  # noqa: E731
     if differs(px(*A), px(1500.0, 1500.0)) > 6:
         fail(f"level 0 draws the 6 m crater at 8 m a pixel: {px(*A)} against {px(1500.0, 1500.0)}")

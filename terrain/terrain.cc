@@ -100,23 +100,33 @@ Rect Terrain::SquareRect(SquareIndex square) const {
 }
 
 void Terrain::LogChange(const Rect& area) {
-  if (!changes_.empty() && changes_.back().stamp == stamp_) {
-    changes_.back().area = changes_.back().area.Union(area);
+  const size_t n = change_stamps_.size();
+  if (n > 0) {
+    const size_t newest = (change_oldest_ + n - 1) % n;
+    if (change_stamps_[newest] == stamp_) {
+      change_areas_[newest] = change_areas_[newest].Union(area);
+      return;
+    }
+  }
+  if (n < kChangeLogEntries) {
+    change_stamps_.push_back(stamp_);
+    change_areas_.push_back(area);
     return;
   }
-  if (changes_.size() == kChangeLogEntries) {
-    changes_floor_ = changes_.front().stamp;
-    changes_.pop_front();
-  }
-  changes_.push_back({stamp_, area});
+  changes_floor_ = change_stamps_[change_oldest_];
+  change_stamps_[change_oldest_] = stamp_;
+  change_areas_[change_oldest_] = area;
+  change_oldest_ = (change_oldest_ + 1) % n;
 }
 
 std::optional<std::vector<Rect>> Terrain::ChangedAreasSince(uint64_t since) const {
   if (since < changes_floor_) return std::nullopt;
-  auto first = changes_.end();
-  while (first != changes_.begin() && std::prev(first)->stamp > since) --first;
+  const size_t n = change_stamps_.size();
+  size_t newer = 0;  // entries after `since`: the newest ones
+  while (newer < n && change_stamps_[(change_oldest_ + n - 1 - newer) % n] > since) ++newer;
   std::vector<Rect> out;
-  for (auto it = first; it != changes_.end(); ++it) out.push_back(it->area);
+  out.reserve(newer);
+  for (size_t k = n - newer; k < n; ++k) out.push_back(change_areas_[(change_oldest_ + k) % n]);
   return out;
 }
 
@@ -264,14 +274,23 @@ Status Terrain::Add(FeatureId id, const FeatureParams& params) {
     return Error{fmt::format("feature {} already exists", id.ToString())};
   }
   if (!made) return made.error();
-  if (params.type == FeatureType::kEarthMove) {
+  return Add(std::move(made).value());
+}
+
+Status Terrain::Add(std::unique_ptr<Feature> made) {
+  DT_DEMAND(made != nullptr);
+  const FeatureId id = made->id();
+  if (features_.Find(id) != nullptr) {
+    return Error{fmt::format("feature {} already exists", id.ToString())};
+  }
+  if (made->type() == FeatureType::kEarthMove) {
     // Not indexed: it covers no point; its work is in the ground posts.
-    features_.Insert(id, std::move(made).value());
-    ApplyEarthMove(params.post_deltas, +1);
+    const auto* move = static_cast<const EarthMoveFeature*>(features_.Insert(id, std::move(made)));
+    ApplyEarthMove(move->post_deltas(), +1);
     return Status::Ok();
   }
-  if (auto s = CheckPlacement(*made.value(), nullptr); !s) return s;
-  Index(features_.Insert(id, std::move(made).value()));
+  if (auto s = CheckPlacement(*made, nullptr); !s) return s;
+  Index(features_.Insert(id, std::move(made)));
   return Status::Ok();
 }
 
@@ -409,7 +428,9 @@ void Terrain::RemoveAll() {
   GroundChanged();  // the blade work's posts went back
   square_stamps_.Clear();
   stamps_floor_ = stamp_;
-  changes_.clear();
+  change_stamps_.clear();
+  change_areas_.clear();
+  change_oldest_ = 0;
   changes_floor_ = stamp_;
 }
 

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <optional>
 #include <span>
@@ -58,6 +57,9 @@ class Terrain {
   // terrain, or it conflicts with another (overlapping bridges). An earth move adds its post
   // deltas to the ground (docs/terrain.md "Blade work").
   Status Add(FeatureId id, const FeatureParams& params);
+  // Adds a feature made by MakeFeature(id, params, ground()) while the ground was as it is now
+  // (a caller that made it to check it first need not have it made again). Refused like Add.
+  Status Add(std::unique_ptr<Feature> made);
   // Replaces a feature's parameters (same type). Refused like Add, or if the ID is unknown, and
   // for an earth move: blade work is added once and never replaced.
   Status Update(FeatureId id, const FeatureParams& params);
@@ -198,12 +200,12 @@ class Terrain {
   // stamp every square had at the terrain's making or its last RemoveAll.
   ZeroPagedArray<uint64_t> square_stamps_;
   uint64_t stamps_floor_ = 0;
-  // The change log (ChangedAreasSince): entries after changes_floor_, oldest first.
-  struct AreaChange {
-    uint64_t stamp = 0;
-    Rect area;
-  };
-  std::deque<AreaChange> changes_;
+  // The change log (ChangedAreasSince): the changes after changes_floor_, at most
+  // kChangeLogEntries, in a ring whose oldest entry is at change_oldest_ once it is full. Stamps
+  // and areas apart: the evicted stamp, read on every change, is in 32 KiB that stay in cache.
+  std::vector<uint64_t> change_stamps_;
+  std::vector<Rect> change_areas_;
+  size_t change_oldest_ = 0;
   uint64_t changes_floor_ = 0;
   // Blade work, per post an earth move touched (index j * posts_x + i): the post as set without
   // blade work and the sum of the earth moves' millimetres. The ground post is always float(bare_m

@@ -112,6 +112,16 @@ TEST(TerrainChangeLog, NamesTheAreasChangedSinceAStamp) {
   EXPECT_FALSE(t.ChangedAreasSince(seen).has_value());
   seen = t.stamp();
   EXPECT_TRUE(t.ChangedAreasSince(seen).has_value());
+  // The log has wrapped round: the changes after a recent stamp, exactly, oldest first.
+  ASSERT_TRUE(t.SetPostElevation(75, 75, 4.0f).ok());
+  ASSERT_TRUE(t.Add(Id(2), FeatureParams::Crater(55.0, 51.0, 5.0)).ok());
+  areas = t.ChangedAreasSince(seen);
+  ASSERT_TRUE(areas.has_value());
+  ASSERT_EQ(areas->size(), 2u);
+  EXPECT_TRUE(areas->at(0).Intersects(far));
+  EXPECT_FALSE(areas->at(0).Intersects(b));
+  EXPECT_TRUE(areas->at(1).Intersects(b));
+  EXPECT_FALSE(areas->at(1).Intersects(far));
   t.RemoveAll();
   EXPECT_FALSE(t.ChangedAreasSince(seen).has_value());
   EXPECT_TRUE(t.ChangedAreasSince(t.stamp())->empty());

@@ -116,7 +116,16 @@ void RecordStore::Materialise(FeatureId id, Record& r, bool bridge_involved) {
     RematerialiseBridges();
     return;
   }
-  if (!r.destroyed) r.placed = terrain_.Add(id, r.params).ok();
+  if (!r.destroyed) r.placed = Place(id, r.params).ok();
+}
+
+Status RecordStore::Place(FeatureId id, const FeatureParams& params) {
+  std::unique_ptr<Feature> made = std::move(checked_.feature);
+  if (made != nullptr && made->id() == id && checked_.terrain_stamp == terrain_.stamp() &&
+      checked_.params == params) {
+    return terrain_.Add(std::move(made));
+  }
+  return terrain_.Add(id, params);
 }
 
 void RecordStore::RematerialiseBridges() {
@@ -137,6 +146,7 @@ void RecordStore::RematerialiseBridges() {
 }
 
 Status RecordStore::CheckPlaceable(FeatureId id, const FeatureParams& params) const {
+  checked_.feature.reset();
   auto made = MakeFeature(id, params, terrain_.ground());
   if (!made) return made.error();
   const Feature& candidate = *made.value();
@@ -159,6 +169,9 @@ Status RecordStore::CheckPlaceable(FeatureId id, const FeatureParams& params) co
                                id.ToString(), b.ToString())};
     }
   }
+  checked_.params = params;
+  checked_.terrain_stamp = terrain_.stamp();
+  checked_.feature = std::move(made).value();
   return Status::Ok();
 }
 

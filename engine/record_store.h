@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <map>
+#include <memory>
 #include <set>
 #include <span>
 #include <utility>
@@ -49,6 +50,8 @@ class RecordStore {
   const std::map<FeatureId, Record>& all() const { return records_; }
 
   // Would a live record with these parameters be placed now? (Commands are refused otherwise.)
+  // The feature it made is kept until the next change, so applying that same record then does
+  // not make it again.
   Status CheckPlaceable(FeatureId id, const FeatureParams& params) const;
 
   // From now on, remembers the ID of every record applied, rebuilt or placed again, so that a
@@ -64,6 +67,9 @@ class RecordStore {
   // The record of `id`, made empty if new (`second` true then).
   std::pair<std::map<FeatureId, Record>::iterator, bool> Claim(FeatureId id);
   void RematerialiseBridges();
+  // Places a live record's feature: the one CheckPlaceable made, if it was made of the same ID
+  // and parameters on the terrain as it is, otherwise a new one.
+  Status Place(FeatureId id, const FeatureParams& params);
 
   Terrain terrain_;
   std::map<FeatureId, Record> records_;
@@ -74,6 +80,13 @@ class RecordStore {
   size_t live_ = 0;
   bool tracking_touched_ = false;
   std::vector<FeatureId> touched_;
+  // What CheckPlaceable made last, and the terrain's stamp then.
+  struct Checked {
+    FeatureParams params;
+    uint64_t terrain_stamp = 0;
+    std::unique_ptr<Feature> feature;
+  };
+  mutable Checked checked_;
 };
 
 }  // namespace dt

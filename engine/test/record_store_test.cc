@@ -51,6 +51,52 @@ TEST(RecordStoreTest, StaleUpdateIsIgnored) {
   EXPECT_EQ(s.terrain().Find(kId)->params(), newer);
 }
 
+// CheckPlaceable keeps the feature it made for the record applied next; a record of other
+// parameters, another ID or a terrain changed in between gets a feature of its own.
+TEST(RecordStoreTest, AFeatureCheckedFirstIsPlacedOnlyWhenItIsTheOneApplied) {
+  RecordStore s(Ground());
+  const auto checked = FeatureParams::Crater(50, 50, 6);
+  const auto other = FeatureParams::Crater(60, 60, 3);
+  ASSERT_TRUE(s.CheckPlaceable(kId, checked).ok());
+  ASSERT_EQ(s.Apply(Make(ChangeKind::kConstruct, kId, other, kA, 1, 1)),
+            RecordStore::Outcome::kApplied);
+  ASSERT_NE(s.terrain().Find(kId), nullptr);
+  EXPECT_EQ(s.terrain().Find(kId)->params(), other);
+
+  const FeatureId second{1, 1, 2}, third{1, 1, 3};
+  ASSERT_TRUE(s.CheckPlaceable(second, checked).ok());
+  ASSERT_EQ(s.Apply(Make(ChangeKind::kConstruct, third, checked, kA, 2, 2)),
+            RecordStore::Outcome::kApplied);
+  ASSERT_NE(s.terrain().Find(third), nullptr);
+  EXPECT_EQ(s.terrain().Find(third)->id(), third);
+
+  // Checked, then the terrain changes (another feature lands) before it is applied.
+  const FeatureId fourth{1, 1, 4}, fifth{1, 2, 1};
+  ASSERT_TRUE(s.CheckPlaceable(fourth, checked).ok());
+  ASSERT_EQ(s.Apply(Make(ChangeKind::kConstruct, fifth, other, kB, 1, 3)),
+            RecordStore::Outcome::kApplied);
+  ASSERT_EQ(s.Apply(Make(ChangeKind::kConstruct, fourth, checked, kA, 3, 4)),
+            RecordStore::Outcome::kApplied);
+  ASSERT_NE(s.terrain().Find(fourth), nullptr);
+  EXPECT_EQ(s.terrain().Find(fourth)->params(), checked);
+
+  // The usual way: checked, then applied as it was checked.
+  const FeatureId sixth{1, 1, 6};
+  ASSERT_TRUE(s.CheckPlaceable(sixth, checked).ok());
+  ASSERT_EQ(s.Apply(Make(ChangeKind::kConstruct, sixth, checked, kA, 4, 5)),
+            RecordStore::Outcome::kApplied);
+  ASSERT_NE(s.terrain().Find(sixth), nullptr);
+  EXPECT_EQ(s.terrain().Find(sixth)->params(), checked);
+  EXPECT_EQ(s.live_count(), 5u);
+  // The same terrain as one made without any check.
+  RecordStore fresh(Ground());
+  for (const auto& [id, r] : s.all()) {
+    ASSERT_EQ(fresh.Apply(Make(ChangeKind::kConstruct, id, r.params, OriginOf(id), id.number, 1)),
+              RecordStore::Outcome::kApplied);
+  }
+  EXPECT_EQ(ComputeDigest(s.terrain()), ComputeDigest(fresh.terrain()));
+}
+
 TEST(RecordStoreTest, EqualClocksAreOrderedByTheChangingNode) {
   const auto by_a = FeatureParams::Crater(50, 50, 6);
   const auto by_b = FeatureParams::Crater(70, 70, 4);

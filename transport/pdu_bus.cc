@@ -15,6 +15,10 @@ PduBus::PduBus(Transport& transport, PduBusConfig config)
     }
   }
   if (!config_.clock) throw std::invalid_argument("PduBus: clock is empty");
+  if (config_.flight_datagrams < 1) {
+    throw std::invalid_argument(
+        fmt::format("PduBus: flight_datagrams = {} must be at least 1", config_.flight_datagrams));
+  }
   if (config_.auth.key) auth_.emplace(config_.local, config_.auth);
 }
 
@@ -30,7 +34,10 @@ Status PduBus::Queue(PduType type) {
     return Error{fmt::format("{} PDU of {} bytes exceeds the {}-byte single-datagram limit",
                              PduTypeName(type), encode_buffer_.size() + trailer, kMaxPduBytes)};
   }
-  if (waiting_bytes_ + kBatchMemberBytes + encode_buffer_.size() + trailer > kMaxPduBytes) Flush();
+  if (waiting_bytes_ + kBatchMemberBytes + encode_buffer_.size() + trailer > kMaxPduBytes) {
+    CloseDatagram();
+    if (flight_count_ >= static_cast<size_t>(config_.flight_datagrams)) SendFlight();
+  }
   if (waiting_count_ == waiting_.size()) waiting_.emplace_back();
   Waiting& w = waiting_[waiting_count_++];
   w.type = type;
@@ -40,29 +47,49 @@ Status PduBus::Queue(PduType type) {
 }
 
 void PduBus::Flush() noexcept {
+  CloseDatagram();
+  SendFlight();
+}
+
+void PduBus::CloseDatagram() noexcept {
   if (waiting_count_ == 0) return;
-  PduType type = waiting_[0].type;
+  if (flight_count_ == flight_.size()) flight_.emplace_back();
+  Datagram& d = flight_[flight_count_++];
+  d.pdus = waiting_count_;
   if (waiting_count_ == 1) {
     // A lone PDU is swapped in, not copied: nothing extra on a single change's way.
-    batch_buffer_.swap(waiting_[0].bytes);
+    d.type = waiting_[0].type;
+    d.bytes.swap(waiting_[0].bytes);
   } else {
     members_.clear();
     for (size_t i = 0; i < waiting_count_; ++i) {
       members_.push_back({waiting_[i].type, waiting_[i].bytes});
     }
-    type = PduType::kBatch;
-    EncodeBatchInto(config_.exercise_id, config_.clock(), config_.local, members_, batch_buffer_);
+    d.type = PduType::kBatch;
+    EncodeBatchInto(config_.exercise_id, config_.clock(), config_.local, members_, d.bytes);
   }
-  const size_t members = waiting_count_;
   waiting_count_ = 0;
   waiting_bytes_ = kBatchBaseBytes;
-  if (auth_) auth_->Sign(batch_buffer_);
-  if (auto s = transport_.Publish(type, batch_buffer_); !s) {
-    ++send_failures_;
-    DT_LOG_WARN("sending {} PDU(s) in one datagram failed: {}", members, s.error().message);
-    return;
+  if (auth_) auth_->Sign(d.bytes);
+}
+
+void PduBus::SendFlight() noexcept {
+  // A carrier that delivers within Publish may run a handler that publishes and closes more
+  // datagrams: they join the flight being sent (the loop rereads the count), in order.
+  if (sending_flight_) return;
+  sending_flight_ = true;
+  for (size_t i = 0; i < flight_count_; ++i) {
+    const PduType type = flight_[i].type;
+    const size_t pdus = flight_[i].pdus;
+    if (auto s = transport_.Publish(type, flight_[i].bytes); !s) {
+      ++send_failures_;
+      DT_LOG_WARN("sending {} PDU(s) in one datagram failed: {}", pdus, s.error().message);
+      continue;
+    }
+    if (type == PduType::kBatch) ++batches_sent_;
   }
-  if (type == PduType::kBatch) ++batches_sent_;
+  flight_count_ = 0;
+  sending_flight_ = false;
 }
 
 void PduBus::ReceiveBatch(std::span<const uint8_t> bytes) noexcept {

@@ -44,6 +44,11 @@ struct PduBusConfig {
   // (docs/pdu.md "Batch"). false: each goes alone even there, as for a durable DDS exercise, whose
   // feature topics keep one instance per feature and so must carry features one by one.
   bool batch = true;
+  // Inside a Batch, full datagrams wait too and leave together, this many at a time, the rest
+  // when the outermost Batch ends: each receiving process then wakes once for several datagrams,
+  // not once for each (docs/pdu.md "Flights"). 32 datagrams of at most kMaxPduBytes are 45 KB,
+  // far inside a socket's receive buffer. At least 1 (1: each leaves as soon as it is full).
+  int flight_datagrams = 32;
 };
 
 // Publishes typed PDUs (stamping the header, sender and sender_seq) and subscribes typed
@@ -54,7 +59,8 @@ struct PduBusConfig {
 class PduBus {
  public:
   // While one lives (they nest), PDUs published wait and go out packed into batches of at most
-  // kMaxPduBytes, one authentication trailer each; when the outermost ends, what waits is sent.
+  // kMaxPduBytes, one authentication trailer each, in flights of flight_datagrams; when the
+  // outermost ends, what waits is sent.
   // A lone PDU goes out as itself, as without a batch. Processes hold one over each tick, and
   // HandleTimeout over the dispatch of what it receives, so every PDU leaves within the tick it
   // was made in.
@@ -127,8 +133,12 @@ class PduBus {
   // Counts and logs a refusal; a sender of another protocol version is named once, as an error.
   void Refuse(PduType channel, std::span<const uint8_t> bytes, const Rejection& r) noexcept;
   // Checks `encode_buffer_` (a PDU of `type`) against the datagram limit and queues it in the
-  // batch, flushing first when it would not fit.
+  // batch, closing the datagram being filled first when it would not fit.
   Status Queue(PduType type);
+  // Packs what waits into one datagram (a lone PDU as itself), signs it and adds it to the flight.
+  void CloseDatagram() noexcept;
+  // Publishes the flight's datagrams in order.
+  void SendFlight() noexcept;
 
   struct Waiting {
     PduType type = PduType::kConstruct;
@@ -147,9 +157,16 @@ class PduBus {
   std::vector<Waiting> waiting_;  // the first waiting_count_ wait
   size_t waiting_count_ = 0;
   size_t waiting_bytes_ = kBatchBaseBytes;  // the batch_t they would make
-  std::vector<BatchMember> members_;        // reused by Flush
-  // What Flush sends; apart from encode_buffer_, which holds the PDU that made it flush.
-  std::vector<uint8_t> batch_buffer_;
+  std::vector<BatchMember> members_;        // reused by CloseDatagram
+  // Closed datagrams waiting to leave: the first flight_count_ (vectors kept for the next).
+  struct Datagram {
+    PduType type = PduType::kBatch;
+    size_t pdus = 0;
+    std::vector<uint8_t> bytes;
+  };
+  std::vector<Datagram> flight_;
+  size_t flight_count_ = 0;
+  bool sending_flight_ = false;
   // The members of the batch being handed on, reused batch to batch (no allocation per batch
   // received). A handler that makes this bus receive again, through a carrier that delivers
   // within Publish, decodes into a vector of its own: these are still being handed on.

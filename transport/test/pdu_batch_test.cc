@@ -37,7 +37,9 @@ struct Wire {
 TEST(PduBatch, ATicksPdusLeavePackedInFewDatagramsAndArriveInOrder) {
   LcmTransport t("memq://", sample::kSampleExercise);
   Wire wire(t);
-  PduBus bus(t, Config({1, 2}, /*deliver_own=*/true));
+  PduBusConfig config = Config({1, 2}, /*deliver_own=*/true);
+  config.flight_datagrams = 2;  // so that some leave before the tick ends
+  PduBus bus(t, config);
   std::vector<int64_t> seqs;
   bus.Subscribe<dtpdu::update_t>([&](const dtpdu::update_t& u) { seqs.push_back(u.sender_seq); });
   bus.Subscribe<dtpdu::destruct_t>(
@@ -52,10 +54,11 @@ TEST(PduBatch, ATicksPdusLeavePackedInFewDatagramsAndArriveInOrder) {
         ASSERT_TRUE(bus.Publish(sample::Update()).ok());
       }
     }
-    // Full datagrams leave as they fill; the last one waits for the end of the tick.
+    // Full datagrams leave two at a time; the rest waits for the end of the tick.
     ASSERT_TRUE(bus.HandleTimeout(0).ok());
     EXPECT_LT(seqs.size(), static_cast<size_t>(kPdus));
     EXPECT_GT(seqs.size(), 0u);
+    EXPECT_EQ(wire.datagrams[PduType::kBatch] % 2, 0);
   }
   ASSERT_TRUE(bus.HandleTimeout(0).ok());
   ASSERT_EQ(seqs.size(), static_cast<size_t>(kPdus));
@@ -68,6 +71,45 @@ TEST(PduBatch, ATicksPdusLeavePackedInFewDatagramsAndArriveInOrder) {
   EXPECT_LE(wire.largest, kMaxPduBytes);
   EXPECT_EQ(bus.batches_sent(), static_cast<uint64_t>(wire.datagrams[PduType::kBatch]));
   EXPECT_EQ(bus.batches_received(), bus.batches_sent());
+}
+
+// With the default flight, a tick of a few datagrams leaves whole at its end, in order, and
+// the next tick's PDUs follow it.
+TEST(PduBatch, ATicksFullDatagramsWaitForItsEndInAFlight) {
+  LcmTransport t("memq://", sample::kSampleExercise);
+  Wire wire(t);
+  PduBus bus(t, Config({1, 2}, /*deliver_own=*/true));
+  ASSERT_GE(bus.config().flight_datagrams, 8);
+  std::vector<int64_t> seqs;
+  bus.Subscribe<dtpdu::update_t>([&](const dtpdu::update_t& u) { seqs.push_back(u.sender_seq); });
+  constexpr int kPdus = 40;  // five or six datagrams
+  for (int tick = 0; tick < 2; ++tick) {
+    const int sent_before = wire.datagrams[PduType::kBatch];
+    {
+      PduBus::Batch batch(bus);
+      for (int i = 0; i < kPdus; ++i) ASSERT_TRUE(bus.Publish(sample::Update()).ok());
+      ASSERT_TRUE(bus.HandleTimeout(0).ok());
+      EXPECT_EQ(seqs.size(), static_cast<size_t>(tick * kPdus)) << "tick " << tick;
+      EXPECT_EQ(wire.datagrams[PduType::kBatch], sent_before) << "tick " << tick;
+    }
+    ASSERT_TRUE(bus.HandleTimeout(0).ok());
+    ASSERT_EQ(seqs.size(), static_cast<size_t>((tick + 1) * kPdus));
+  }
+  for (int i = 0; i < 2 * kPdus; ++i) EXPECT_EQ(seqs[i], i + 1);
+  EXPECT_GE(wire.datagrams[PduType::kBatch], 2 * 5);
+  EXPECT_EQ(bus.batches_sent(), static_cast<uint64_t>(wire.datagrams[PduType::kBatch]));
+}
+
+TEST(PduBatch, AFlightOfNoDatagramIsRefused) {
+  LcmTransport t("memq://", sample::kSampleExercise);
+  PduBusConfig config = Config({1, 2}, /*deliver_own=*/true);
+  config.flight_datagrams = 0;
+  try {
+    PduBus bus(t, config);
+    FAIL() << "a flight of 0 datagrams was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("flight_datagrams = 0"), std::string::npos) << e.what();
+  }
 }
 
 TEST(PduBatch, ALonePduLeavesAsItselfAtTheEndOfItsTick) {

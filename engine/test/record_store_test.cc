@@ -3,6 +3,7 @@
 #include "engine/record_store.h"
 
 #include <algorithm>
+#include <optional>
 #include <set>
 #include <vector>
 
@@ -57,37 +58,38 @@ TEST(RecordStoreTest, AFeatureCheckedFirstIsPlacedOnlyWhenItIsTheOneApplied) {
   RecordStore s(Ground());
   const auto checked = FeatureParams::Crater(50, 50, 6);
   const auto other = FeatureParams::Crater(60, 60, 3);
+  uint32_t seq = 0;
+  auto construct = [&](FeatureId id, const FeatureParams& params) {
+    ++seq;
+    return s.Apply(Make(ChangeKind::kConstruct, id, params, OriginOf(id), seq, seq));
+  };
+  // The parameters of the feature the terrain holds under `id`.
+  auto placed = [&](FeatureId id) {
+    const Feature* f = s.terrain().Find(id);
+    return f != nullptr && f->id() == id ? std::optional(f->params()) : std::nullopt;
+  };
+  const FeatureId second{1, 1, 2}, third{1, 1, 3}, fourth{1, 1, 4}, sixth{1, 1, 6};
+  const FeatureId fifth{1, 2, 1};
+
+  // Other parameters applied than checked.
   ASSERT_TRUE(s.CheckPlaceable(kId, checked).ok());
-  ASSERT_EQ(s.Apply(Make(ChangeKind::kConstruct, kId, other, kA, 1, 1)),
-            RecordStore::Outcome::kApplied);
-  ASSERT_NE(s.terrain().Find(kId), nullptr);
-  EXPECT_EQ(s.terrain().Find(kId)->params(), other);
-
-  const FeatureId second{1, 1, 2}, third{1, 1, 3};
+  ASSERT_EQ(construct(kId, other), RecordStore::Outcome::kApplied);
+  EXPECT_EQ(placed(kId), other);
+  // Another ID applied than checked.
   ASSERT_TRUE(s.CheckPlaceable(second, checked).ok());
-  ASSERT_EQ(s.Apply(Make(ChangeKind::kConstruct, third, checked, kA, 2, 2)),
-            RecordStore::Outcome::kApplied);
-  ASSERT_NE(s.terrain().Find(third), nullptr);
-  EXPECT_EQ(s.terrain().Find(third)->id(), third);
-
+  ASSERT_EQ(construct(third, checked), RecordStore::Outcome::kApplied);
+  EXPECT_EQ(placed(third), checked);
   // Checked, then the terrain changes (another feature lands) before it is applied.
-  const FeatureId fourth{1, 1, 4}, fifth{1, 2, 1};
   ASSERT_TRUE(s.CheckPlaceable(fourth, checked).ok());
-  ASSERT_EQ(s.Apply(Make(ChangeKind::kConstruct, fifth, other, kB, 1, 3)),
-            RecordStore::Outcome::kApplied);
-  ASSERT_EQ(s.Apply(Make(ChangeKind::kConstruct, fourth, checked, kA, 3, 4)),
-            RecordStore::Outcome::kApplied);
-  ASSERT_NE(s.terrain().Find(fourth), nullptr);
-  EXPECT_EQ(s.terrain().Find(fourth)->params(), checked);
-
+  ASSERT_EQ(construct(fifth, other), RecordStore::Outcome::kApplied);
+  ASSERT_EQ(construct(fourth, checked), RecordStore::Outcome::kApplied);
+  EXPECT_EQ(placed(fourth), checked);
   // The usual way: checked, then applied as it was checked.
-  const FeatureId sixth{1, 1, 6};
   ASSERT_TRUE(s.CheckPlaceable(sixth, checked).ok());
-  ASSERT_EQ(s.Apply(Make(ChangeKind::kConstruct, sixth, checked, kA, 4, 5)),
-            RecordStore::Outcome::kApplied);
-  ASSERT_NE(s.terrain().Find(sixth), nullptr);
-  EXPECT_EQ(s.terrain().Find(sixth)->params(), checked);
+  ASSERT_EQ(construct(sixth, checked), RecordStore::Outcome::kApplied);
+  EXPECT_EQ(placed(sixth), checked);
   EXPECT_EQ(s.live_count(), 5u);
+
   // The same terrain as one made without any check.
   RecordStore fresh(Ground());
   for (const auto& [id, r] : s.all()) {

@@ -74,8 +74,9 @@ void PduBus::CloseDatagram() noexcept {
 }
 
 void PduBus::SendFlight() noexcept {
-  // A carrier that delivers within Publish may run a handler that publishes and closes more
-  // datagrams: they join the flight being sent (the loop rereads the count), in order.
+  // Handlers run inside HandleTimeout, never inside a carrier's Publish (Transport's contract),
+  // so nothing is published while a flight is sent; should a carrier break that, what a handler
+  // queues joins this flight (the loop rereads the count) rather than a second one overtaking it.
   if (sending_flight_) return;
   sending_flight_ = true;
   for (size_t i = 0; i < flight_count_; ++i) {

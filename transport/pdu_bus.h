@@ -46,8 +46,9 @@ struct PduBusConfig {
   bool batch = true;
   // Inside a Batch, full datagrams wait too and leave together, this many at a time, the rest
   // when the outermost Batch ends: each receiving process then wakes once for several datagrams,
-  // not once for each (docs/pdu.md "Flights"). 32 datagrams of at most kMaxPduBytes are 45 KB,
-  // far inside a socket's receive buffer. At least 1 (1: each leaves as soon as it is full).
+  // not once for each (docs/pdu.md "Flights"). 32 datagrams of at most kMaxPduBytes (45 KB, 75 KB
+  // as the kernel counts them) fit a socket's default receive buffer (208 KB) well. At least 1 (1:
+  // each leaves as soon as it is full).
   int flight_datagrams = 32;
 };
 

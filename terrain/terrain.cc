@@ -270,11 +270,11 @@ Status Terrain::Add(FeatureId id, const FeatureParams& params) {
   // first, whatever the parameters.
   features_.Prefetch(id);
   auto made = MakeFeature(id, params, ground_);
+  if (made) return Add(std::move(made).value());  // which refuses a taken ID
   if (features_.Find(id) != nullptr) {
     return Error{fmt::format("feature {} already exists", id.ToString())};
   }
-  if (!made) return made.error();
-  return Add(std::move(made).value());
+  return made.error();
 }
 
 Status Terrain::Add(std::unique_ptr<Feature> made) {

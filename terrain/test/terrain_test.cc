@@ -248,6 +248,7 @@ TEST(TerrainFeatures, RefusedAddOrUpdateChangesNothing) {
     EXPECT_EQ(t.Find(Id(2))->params(), FeatureParams::Berm(40, 60, 0, 30, 6, 2));
   };
   refused(t.Add(Id(1), FeatureParams::Crater(60, 60, 3)), "already exists");
+  refused(t.Add(Id(1), FeatureParams::Crater(60, 60, -3)), "already exists");  // named first
   refused(t.Add(Id(3), FeatureParams::Crater(60, 60, -3)), "-3");
   refused(t.Add(Id(3), FeatureParams::Crater(195, 60, 8)), "leaves the terrain");
   refused(t.Add({1, 1, 0}, FeatureParams::Crater(60, 60, 3)), "number 0");

@@ -1,5 +1,7 @@
 #include "pdu/batch.h"
 
+#include <array>
+
 #include <fmt/format.h>
 
 #include "pdu/conversion.h"
@@ -61,6 +63,7 @@ void EncodeBatchInto(uint8_t exercise_id, uint32_t timestamp_dis, NodeAddress se
   b.members.resize(members.size());
   for (size_t i = 0; i < members.size(); ++i) {
     b.members[i].pdu_type = static_cast<uint8_t>(members[i].type);
+    b.members[i].encoding = static_cast<uint8_t>(members[i].encoding);
     b.members[i].num_bytes = static_cast<int16_t>(members[i].bytes.size());
     b.members[i].bytes.assign(members[i].bytes.begin(), members[i].bytes.end());
   }
@@ -91,10 +94,11 @@ std::optional<Rejection> DecodeBatch(std::span<const uint8_t> bytes, const Valid
   // LCM refuses a negative count or length (resizing to it throws): so does this.
   if (pos >= 0 && head.num_members < 0) pos = -1;
   const int first_member = pos;
-  // Member k's type and bytes, from its place; pos moves past it.
-  auto next_member = [&](uint8_t& type, std::span<const uint8_t>& member) {
+  // Member k's type, encoding and bytes, from its place; pos moves past it.
+  auto next_member = [&](uint8_t& type, uint8_t& encoding, std::span<const uint8_t>& member) {
     int16_t length = 0;
     read(__byte_decode_array(buf, pos, size - pos, &type, 1));
+    if (pos >= 0) read(__byte_decode_array(buf, pos, size - pos, &encoding, 1));
     if (pos >= 0) read(__int16_t_decode_array(buf, pos, size - pos, &length, 1));
     if (pos < 0 || length == 0) return;
     if (length < 0 || length > size - pos) {
@@ -104,29 +108,41 @@ std::optional<Rejection> DecodeBatch(std::span<const uint8_t> bytes, const Valid
     member = bytes.subspan(static_cast<size_t>(pos), static_cast<size_t>(length));
     pos += length;
   };
-  uint8_t type = 0;
+  uint8_t type = 0, encoding = 0;
   std::span<const uint8_t> member;
-  for (int k = 0; pos >= 0 && k < head.num_members; ++k) next_member(type, member);
+  for (int k = 0; pos >= 0 && k < head.num_members; ++k) next_member(type, encoding, member);
   if (auto r = CheckPduDecoded(bytes.size(), pos, PduType::kBatch)) return r;
-  if (auto r = Validate(head, ctx)) return r;  // header and count; the types are checked next
+  if (auto r = Validate(head, ctx)) return r;  // header and count; the members are checked next
   const auto count = static_cast<size_t>(head.num_members);
   pos = first_member;
   for (size_t i = 0; i < count; ++i) {
-    next_member(type, member);
-    if (auto r = CheckBatchMemberType(i, count, type)) return r;
+    next_member(type, encoding, member);
+    if (auto r = CheckBatchMember(i, count, type, encoding)) return r;
   }
   const NodeAddress sender = FromPdu(head.sender);
   out.resize(count);
   pos = first_member;
+  // A delta is rebuilt over the member before it: two buffers, the one written and the previous.
+  std::array<std::array<uint8_t, kMaxPduBytes>, 2> rebuilt;
+  std::span<const uint8_t> previous;
   for (size_t i = 0; i < count; ++i) {
     member = {};
-    next_member(type, member);
+    next_member(type, encoding, member);
     const PduType member_type = *PduTypeFromRaw(type);  // checked above
-    if (auto r = DecodeMemberAs(member_type, member, ctx, sender, out[i])) {
+    std::optional<Rejection> r;
+    if (static_cast<MemberEncoding>(encoding) == MemberEncoding::kDelta) {
+      size_t length = 0;
+      std::span<uint8_t> into = rebuilt[i % 2];
+      r = ApplyMemberDelta(previous, member, into, &length);
+      if (!r) member = into.first(length);
+    }
+    if (!r) r = DecodeMemberAs(member_type, member, ctx, sender, out[i]);
+    if (r) {
       r->detail = fmt::format("member {} of {} ({}): {}", i + 1, count, PduTypeName(member_type),
                               r->detail);
       return r;
     }
+    previous = member;
   }
   return std::nullopt;
 }

@@ -15,7 +15,8 @@ namespace dt {
 // 2: the EarthMove PDU (226); a node of version 1 would miss blade work and stall on the change
 // numbers it takes, so the versions do not mix.
 // 3: the Batch PDU (231): a node of version 2 hears no batch, so it would miss most changes.
-inline constexpr uint8_t kProtocolVersion = 3;
+// 4: batch members as deltas (batch_member_t.encoding): a node of version 3 cannot read a batch.
+inline constexpr uint8_t kProtocolVersion = 4;
 
 // Wire values of header.pdu_type. DIS reserves 129..255 for experimental PDUs; 220..225 keep
 // clear of standard DIS traffic, and 226 follows them. Append, never renumber.

@@ -16,15 +16,17 @@ namespace {
 
 Rejection Reject(RejectReason reason, std::string detail) { return {reason, std::move(detail)}; }
 
+// The sender runs another release: its PDUs are dropped whole, never half-understood.
+Rejection WrongProtocolVersion(uint8_t version) {
+  return Reject(RejectReason::kWrongProtocolVersion,
+                fmt::format("protocol_version {}: the sender speaks wire format {}, this process "
+                            "speaks {} only (another release of dynterrain)",
+                            version, version, kProtocolVersion));
+}
+
 std::optional<Rejection> CheckHeader(const dtpdu::header_t& h, PduType expected, int64_t sender_seq,
                                      const ValidationContext& ctx) {
-  if (h.protocol_version != kProtocolVersion) {
-    // The sender runs another release: its PDUs are dropped whole, never half-understood.
-    return Reject(RejectReason::kWrongProtocolVersion,
-                  fmt::format("protocol_version {}: the sender speaks wire format {}, this "
-                              "process speaks {} only (another release of dynterrain)",
-                              h.protocol_version, h.protocol_version, kProtocolVersion));
-  }
+  if (h.protocol_version != kProtocolVersion) return WrongProtocolVersion(h.protocol_version);
   if (h.exercise_id != ctx.exercise_id) {
     return Reject(
         RejectReason::kForeignExercise,
@@ -403,16 +405,24 @@ std::optional<Rejection> Validate(const dtpdu::batch_t& pdu, const ValidationCon
     return Reject(RejectReason::kBadField, fmt::format("num_members {}", pdu.num_members));
   }
   for (size_t i = 0; i < pdu.members.size(); ++i) {
-    if (auto r = CheckBatchMemberType(i, pdu.members.size(), pdu.members[i].pdu_type)) return r;
+    const auto& m = pdu.members[i];
+    if (auto r = CheckBatchMember(i, pdu.members.size(), m.pdu_type, m.encoding)) return r;
   }
   return std::nullopt;
 }
 
-std::optional<Rejection> CheckBatchMemberType(size_t index, size_t count, uint8_t pdu_type) {
+std::optional<Rejection> CheckBatchMember(size_t index, size_t count, uint8_t pdu_type,
+                                          uint8_t encoding) {
   const auto type = PduTypeFromRaw(pdu_type);
   if (!type || *type == PduType::kBatch) {
     return Reject(RejectReason::kUnknownPduType,
                   fmt::format("member {} of {}: pdu_type {}", index + 1, count, pdu_type));
+  }
+  // Values of MemberEncoding (pdu/member_delta.h, which builds on this file): 0 whole, 1 delta.
+  if (encoding > 1 || (encoding == 1 && index == 0)) {
+    return Reject(RejectReason::kBadField,
+                  fmt::format("member {} of {}: encoding {}{}", index + 1, count, encoding,
+                              encoding > 1 ? "" : " (a delta needs a member before it)"));
   }
   return std::nullopt;
 }
@@ -428,6 +438,11 @@ std::optional<Rejection> CheckPduEnvelope(std::span<const uint8_t> bytes, uint64
   uint64_t got = 0;
   for (size_t i = 0; i < 8; ++i) got = (got << 8) | bytes[i];
   if (got != fingerprint) {
+    // An earlier release's layout of this type (the batch of version 3 had members without an
+    // encoding) has another fingerprint; its header, right after, still names its version.
+    if (bytes.size() > 8 && bytes[8] >= 1 && bytes[8] < kProtocolVersion) {
+      return WrongProtocolVersion(bytes[8]);
+    }
     return Reject(RejectReason::kWrongFingerprint,
                   fmt::format("fingerprint {:#018x} (expected {:#018x})", got, fingerprint));
   }

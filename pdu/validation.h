@@ -110,8 +110,11 @@ inline constexpr double kMaxVehicleAngularRateRadS = 20.0;
 inline constexpr double kMaxVehicleAltitudeM = 10000.0;  // |location y|
 
 // Member `index` (0-based) of a batch of `count`: its pdu_type must be a PDU type other than a
-// batch. Validate(batch_t) and DecodeBatch (which reads a batch in place) check each member so.
-std::optional<Rejection> CheckBatchMemberType(size_t index, size_t count, uint8_t pdu_type);
+// batch, its encoding whole (0) or a delta (1), and the first member whole (a delta needs the
+// member before it). Validate(batch_t) and DecodeBatch (which reads a batch in place) check each
+// member so.
+std::optional<Rejection> CheckBatchMember(size_t index, size_t count, uint8_t pdu_type,
+                                          uint8_t encoding);
 // What DecodePdu checks around the decoding itself, for a decoder that reads a PDU in place: the
 // size limit and the 8-byte fingerprint before; after, that the decoder read every byte
 // (`decoded`: the bytes it read, negative if they did not hold the PDU).

@@ -34,15 +34,28 @@ Status PduBus::Queue(PduType type) {
     return Error{fmt::format("{} PDU of {} bytes exceeds the {}-byte single-datagram limit",
                              PduTypeName(type), encode_buffer_.size() + trailer, kMaxPduBytes)};
   }
-  if (waiting_bytes_ + kBatchMemberBytes + encode_buffer_.size() + trailer > kMaxPduBytes) {
+  // Behind another PDU, it goes as the bytes where it differs from that one when that is shorter
+  // (docs/pdu.md "Member deltas"): a burst's Constructs differ in a few fields.
+  size_t member_bytes = encode_buffer_.size();
+  bool as_delta = false;
+  if (waiting_count_ > 0) {
+    EncodeMemberDelta(waiting_[waiting_count_ - 1].bytes, encode_buffer_, delta_buffer_);
+    as_delta = delta_buffer_.size() < member_bytes;
+    if (as_delta) member_bytes = delta_buffer_.size();
+  }
+  if (waiting_bytes_ + kBatchMemberBytes + member_bytes + trailer > kMaxPduBytes) {
     CloseDatagram();
     if (flight_count_ >= static_cast<size_t>(config_.flight_datagrams)) SendFlight();
+    as_delta = false;  // the first of a datagram goes whole
+    member_bytes = encode_buffer_.size();
   }
   if (waiting_count_ == waiting_.size()) waiting_.emplace_back();
   Waiting& w = waiting_[waiting_count_++];
   w.type = type;
   w.bytes.assign(encode_buffer_.begin(), encode_buffer_.end());
-  waiting_bytes_ += kBatchMemberBytes + encode_buffer_.size();
+  w.as_delta = as_delta;
+  if (as_delta) w.delta.swap(delta_buffer_);
+  waiting_bytes_ += kBatchMemberBytes + member_bytes;
   return Status::Ok();
 }
 
@@ -63,7 +76,9 @@ void PduBus::CloseDatagram() noexcept {
   } else {
     members_.clear();
     for (size_t i = 0; i < waiting_count_; ++i) {
-      members_.push_back({waiting_[i].type, waiting_[i].bytes});
+      const Waiting& w = waiting_[i];
+      members_.push_back(w.as_delta ? BatchMember{w.type, w.delta, MemberEncoding::kDelta}
+                                    : BatchMember{w.type, w.bytes, MemberEncoding::kWhole});
     }
     d.type = PduType::kBatch;
     EncodeBatchInto(config_.exercise_id, config_.clock(), config_.local, members_, d.bytes);

@@ -143,7 +143,9 @@ class PduBus {
 
   struct Waiting {
     PduType type = PduType::kConstruct;
-    std::vector<uint8_t> bytes;  // its LCM encoding; the vector is kept for the next batch
+    std::vector<uint8_t> bytes;  // its LCM encoding; the vectors are kept for the next batch
+    std::vector<uint8_t> delta;  // against the PDU before it, when that is the shorter
+    bool as_delta = false;
   };
 
   Transport& transport_;
@@ -151,6 +153,7 @@ class PduBus {
   RejectLog reject_log_;
   std::optional<PduAuthenticator> auth_;
   std::vector<uint8_t> encode_buffer_;  // reused: no allocation per published PDU
+  std::vector<uint8_t> delta_buffer_;   // reused by Queue
   int64_t sender_seq_ = 0;
   uint64_t accepted_ = 0;
   uint64_t own_echoes_ = 0;

@@ -42,7 +42,7 @@ bool One(std::span<const uint8_t> bytes) {
 }
 
 // A batch is taken whole or not at all: what is accepted re-encodes to the same bytes, and each
-// member, sent alone, would be accepted too.
+// member (rebuilt, if a delta), sent alone, would be accepted too.
 bool OneBatch(std::span<const uint8_t> bytes) {
   std::vector<MemberPdu> members;
   if (DecodeBatch(bytes, kContext, members)) return false;
@@ -50,14 +50,23 @@ bool OneBatch(std::span<const uint8_t> bytes) {
   if (DecodePdu(bytes, batch)) std::abort();
   if (EncodePdu(batch) != std::vector<uint8_t>(bytes.begin(), bytes.end())) std::abort();
   if (members.size() != batch.members.size() || members.empty()) std::abort();
+  std::vector<uint8_t> previous, member(kMaxPduBytes);
   for (size_t i = 0; i < members.size(); ++i) {
+    const auto& m = batch.members[i];
+    std::vector<uint8_t> whole = m.bytes;
+    if (static_cast<MemberEncoding>(m.encoding) == MemberEncoding::kDelta) {
+      size_t length = 0;
+      if (ApplyMemberDelta(previous, m.bytes, member, &length)) std::abort();
+      whole.assign(member.begin(), member.begin() + static_cast<std::ptrdiff_t>(length));
+    }
     const bool alone = std::visit(
         [&](const auto& pdu) {
           const std::vector<uint8_t> encoded = EncodePdu(pdu);
-          return encoded == batch.members[i].bytes && One<std::decay_t<decltype(pdu)>>(encoded);
+          return encoded == whole && One<std::decay_t<decltype(pdu)>>(encoded);
         },
         members[i]);
     if (!alone) std::abort();
+    previous = std::move(whole);
   }
   return true;
 }

@@ -85,9 +85,10 @@ int main(int argc, char** argv) {
   Family(dir, "antientropy_copies", 5, sample::AntiEntropyCopies());
 
   // Batches (selector kFuzzBatch): taken whole, or refused whole for one bad member.
-  const auto batch = [](const std::vector<std::pair<PduType, std::vector<uint8_t>>>& m) {
+  const auto batch = [](const std::vector<std::pair<PduType, std::vector<uint8_t>>>& m,
+                        MemberEncoding encoding = MemberEncoding::kWhole) {
     std::vector<BatchMember> members;
-    for (const auto& [type, bytes] : m) members.push_back({type, bytes});
+    for (const auto& [type, bytes] : m) members.push_back({type, bytes, encoding});
     std::vector<uint8_t> out;
     EncodeBatchInto(sample::kSampleExercise, 12345, {1, 2}, members, out);
     return out;
@@ -118,6 +119,45 @@ int main(int argc, char** argv) {
   old[8] = kProtocolVersion - 1;  // header.protocol_version, right after the fingerprint
   Write(dir, "batch_old_version", fuzz::kFuzzBatch, old);
   Write(dir, "signed_batch_valid", fuzz::kFuzzBatch + kSigned, signed_pdu(good_batch));
+  // Members as deltas (docs/pdu.md "Member deltas"): a burst of Constructs as PduBus packs it.
+  std::vector<std::pair<PduType, std::vector<uint8_t>>> deltas;
+  std::vector<uint8_t> previous;
+  for (int k = 0; k < 4; ++k) {
+    auto construct = sample::Construct();
+    construct.sender_seq += k;
+    construct.feature_number += k;
+    construct.change_seq += k;
+    construct.position_m[0] += 10.0 * k;
+    const auto whole = EncodePdu(construct);
+    std::vector<uint8_t> delta;
+    EncodeMemberDelta(previous, whole, delta);
+    deltas.emplace_back(PduType::kConstruct, k == 0 ? whole : delta);
+    previous = whole;
+  }
+  std::vector<BatchMember> delta_members;
+  for (size_t k = 0; k < deltas.size(); ++k) {
+    delta_members.push_back({deltas[k].first, deltas[k].second,
+                             k == 0 ? MemberEncoding::kWhole : MemberEncoding::kDelta});
+  }
+  std::vector<uint8_t> delta_batch;
+  EncodeBatchInto(sample::kSampleExercise, 12345, {1, 2}, delta_members, delta_batch);
+  Write(dir, "batch_deltas_valid", fuzz::kFuzzBatch, delta_batch);
+  Write(dir, "batch_delta_first", fuzz::kFuzzBatch,
+        batch({{PduType::kConstruct, deltas[1].second}}, MemberEncoding::kDelta));
+  auto long_run = deltas;
+  long_run[1].second[0] = 0;  // the delta's length: 1 byte, so its runs end past the member
+  long_run[1].second[1] = 1;
+  std::vector<BatchMember> long_members;
+  for (size_t k = 0; k < long_run.size(); ++k) {
+    long_members.push_back({long_run[k].first, long_run[k].second,
+                            k == 0 ? MemberEncoding::kWhole : MemberEncoding::kDelta});
+  }
+  std::vector<uint8_t> long_batch;
+  EncodeBatchInto(sample::kSampleExercise, 12345, {1, 2}, long_members, long_batch);
+  Write(dir, "batch_delta_past_end", fuzz::kFuzzBatch, long_batch);
+  auto unknown_encoding = good_batch;
+  unknown_encoding[kBatchBaseBytes + 1] = 2;  // the first member's encoding
+  Write(dir, "batch_unknown_encoding", fuzz::kFuzzBatch, unknown_encoding);
 
   auto c = sample::Construct();
   c.position_m[0] = std::numeric_limits<double>::quiet_NaN();

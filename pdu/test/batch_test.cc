@@ -55,25 +55,48 @@ std::optional<Rejection> Reference(std::span<const uint8_t> bytes, size_t& membe
   dtpdu::batch_t batch;
   if (auto r = DecodeAndValidate(bytes, sample::Context(), batch)) return r;
   members = batch.members.size();
+  std::vector<uint8_t> previous, rebuilt(kMaxPduBytes);
   for (size_t i = 0; i < batch.members.size(); ++i) {
     const auto& m = batch.members[i];
-    if (auto r = AloneAs(*PduTypeFromRaw(m.pdu_type), m.bytes, FromPdu(batch.sender))) {
+    std::vector<uint8_t> whole = m.bytes;
+    std::optional<Rejection> r;
+    if (static_cast<MemberEncoding>(m.encoding) == MemberEncoding::kDelta) {
+      size_t length = 0;
+      r = ApplyMemberDelta(previous, m.bytes, rebuilt, &length);
+      whole.assign(rebuilt.begin(), rebuilt.begin() + static_cast<std::ptrdiff_t>(r ? 0 : length));
+    }
+    if (!r) r = AloneAs(*PduTypeFromRaw(m.pdu_type), whole, FromPdu(batch.sender));
+    if (r) {
       r->detail = fmt::format("@member {} of {}", i + 1, batch.members.size());
       return r;
     }
+    previous = std::move(whole);
   }
   return std::nullopt;
 }
 
+// Five members, the second to the fourth as deltas against the one before.
 std::vector<uint8_t> SampleBatch() {
+  auto next = sample::Construct();
+  next.sender_seq += 1;
+  next.feature_number += 1;
+  next.position_m[2] += 10.0;
   const std::vector<std::pair<PduType, std::vector<uint8_t>>> pdus = {
       {PduType::kConstruct, EncodePdu(sample::Construct())},
-      {PduType::kUpdate, EncodePdu(sample::Update())},
+      {PduType::kConstruct, EncodePdu(next)},
       {PduType::kDestruct, EncodePdu(sample::Destruct())},
       {PduType::kAntiEntropy, EncodePdu(sample::AntiEntropySummary())},
       {PduType::kConstruct, EncodePdu(sample::DitchConstruct())}};
+  std::vector<std::vector<uint8_t>> deltas(pdus.size());
   std::vector<BatchMember> members;
-  for (const auto& [type, bytes] : pdus) members.push_back({type, bytes});
+  for (size_t i = 0; i < pdus.size(); ++i) {
+    if (i == 0 || i == 4) {
+      members.push_back({pdus[i].first, pdus[i].second});
+      continue;
+    }
+    EncodeMemberDelta(pdus[i - 1].second, pdus[i].second, deltas[i]);
+    members.push_back({pdus[i].first, deltas[i], MemberEncoding::kDelta});
+  }
   std::vector<uint8_t> out;
   EncodeBatchInto(sample::kSampleExercise, 1, {1, 2}, members, out);
   return out;
@@ -87,6 +110,8 @@ TEST(DecodeBatch, AgreesWithDecodingABatchTOnMutatedBatches) {
   std::vector<MemberPdu> out;  // reused across every case, as PduBus does
   ASSERT_FALSE(DecodeBatch(good, sample::Context(), out));
   ASSERT_EQ(out.size(), 5u);
+  EXPECT_EQ(std::get<dtpdu::construct_t>(out[1]).feature_number,
+            sample::Construct().feature_number + 1);
   EXPECT_TRUE(std::holds_alternative<dtpdu::anti_entropy_t>(out[3]));
   EXPECT_EQ(EncodePdu(std::get<dtpdu::construct_t>(out[4])), EncodePdu(sample::DitchConstruct()));
 
@@ -107,18 +132,18 @@ TEST(DecodeBatch, AgreesWithDecodingABatchTOnMutatedBatches) {
       }
       case 2: {  // the first member's length: negative, 0, short, long
         const int16_t length = static_cast<int16_t>(static_cast<int>(rng() % 400) - 100);
-        bytes[kCount + 3] = static_cast<uint8_t>(length >> 8);
-        bytes[kCount + 4] = static_cast<uint8_t>(length);
+        bytes[kCount + 4] = static_cast<uint8_t>(length >> 8);
+        bytes[kCount + 5] = static_cast<uint8_t>(length);
         break;
       }
       case 3:  // cut short
         bytes.resize(rng() % bytes.size());
         break;
-      case 4:  // lengthened, or a member's type byte rewritten
-        if (rng() % 2 == 0) {
+      case 4:  // lengthened, or the first member's type or encoding rewritten
+        if (rng() % 3 == 0) {
           bytes.resize(bytes.size() + 1 + rng() % 4, 0);
         } else {
-          bytes[kCount + 2] = static_cast<uint8_t>(rng() & 0xff);
+          bytes[kCount + 2 + rng() % 2] = static_cast<uint8_t>(rng() % 3 == 0 ? rng() : rng() % 3);
         }
         break;
     }

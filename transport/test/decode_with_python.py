@@ -6,7 +6,8 @@ memq instance (LCM's Python module, PyPI package `lcm`), decodes them with the g
 dtpdu.construct_t and compares every checked field with the values the capture wrote; checks that
 the captured fingerprint names construct_t alone among the generated types (as a tool that picks
 the type by fingerprint, like lcm-spy, would look it up). Then decodes a captured Batch as
-docs/pdu.md "Batch" tells an LCM user to: batch_t, then each member by its pdu_type.
+docs/pdu.md "Batch" tells an LCM user to: batch_t, each member rebuilt if it came as a delta,
+then decoded by its pdu_type.
 Exit 0: pass; 1: mismatch; 77: skipped (no `lcm` Python module).
 Usage: decode_with_python.py <lcm-gen> <capture-program> <work-dir> <file.lcm>...
 """
@@ -96,8 +97,32 @@ def main():
     return check_batch(dtpdu, prefix + "_batch.bin", msg)
 
 
+def rebuild(previous, delta):
+    """A member sent as a delta (encoding 1), as docs/pdu.md "Member deltas" gives it."""
+    n = int.from_bytes(delta[:2], "big", signed=True)
+    out = bytearray(previous[:n].ljust(n, b"\0"))
+    at, cursor = 2, 0
+    while at < len(delta):
+        skip, count = delta[at], delta[at + 1]
+        cursor += skip
+        out[cursor:cursor + count] = delta[at + 2:at + 2 + count]
+        cursor += count
+        at += 2 + count
+    return bytes(out)
+
+
+def member_bytes(batch):
+    """Each member's bytes as it would travel alone, in order."""
+    previous = b""
+    for m in batch.members:
+        data = bytes(m.bytes) if m.encoding == 0 else rebuild(previous, bytes(m.bytes))
+        yield data
+        previous = data
+
+
 def check_batch(dtpdu, path, construct):
-    """The recipe of docs/pdu.md "Batch": batch_t, then each member with the type it names."""
+    """The recipe of docs/pdu.md "Batch": batch_t, each member rebuilt if a delta, then decoded
+    with the type it names."""
     types = {220: dtpdu.construct_t, 221: dtpdu.update_t, 222: dtpdu.destruct_t,
              223: dtpdu.max_feature_t, 224: dtpdu.playback_t, 225: dtpdu.anti_entropy_t,
              226: dtpdu.earth_move_t, 230: dtpdu.vehicle_state_t}
@@ -108,7 +133,12 @@ def check_batch(dtpdu, path, construct):
         print(f"FAIL: batch of type {batch.header.pdu_type} with members "
               f"{[m.pdu_type for m in batch.members]}, not 231 with [220, 221]")
         return 1
-    members = [types[m.pdu_type].decode(bytes(m.bytes)) for m in batch.members]
+    if [m.encoding for m in batch.members] != [0, 1]:
+        print(f"FAIL: member encodings {[m.encoding for m in batch.members]}, not [0, 1] "
+              "(the Update as a delta against the Construct before it)")
+        return 1
+    whole = list(member_bytes(batch))
+    members = [types[m.pdu_type].decode(data) for m, data in zip(batch.members, whole)]
     if [p.sender_seq for p in members] != [construct.sender_seq + 1, construct.sender_seq + 2]:
         print(f"FAIL: member sender_seq {[p.sender_seq for p in members]}")
         return 1
@@ -116,7 +146,7 @@ def check_batch(dtpdu, path, construct):
             list(members[0].position_m) != list(construct.position_m):
         print("FAIL: the batched Construct's fields differ from the lone one's")
         return 1
-    if any(p.encode() != bytes(m.bytes) for p, m in zip(members, batch.members)):
+    if any(p.encode() != data for p, data in zip(members, whole)):
         print("FAIL: a member re-encodes different bytes")
         return 1
     print(f"OK: decoded a {len(data)}-byte batch of {len(members)} PDUs member by member")

@@ -224,12 +224,14 @@ TEST(DdsTypedTopics, ABatchArrivesWholeAndInOrder) {
     ++reports;
   });
   AwaitReaders(*tx, PduType::kBatch, 1);
-  constexpr int kPdus = 20;
+  constexpr int kPdus = 120;
   {
     PduBus::Batch batch(from);
     for (int i = 0; i < kPdus; ++i) {
-      const auto sent =
-          i % 4 == 3 ? from.Publish(sample::MaxFeature()) : from.Publish(sample::Update());
+      auto update = sample::Update();  // each its own feature and place, as a burst's
+      update.feature_number += i;
+      update.position_m[0] = 100.0 + 7.25 * i;
+      const auto sent = i % 4 == 3 ? from.Publish(sample::MaxFeature()) : from.Publish(update);
       ASSERT_TRUE(sent.ok()) << sent.error().message;
     }
   }
@@ -237,7 +239,7 @@ TEST(DdsTypedTopics, ABatchArrivesWholeAndInOrder) {
   ASSERT_EQ(seqs.size(), static_cast<size_t>(kPdus));
   for (int i = 0; i < kPdus; ++i) EXPECT_EQ(seqs[static_cast<size_t>(i)], i + 1);
   EXPECT_EQ(reports, kPdus / 4);
-  EXPECT_GE(from.batches_sent(), 2u);  // 20 PDUs do not fit one 1400-byte datagram
+  EXPECT_GE(from.batches_sent(), 2u);  // 120 PDUs do not fit one 1400-byte datagram
   EXPECT_EQ(to.batches_received(), from.batches_sent());
   EXPECT_EQ(to.rejects().total(), 0u);
 }

@@ -1,0 +1,120 @@
+#include "pdu/member_delta.h"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+
+#include <fmt/format.h>
+
+#include "base/demand.h"
+#include "pdu/pdu_type.h"
+
+namespace dt {
+namespace {
+
+constexpr size_t kMaxRunField = 255;  // skip and count are one byte each
+// A stretch of equal bytes this long or shorter between two differing ones is cheaper written
+// as literals than as the start of a new run.
+constexpr size_t kMaxBridgedBytes = kMemberDeltaRunBytes;
+
+}  // namespace
+
+void EncodeMemberDelta(std::span<const uint8_t> previous, std::span<const uint8_t> member,
+                       std::vector<uint8_t>& out) {
+  DT_DEMAND(!member.empty() && member.size() <= kMaxPduBytes);
+  const size_t n = member.size();
+  // The member before, cut or padded with zeros to this one's length: what the receiver starts
+  // from.
+  std::array<uint8_t, kMaxPduBytes> base;
+  const size_t kept = std::min(n, previous.size());
+  std::memcpy(base.data(), previous.data(), kept);
+  std::memset(base.data() + kept, 0, n - kept);
+  auto differs = [&](size_t i) { return member[i] != base[i]; };
+  // The first difference at or after i (n if none), eight bytes at a time over equal stretches.
+  auto next_difference = [&](size_t i) {
+    for (uint64_t a = 0, b = 0; i + sizeof a <= n; i += sizeof a) {
+      std::memcpy(&a, member.data() + i, sizeof a);
+      std::memcpy(&b, base.data() + i, sizeof b);
+      if (a != b) break;
+    }
+    while (i < n && !differs(i)) ++i;
+    return i;
+  };
+  out.clear();
+  out.push_back(static_cast<uint8_t>(n >> 8));
+  out.push_back(static_cast<uint8_t>(n));
+  size_t cursor = 0;  // where the last run ended
+  size_t i = 0;
+  while (true) {
+    i = next_difference(i);
+    if (i == n) return;
+    size_t skip = i - cursor;
+    for (; skip > kMaxRunField; skip -= kMaxRunField) {  // a long equal stretch: empty runs
+      out.push_back(static_cast<uint8_t>(kMaxRunField));
+      out.push_back(0);
+    }
+    // The run: from i while bytes differ, bridging short equal stretches, at most 255 bytes.
+    size_t end = i + 1;
+    while (end < n && end - i < kMaxRunField) {
+      if (differs(end)) {
+        ++end;
+        continue;
+      }
+      size_t next = end;
+      while (next < n && next - end <= kMaxBridgedBytes && !differs(next)) ++next;
+      if (next == n || next - end > kMaxBridgedBytes || next + 1 - i > kMaxRunField) break;
+      end = next + 1;
+    }
+    out.push_back(static_cast<uint8_t>(skip));
+    out.push_back(static_cast<uint8_t>(end - i));
+    out.insert(out.end(), member.begin() + static_cast<std::ptrdiff_t>(i),
+               member.begin() + static_cast<std::ptrdiff_t>(end));
+    cursor = i = end;
+  }
+}
+
+std::optional<Rejection> ApplyMemberDelta(std::span<const uint8_t> previous,
+                                          std::span<const uint8_t> delta, std::span<uint8_t> out,
+                                          size_t* length) {
+  DT_DEMAND(out.size() >= kMaxPduBytes);
+  if (delta.size() < kMemberDeltaLengthBytes) {
+    return Rejection{RejectReason::kTruncated,
+                     fmt::format("delta of {} bytes has no length", delta.size())};
+  }
+  const auto n = static_cast<int16_t>((delta[0] << 8) | delta[1]);
+  if (n < 1 || static_cast<size_t>(n) > kMaxPduBytes) {
+    return Rejection{RejectReason::kOutOfRange,
+                     fmt::format("delta length {} outside 1..{}", n, kMaxPduBytes)};
+  }
+  const auto size = static_cast<size_t>(n);
+  const size_t kept = std::min(size, previous.size());
+  std::memcpy(out.data(), previous.data(), kept);
+  std::memset(out.data() + kept, 0, size - kept);
+  size_t cursor = 0;
+  for (size_t at = kMemberDeltaLengthBytes; at < delta.size();) {
+    if (delta.size() - at < kMemberDeltaRunBytes) {
+      return Rejection{RejectReason::kTruncated,
+                       fmt::format("delta run at byte {} of {} cut short", at, delta.size())};
+    }
+    const size_t skip = delta[at], count = delta[at + 1];
+    at += kMemberDeltaRunBytes;
+    if (count > delta.size() - at) {
+      return Rejection{
+          RejectReason::kTruncated,
+          fmt::format("delta run of {} bytes at byte {} of {} cut short", count, at, delta.size())};
+    }
+    if (cursor + skip + count > size) {
+      return Rejection{RejectReason::kTruncated,
+                       fmt::format("delta run to byte {} past the member's {} bytes",
+                                   cursor + skip + count, size)};
+    }
+    cursor += skip;
+    std::memcpy(out.data() + cursor, delta.data() + at, count);
+    cursor += count;
+    at += count;
+  }
+  *length = size;
+  return std::nullopt;
+}
+
+}  // namespace dt

@@ -107,6 +107,12 @@ void ReplicaThread::Loop() {
   }
 }
 
+uint64_t ReplicaThread::BatchesSent() {
+  uint64_t sent = 0;
+  Run([&](Replica&) { sent = bus_->batches_sent(); });
+  return sent;
+}
+
 int64_t ReplicaThread::CpuNs() {
   clockid_t clock{};
   timespec t{};

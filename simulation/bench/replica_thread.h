@@ -45,6 +45,8 @@ class ReplicaThread {
   void Run(const std::function<void(Replica&)>& fn);
   // CPU time the replica's thread has used so far, ns (work done, not time waited for a core).
   int64_t CpuNs();
+  // Batches (datagrams of several PDUs) its bus has sent so far, read on its thread.
+  uint64_t BatchesSent();
 
  private:
   struct Pending {

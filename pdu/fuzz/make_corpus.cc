@@ -134,27 +134,24 @@ int main(int argc, char** argv) {
     deltas.emplace_back(PduType::kConstruct, k == 0 ? whole : delta);
     previous = whole;
   }
-  std::vector<BatchMember> delta_members;
-  for (size_t k = 0; k < deltas.size(); ++k) {
-    delta_members.push_back({deltas[k].first, deltas[k].second,
-                             k == 0 ? MemberEncoding::kWhole : MemberEncoding::kDelta});
-  }
-  std::vector<uint8_t> delta_batch;
-  EncodeBatchInto(sample::kSampleExercise, 12345, {1, 2}, delta_members, delta_batch);
-  Write(dir, "batch_deltas_valid", fuzz::kFuzzBatch, delta_batch);
+  // The first member whole, the others as the deltas they hold.
+  const auto delta_batch = [](const std::vector<std::pair<PduType, std::vector<uint8_t>>>& m) {
+    std::vector<BatchMember> members;
+    for (size_t k = 0; k < m.size(); ++k) {
+      members.push_back(
+          {m[k].first, m[k].second, k == 0 ? MemberEncoding::kWhole : MemberEncoding::kDelta});
+    }
+    std::vector<uint8_t> out;
+    EncodeBatchInto(sample::kSampleExercise, 12345, {1, 2}, members, out);
+    return out;
+  };
+  Write(dir, "batch_deltas_valid", fuzz::kFuzzBatch, delta_batch(deltas));
   Write(dir, "batch_delta_first", fuzz::kFuzzBatch,
         batch({{PduType::kConstruct, deltas[1].second}}, MemberEncoding::kDelta));
   auto long_run = deltas;
   long_run[1].second[0] = 0;  // the delta's length: 1 byte, so its runs end past the member
   long_run[1].second[1] = 1;
-  std::vector<BatchMember> long_members;
-  for (size_t k = 0; k < long_run.size(); ++k) {
-    long_members.push_back({long_run[k].first, long_run[k].second,
-                            k == 0 ? MemberEncoding::kWhole : MemberEncoding::kDelta});
-  }
-  std::vector<uint8_t> long_batch;
-  EncodeBatchInto(sample::kSampleExercise, 12345, {1, 2}, long_members, long_batch);
-  Write(dir, "batch_delta_past_end", fuzz::kFuzzBatch, long_batch);
+  Write(dir, "batch_delta_past_end", fuzz::kFuzzBatch, delta_batch(long_run));
   auto unknown_encoding = good_batch;
   unknown_encoding[kBatchBaseBytes + 1] = 2;  // the first member's encoding
   Write(dir, "batch_unknown_encoding", fuzz::kFuzzBatch, unknown_encoding);

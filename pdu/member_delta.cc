@@ -27,8 +27,10 @@ void EncodeMemberDelta(std::span<const uint8_t> previous, std::span<const uint8_
   // from.
   std::array<uint8_t, kMaxPduBytes> base;
   const size_t kept = std::min(n, previous.size());
-  std::memcpy(base.data(), previous.data(), kept);
-  std::memset(base.data() + kept, 0, n - kept);
+  // copy_n and fill, not memcpy: an empty `previous` may have no data pointer at all.
+  std::copy_n(previous.begin(), kept, base.begin());
+  std::fill(base.begin() + static_cast<std::ptrdiff_t>(kept),
+            base.begin() + static_cast<std::ptrdiff_t>(n), uint8_t{0});
   auto differs = [&](size_t i) { return member[i] != base[i]; };
   // The first difference at or after i (n if none), eight bytes at a time over equal stretches.
   auto next_difference = [&](size_t i) {
@@ -88,8 +90,9 @@ std::optional<Rejection> ApplyMemberDelta(std::span<const uint8_t> previous,
   }
   const auto size = static_cast<size_t>(n);
   const size_t kept = std::min(size, previous.size());
-  std::memcpy(out.data(), previous.data(), kept);
-  std::memset(out.data() + kept, 0, size - kept);
+  std::copy_n(previous.begin(), kept, out.begin());
+  std::fill(out.begin() + static_cast<std::ptrdiff_t>(kept),
+            out.begin() + static_cast<std::ptrdiff_t>(size), uint8_t{0});
   size_t cursor = 0;
   for (size_t at = kMemberDeltaLengthBytes; at < delta.size();) {
     if (delta.size() - at < kMemberDeltaRunBytes) {

@@ -145,7 +145,8 @@ void PduBus::Refuse(PduType channel, std::span<const uint8_t> bytes, const Rejec
   reject_log_.Record(channel, r);
   if (r.reason != RejectReason::kWrongProtocolVersion) return;
   const std::optional<NodeAddress> sender = PeekSender(bytes);
-  if (!sender || !wrong_protocol_senders_.insert(*sender).second) return;
+  if (!sender || wrong_protocol_senders_.size() >= kMaxWrongProtocolSenders) return;
+  if (!wrong_protocol_senders_.insert(*sender).second) return;
   DT_LOG_ERROR(
       "refusing every PDU of {}: {}. It cannot take part in this exercise until both run one "
       "release (docs/pdu.md \"Protocol version\"); its PDUs are counted as rejected_{}",

@@ -110,7 +110,10 @@ class PduBus {
   uint64_t batches_received() const { return batches_received_; }
   // Datagrams the carrier refused when a batch was flushed.
   uint64_t send_failures() const { return send_failures_; }
-  // Senders refused for speaking another protocol version (each logged once, as an error).
+  // Senders refused for speaking another protocol version (each logged once, as an error), the
+  // first kMaxWrongProtocolSenders of them: datagrams naming ever new senders (a hostile flood on
+  // an exercise without a key) are still refused and counted, but neither kept nor logged.
+  static constexpr size_t kMaxWrongProtocolSenders = 256;
   const std::set<NodeAddress>& wrong_protocol_senders() const { return wrong_protocol_senders_; }
   int64_t last_sender_seq() const { return sender_seq_; }
   const PduBusConfig& config() const { return config_; }

@@ -309,6 +309,25 @@ TEST(PduBatch, ASenderOfThePreviousProtocolVersionIsRefusedAndNamedOnce) {
   EXPECT_NE(rej->detail.find("another release"), std::string::npos) << rej->detail;
 }
 
+// A flood of old-version PDUs naming ever new senders is refused and counted whole, but only the
+// first kMaxWrongProtocolSenders senders are kept and named.
+TEST(PduBatch, ManySendersOfAnotherVersionAreCountedButNamedUpToACap) {
+  LcmTransport t("memq://", sample::kSampleExercise);
+  Receiver r(t);
+  constexpr size_t kSenders = PduBus::kMaxWrongProtocolSenders + 100;
+  for (size_t i = 0; i < kSenders; ++i) {
+    auto old = sample::Update();
+    old.header.protocol_version = kProtocolVersion - 1;
+    old.sender.host = static_cast<int16_t>(1000 + i);
+    ASSERT_TRUE(t.Publish(PduType::kUpdate, EncodePdu(old)).ok());
+  }
+  ASSERT_TRUE(r.bus.HandleTimeout(0).ok());
+  EXPECT_EQ(r.got, 0);
+  EXPECT_EQ(r.bus.rejects().count(RejectReason::kWrongProtocolVersion), kSenders);
+  EXPECT_EQ(r.bus.wrong_protocol_senders().size(), PduBus::kMaxWrongProtocolSenders);
+  EXPECT_EQ(*r.bus.wrong_protocol_senders().begin(), (NodeAddress{1, 1000}));
+}
+
 // A version 3 process's batch: members without an encoding, so batch_t's fingerprint of then.
 // Refused as the previous protocol, by the version its header names, not as an unknown type.
 TEST(PduBatch, ABatchOfTheVersion3LayoutIsRefusedAsThePreviousProtocol) {

@@ -8,7 +8,8 @@ namespace dt {
 void PrefixHashes::Extend(const ChangeLog& log) {
   const int64_t upto = log.contiguous();
   DT_DEMAND(upto >= length());  // a gap-free point never moves back
-  prefix_.reserve(static_cast<size_t>(upto) + 1);
+  // No reserve to the exact length: the log grows a little between summaries, and an exact
+  // reserve would copy every sum each time (quadratic); push_back's growth is amortised.
   for (int64_t s = length() + 1; s <= upto; ++s) {
     const Change* c = log.Find(s);
     DT_DEMAND(c != nullptr);  // below the gap-free point every slot is held

@@ -27,7 +27,7 @@ const Record* RecordStore::Find(FeatureId id) const {
   return it == records_.end() ? nullptr : &it->second;
 }
 
-std::pair<std::map<FeatureId, Record>::iterator, bool> RecordStore::Claim(FeatureId id) {
+std::pair<RecordMap::iterator, bool> RecordStore::Claim(FeatureId id) {
   auto newest = newest_.find(OriginOf(id));
   if (newest != newest_.end() && newest->second->first < id) {
     // Past every number of its origin: the record goes right after that origin's newest one,

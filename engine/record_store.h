@@ -5,11 +5,13 @@
 #include <cstddef>
 #include <map>
 #include <memory>
+#include <memory_resource>
 #include <set>
 #include <span>
 #include <utility>
 #include <vector>
 
+#include "base/growing_arena.h"
 #include "base/result.h"
 #include "engine/change.h"
 #include "terrain/base_ground.h"
@@ -23,6 +25,10 @@ struct Record {
   bool destroyed = false;
   bool placed = false;  // live but not placeable (a bridge overlapping a lower-ID bridge): false
 };
+
+// In feature-ID order. A record is kept for the rest of the exercise (a destroyed one as a
+// tombstone), so the records live in an arena of their own (base/growing_arena.h).
+using RecordMap = std::pmr::map<FeatureId, Record>;
 
 // The terrain is a function of the records alone: every live record placed in feature-ID order,
 // a record that cannot be placed kept but left out (docs/protocol.md, "Materialisation").
@@ -47,7 +53,7 @@ class RecordStore {
   const Record* Find(FeatureId id) const;
   const Terrain& terrain() const { return terrain_; }
   size_t live_count() const { return live_; }
-  const std::map<FeatureId, Record>& all() const { return records_; }
+  const RecordMap& all() const { return records_; }
 
   // Would a live record with these parameters be placed now? (Commands are refused otherwise.)
   // The feature it made is kept until the next change, so applying that same record then does
@@ -65,18 +71,19 @@ class RecordStore {
   // `r` is the record of `id` (passed so it is not looked up again).
   void Materialise(FeatureId id, Record& r, bool bridge_involved);
   // The record of `id`, made empty if new (`second` true then).
-  std::pair<std::map<FeatureId, Record>::iterator, bool> Claim(FeatureId id);
+  std::pair<RecordMap::iterator, bool> Claim(FeatureId id);
   void RematerialiseBridges();
   // Places a live record's feature: the one CheckPlaceable made, if it was made of the same ID
   // and parameters on the terrain as it is, otherwise a new one.
   Status Place(FeatureId id, const FeatureParams& params);
 
   Terrain terrain_;
-  std::map<FeatureId, Record> records_;
+  GrowingArena record_memory_;  // before records_, which live in it
+  RecordMap records_{&record_memory_};
   std::set<FeatureId> live_bridges_;
   // Per origin, its record with the highest number. Records are never erased, so these stay
   // valid; a node's next feature is inserted after its newest without searching.
-  std::map<NodeAddress, std::map<FeatureId, Record>::iterator> newest_;
+  std::map<NodeAddress, RecordMap::iterator> newest_;
   size_t live_ = 0;
   bool tracking_touched_ = false;
   std::vector<FeatureId> touched_;

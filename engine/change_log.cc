@@ -1,6 +1,7 @@
 #include "engine/change_log.h"
 
 #include <algorithm>
+#include <new>
 
 namespace dt {
 
@@ -23,8 +24,19 @@ bool ChangeLog::Insert(const Change& change) {
 }
 
 void ChangeLog::GrowSlots(size_t count) {
-  while (chunks_.size() * kChunkSlots < count) chunks_.push_back(std::make_unique<Chunk>());
+  while (chunks_.size() * kChunkSlots < count) {
+    // Default-initialised, not value-initialised: each slot's optional starts empty, and the
+    // 6 KiB of the chunk are not zeroed first. Owned before push_back, which may throw.
+    std::unique_ptr<Chunk, ChunkDeleter> chunk(
+        new (memory_->allocate(sizeof(Chunk), alignof(Chunk))) Chunk, ChunkDeleter{memory_});
+    chunks_.push_back(std::move(chunk));
+  }
   slot_count_ = std::max(slot_count_, count);
+}
+
+void ChangeLog::ChunkDeleter::operator()(Chunk* chunk) const {
+  chunk->~Chunk();
+  memory->deallocate(chunk, sizeof(Chunk), alignof(Chunk));
 }
 
 bool ChangeLog::Replace(const Change& change) {

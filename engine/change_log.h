@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <memory_resource>
 #include <optional>
 #include <vector>
 
@@ -24,6 +25,11 @@ namespace dt {
 // valid while more changes arrive.
 class ChangeLog {
  public:
+  // The slots' chunks come from `memory` (a replica's arena, base/growing_arena.h: a log only
+  // grows), which must outlive the log.
+  explicit ChangeLog(std::pmr::memory_resource* memory = std::pmr::new_delete_resource())
+      : memory_(memory) {}
+
   // False (and nothing changes) if the sequence is already held.
   bool Insert(const Change& change);
   // Puts `change` in the slot of its sequence in place of the change held there (anti-entropy's
@@ -80,13 +86,19 @@ class ChangeLog {
   // block for every one or two, a malloc per change on the receive path).
   static constexpr size_t kChunkSlots = 32;
   using Chunk = std::array<std::optional<Change>, kChunkSlots>;
+  // Destroys a chunk and gives its memory back to the resource it came from.
+  struct ChunkDeleter {
+    std::pmr::memory_resource* memory;
+    void operator()(Chunk* chunk) const;
+  };
   std::optional<Change>& slot(size_t i) { return (*chunks_[i / kChunkSlots])[i % kChunkSlots]; }
   const std::optional<Change>& slot(size_t i) const {
     return (*chunks_[i / kChunkSlots])[i % kChunkSlots];
   }
   // Opens empty slots up to `count` (never fewer than there are).
   void GrowSlots(size_t count);
-  std::vector<std::unique_ptr<Chunk>> chunks_;
+  std::pmr::memory_resource* memory_;
+  std::vector<std::unique_ptr<Chunk, ChunkDeleter>> chunks_;
   size_t slot_count_ = 0;
   std::map<int64_t, Change> aside_;  // held changes that got no slot
   size_t held_ = 0;

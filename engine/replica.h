@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "base/feature_id.h"
+#include "base/growing_arena.h"
 #include "base/result.h"
 #include "dtpdu/max_feature_t.hpp"
 #include "dtpdu/playback_t.hpp"
@@ -233,6 +234,10 @@ class Replica {
   // Reserves feature numbers up to `number` (and a window beyond) before one is issued.
   Status ReserveFeatureNumbers(int64_t number);
   void ObserveLamport(uint64_t lamport);
+  // The log of `author`'s changes, made empty (in log_memory_) if this is the first word of it.
+  ChangeLog& LogOf(NodeAddress author) {
+    return logs_.try_emplace(author, &log_memory_).first->second;
+  }
 
   void OnConstruct(const dtpdu::construct_t& pdu);
   void OnEarthMove(const dtpdu::earth_move_t& pdu);
@@ -274,6 +279,7 @@ class Replica {
   std::map<NodeAddress, TerrainDigest> peer_grounds_;  // per member, its last reported ground
   std::optional<TerrainDigest> exercise_ground_;       // set when this replica is refused
   NodeAddress exercise_ground_reporter_;
+  GrowingArena log_memory_;  // before logs_: their slots live in it
   std::map<NodeAddress, ChangeLog> logs_;
   PlaybackScheduler scheduler_;
   std::map<NodeAddress, Peer> peers_;

@@ -14,7 +14,7 @@ void Replica::ObserveLamport(uint64_t lamport) { lamport_ = std::max(lamport_, l
 void Replica::NoteOwn(const Change& change) {
   if (change.author() == config_.address) {
     own_change_seq_ = std::max<int64_t>(own_change_seq_, change.stamp.change_seq);
-    logs_[config_.address].RaiseFloor(own_change_seq_);
+    LogOf(config_.address).RaiseFloor(own_change_seq_);
   }
   if (OriginOf(change.id) == config_.address) {
     own_feature_number_ = std::max<int64_t>(own_feature_number_, change.id.number);
@@ -23,7 +23,7 @@ void Replica::NoteOwn(const Change& change) {
 
 bool Replica::Accept(const Change& change, bool from_store) {
   ObserveLamport(change.stamp.lamport);
-  if (!logs_[change.author()].Insert(change)) return false;
+  if (!LogOf(change.author()).Insert(change)) return false;
   // Dates the first change of an answer, so the playback window can follow the round trip.
   if (!from_store) scheduler_.OnArrival(change.author(), change.stamp.change_seq, now_ms_);
   NoteOwn(change);

@@ -10,7 +10,7 @@ namespace dt {
 void Replica::HeldBeyond(NodeAddress peer, NodeAddress author, int64_t max_held) {
   // Own changes beyond own_change_seq are the sign-on's business (bounded there).
   if (author == config_.address || !IsMember(author)) return;
-  ChangeLog& log = logs_[author];
+  ChangeLog& log = LogOf(author);
   // Evidence to fetch, not a counter: bounded by a window beyond what is known, so a member that
   // lies moves no one far, and forgotten when the peer falls silent or the gap is given up on.
   const int64_t bound = log.max_known() + config_.playback_window;

@@ -55,7 +55,7 @@ void Replica::OnMaxFeature(const dtpdu::max_feature_t& pdu) {
     // business, not evidence for anyone else.
     return;
   }
-  logs_[subject].Report(sender, pdu.max_change_seq);
+  LogOf(subject).Report(sender, pdu.max_change_seq);
   auto& max = max_feature_[subject];
   max = std::max(max, pdu.max_feature_number);
   if (signing_on_ && IsServerRole(role) && subject != sender) {
@@ -92,7 +92,7 @@ void Replica::ClaimAboutSelf(NodeAddress sender, NodeRole role, const dtpdu::max
       return;
     }
   }
-  logs_[config_.address].Report(sender, seq);
+  LogOf(config_.address).Report(sender, seq);
   auto& max = max_feature_[config_.address];
   max = std::max(max, number);
   // Never reuse a number anyone has seen, even after losing all local state.
@@ -100,7 +100,7 @@ void Replica::ClaimAboutSelf(NodeAddress sender, NodeRole role, const dtpdu::max
   own_change_seq_ = std::max(own_change_seq_, seq);
   acknowledged_change_seq_ = std::max(acknowledged_change_seq_, seq);
   // Known to exist even if the server falls silent before this node has fetched them.
-  logs_[config_.address].RaiseFloor(own_change_seq_);
+  LogOf(config_.address).RaiseFloor(own_change_seq_);
   if (signing_on_) server_answered_ = true;
 }
 
@@ -199,9 +199,9 @@ void Replica::CompleteSignOn() {
         number = std::min(number, number_bound);
       }
     }
-    logs_[config_.address].Report(peer, seq);
+    LogOf(config_.address).Report(peer, seq);
     own_change_seq_ = std::max(own_change_seq_, seq);
-    logs_[config_.address].RaiseFloor(own_change_seq_);
+    LogOf(config_.address).RaiseFloor(own_change_seq_);
     own_feature_number_ = std::max(own_feature_number_, number);
   }
   sign_on_peer_claims_.clear();

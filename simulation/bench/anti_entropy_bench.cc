@@ -174,20 +174,23 @@ void BM_AntiEntropyRepair(benchmark::State& state) {
 }
 BENCHMARK(BM_AntiEntropyRepair)->Arg(100000)->Iterations(1)->Unit(benchmark::kSecond);
 
+// A's change i (1, 2, ...): the Construct of crater i.
+Change CraterConstruct(int64_t i) {
+  Change c;
+  c.kind = ChangeKind::kConstruct;
+  c.id = {kA.site, kA.host, static_cast<uint32_t>(i)};
+  c.params = bench::BenchCrater(i);
+  c.stamp = {kA, static_cast<uint32_t>(i), static_cast<uint64_t>(i)};
+  return c;
+}
+
 // What anti-entropy adds per change accepted: hashing it once into its author's prefix sums
 // (PrefixHashes::Extend, at the next summary). range(0) changes, crater Constructs as above; CPU
 // time per change.
 void BM_PrefixHashesPerChange(benchmark::State& state) {
   const int64_t n = state.range(0);
   ChangeLog log;
-  for (int64_t i = 1; i <= n; ++i) {
-    Change c;
-    c.kind = ChangeKind::kConstruct;
-    c.id = {kA.site, kA.host, static_cast<uint32_t>(i)};
-    c.params = bench::BenchCrater(i);
-    c.stamp = {kA, static_cast<uint32_t>(i), static_cast<uint64_t>(i)};
-    log.Insert(c);
-  }
+  for (int64_t i = 1; i <= n; ++i) log.Insert(CraterConstruct(i));
   for (auto _ : state) {
     PrefixHashes p;
     p.Extend(log);
@@ -201,20 +204,13 @@ BENCHMARK(BM_PrefixHashesPerChange)->Arg(100000)->Unit(benchmark::kMillisecond);
 
 // The same as a replica meets it: the log grows while the exercise runs and every summary (sent,
 // or received from a peer) extends the sums by what arrived since. range(0) changes in all,
-// range(1) between extensions; CPU time per change.
+// range(1) between extensions; counter: the extensions' wall time per change.
 void BM_PrefixHashesGrowing(benchmark::State& state) {
   const int64_t n = state.range(0);
   const int64_t step = state.range(1);
   std::vector<Change> changes;
   changes.reserve(static_cast<size_t>(n));
-  for (int64_t i = 1; i <= n; ++i) {
-    Change c;
-    c.kind = ChangeKind::kConstruct;
-    c.id = {kA.site, kA.host, static_cast<uint32_t>(i)};
-    c.params = bench::BenchCrater(i);
-    c.stamp = {kA, static_cast<uint32_t>(i), static_cast<uint64_t>(i)};
-    changes.push_back(std::move(c));
-  }
+  for (int64_t i = 1; i <= n; ++i) changes.push_back(CraterConstruct(i));
   int64_t extend_ns = 0;
   for (auto _ : state) {
     ChangeLog log;

@@ -15,6 +15,7 @@ namespace {
 struct Block {
   std::byte* p;
   size_t bytes;
+  size_t alignment;
   unsigned char fill;
 };
 
@@ -30,7 +31,7 @@ TEST(GrowingArenaTest, BlocksAreAlignedDisjointAndKeepTheirContents) {
     ASSERT_EQ(reinterpret_cast<uintptr_t>(p) % alignment, 0u) << bytes << " at " << alignment;
     const auto fill = static_cast<unsigned char>(round);
     std::memset(p, fill, bytes);
-    blocks.push_back({p, bytes, fill});
+    blocks.push_back({p, bytes, alignment, fill});
   }
   // Every block still holds its own fill: none overlaps another.
   for (const Block& b : blocks) {
@@ -38,7 +39,8 @@ TEST(GrowingArenaTest, BlocksAreAlignedDisjointAndKeepTheirContents) {
       ASSERT_EQ(static_cast<unsigned char>(b.p[i]), b.fill) << "block of " << b.bytes;
     }
   }
-  for (const Block& b : blocks) arena.deallocate(b.p, b.bytes, 1);
+  // Given back with the size and alignment they were asked for, as memory_resource requires.
+  for (const Block& b : blocks) arena.deallocate(b.p, b.bytes, b.alignment);
 }
 
 TEST(GrowingArenaTest, ChunksDoubleUpToTheLargestAndABigBlockGetsOneOfItsOwn) {

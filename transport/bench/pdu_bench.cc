@@ -1,5 +1,5 @@
-// PDU benchmarks: encode, decode+validate, sign and verify time per PDU, and PDUs/s through
-// PduBus (with and without authentication) over memq, udpm and DDS against raw LCM
+// PDU benchmarks: encode, decode+validate, member deltas, sign and verify time per PDU, and PDUs/s
+// through PduBus (with and without authentication) over memq, udpm and DDS against raw LCM
 // publish/receive of same-size messages in the same run.
 // Runs inside a private network namespace it makes itself, like the network tests.
 #include <chrono>
@@ -7,6 +7,7 @@
 #include <benchmark/benchmark.h>
 #include <lcm/lcm.h>
 
+#include "pdu/member_delta.h"
 #include "pdu/test/sample_pdus.h"
 #include "transport/bench/bench_main.h"
 #include "transport/bench/raw_lcm_link.h"
@@ -95,6 +96,35 @@ void BM_Verify(benchmark::State& state, Pdu pdu) {
   state.counters["rejected"] = static_cast<double>(rejected);
 }
 
+// The next Construct of a burst written as a delta against the one before it, as PduBus packs
+// it (Encode), and rebuilt, as a receiver does (Apply); counter: the delta's bytes.
+void BM_MemberDelta(benchmark::State& state) {
+  const bool apply = state.range(0) == 1;
+  auto first = sample::Construct();
+  auto next = first;
+  next.sender_seq += 1;
+  next.feature_number += 1;
+  next.change_seq += 1;
+  next.lamport += 1;
+  next.position_m[0] += 10.0;
+  const auto previous = EncodePdu(first), member = EncodePdu(next);
+  std::vector<uint8_t> delta;
+  EncodeMemberDelta(previous, member, delta);
+  std::vector<uint8_t> rebuilt(kMaxPduBytes);
+  for (auto _ : state) {
+    if (apply) {
+      size_t length = 0;
+      benchmark::DoNotOptimize(ApplyMemberDelta(previous, delta, rebuilt, &length));
+      benchmark::DoNotOptimize(rebuilt.data());
+    } else {
+      EncodeMemberDelta(previous, member, delta);
+      benchmark::DoNotOptimize(delta.data());
+    }
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["bytes"] = static_cast<double>(delta.size());
+}
+
 BENCHMARK_CAPTURE(BM_Encode, construct, sample::Construct());
 BENCHMARK_CAPTURE(BM_Encode, update, sample::Update());
 BENCHMARK_CAPTURE(BM_Encode, destruct, sample::Destruct());
@@ -105,6 +135,7 @@ BENCHMARK_CAPTURE(BM_DecodeValidate, update, sample::Update());
 BENCHMARK_CAPTURE(BM_DecodeValidate, destruct, sample::Destruct());
 BENCHMARK_CAPTURE(BM_DecodeValidate, max_feature, sample::MaxFeature());
 BENCHMARK_CAPTURE(BM_DecodeValidate, playback, sample::Playback());
+BENCHMARK(BM_MemberDelta)->ArgName("apply")->Arg(0)->Arg(1);
 BENCHMARK_CAPTURE(BM_Sign, construct, sample::Construct());
 BENCHMARK_CAPTURE(BM_Sign, update, sample::Update());
 BENCHMARK_CAPTURE(BM_Sign, max_feature, sample::MaxFeature());

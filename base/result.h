@@ -20,8 +20,8 @@ class [[nodiscard]] Result {
  public:
   // By reference, not by value: a value taken by value was moved twice (into the parameter,
   // then into the variant), which a large T (a feature PDU) pays on every return.
-  Result(const T& value) : v_(value) {}        // NOLINT: implicit by design
-  Result(T&& value) : v_(std::move(value)) {}  // NOLINT: implicit by design
+  Result(const T& value) : v_(value) {}          // NOLINT: implicit by design
+  Result(T&& value) : v_(std::move(value)) {}    // NOLINT: implicit by design
   Result(Error error) : v_(std::move(error)) {}  // NOLINT: implicit by design
 
   bool ok() const { return std::holds_alternative<T>(v_); }

@@ -24,14 +24,8 @@ std::vector<uint8_t> Rebuilt(const std::vector<uint8_t>& previous,
 
 // The next Construct of a burst: what PduBus packs behind the one before.
 TEST(MemberDelta, TheNextConstructOfABurstTakesAFractionOfItsBytes) {
-  auto first = sample::Construct();
-  auto next = first;
-  next.sender_seq += 1;
-  next.feature_number += 1;
-  next.change_seq += 1;
-  next.lamport += 1;
-  next.position_m[0] += 10.0;
-  const auto a = EncodePdu(first), b = EncodePdu(next);
+  const auto first = sample::Construct();
+  const auto a = EncodePdu(first), b = EncodePdu(sample::NextInBurst(first));
   std::vector<uint8_t> delta;
   EncodeMemberDelta(a, b, delta);
   EXPECT_LT(delta.size() * 3, b.size()) << delta.size() << " of " << b.size();

@@ -91,6 +91,16 @@ inline dtpdu::construct_t Construct() {
   return pdu;
 }
 
+// The Construct a burst sends after `pdu`: the next sequence numbers, feature and clock, 10 m on.
+inline dtpdu::construct_t NextInBurst(dtpdu::construct_t pdu) {
+  pdu.sender_seq += 1;
+  pdu.feature_number += 1;
+  pdu.change_seq += 1;
+  pdu.lamport += 1;
+  pdu.position_m[0] += 10.0;
+  return pdu;
+}
+
 inline dtpdu::update_t Update() {
   auto pdu = ToUpdate(Bridge());
   StampHeader(pdu);

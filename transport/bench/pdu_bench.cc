@@ -100,14 +100,8 @@ void BM_Verify(benchmark::State& state, Pdu pdu) {
 // it (Encode), and rebuilt, as a receiver does (Apply); counter: the delta's bytes.
 void BM_MemberDelta(benchmark::State& state) {
   const bool apply = state.range(0) == 1;
-  auto first = sample::Construct();
-  auto next = first;
-  next.sender_seq += 1;
-  next.feature_number += 1;
-  next.change_seq += 1;
-  next.lamport += 1;
-  next.position_m[0] += 10.0;
-  const auto previous = EncodePdu(first), member = EncodePdu(next);
+  const auto first = sample::Construct();
+  const auto previous = EncodePdu(first), member = EncodePdu(sample::NextInBurst(first));
   std::vector<uint8_t> delta;
   EncodeMemberDelta(previous, member, delta);
   std::vector<uint8_t> rebuilt(kMaxPduBytes);

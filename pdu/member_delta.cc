@@ -17,6 +17,10 @@ constexpr size_t kMaxRunField = 255;  // skip and count are one byte each
 // A stretch of equal bytes this long or shorter between two differing ones is cheaper written
 // as literals than as the start of a new run.
 constexpr size_t kMaxBridgedBytes = kMemberDeltaRunBytes;
+// The longest delta of a member: every byte a literal, each run taking two bytes more, and an
+// empty run for every 255 equal bytes skipped.
+constexpr size_t kMaxDeltaBytes = kMemberDeltaLengthBytes + 3 * kMaxPduBytes +
+                                  kMemberDeltaRunBytes * (kMaxPduBytes / kMaxRunField + 1);
 
 }  // namespace
 
@@ -48,12 +52,9 @@ void EncodeMemberDelta(std::span<const uint8_t> previous, std::span<const uint8_
     while (i < n && !differs(i)) ++i;
     return i;
   };
-  // Written through a pointer into room for the longest delta (every byte a literal, each run
-  // taking two bytes more, an empty run per 255 equal bytes skipped), then copied out once: this
-  // runs for every PDU a batch packs.
-  std::array<uint8_t, kMemberDeltaLengthBytes + 3 * kMaxPduBytes +
-                          kMemberDeltaRunBytes*(kMaxPduBytes / kMaxRunField + 1)>
-      room;
+  // Written through a pointer into room for the longest delta, then copied out once: this runs
+  // for every PDU a batch packs.
+  std::array<uint8_t, kMaxDeltaBytes> room;
   uint8_t* o = room.data();
   *o++ = static_cast<uint8_t>(n >> 8);
   *o++ = static_cast<uint8_t>(n);

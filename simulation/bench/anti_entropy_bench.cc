@@ -174,23 +174,13 @@ void BM_AntiEntropyRepair(benchmark::State& state) {
 }
 BENCHMARK(BM_AntiEntropyRepair)->Arg(100000)->Iterations(1)->Unit(benchmark::kSecond);
 
-// A's change i (1, 2, ...): the Construct of crater i.
-Change CraterConstruct(int64_t i) {
-  Change c;
-  c.kind = ChangeKind::kConstruct;
-  c.id = {kA.site, kA.host, static_cast<uint32_t>(i)};
-  c.params = bench::BenchCrater(i);
-  c.stamp = {kA, static_cast<uint32_t>(i), static_cast<uint64_t>(i)};
-  return c;
-}
-
 // What anti-entropy adds per change accepted: hashing it once into its author's prefix sums
-// (PrefixHashes::Extend, at the next summary). range(0) changes, crater Constructs as above; CPU
+// (PrefixHashes::Extend, at the next summary). range(0) changes, A's crater Constructs; CPU
 // time per change.
 void BM_PrefixHashesPerChange(benchmark::State& state) {
   const int64_t n = state.range(0);
   ChangeLog log;
-  for (int64_t i = 1; i <= n; ++i) log.Insert(CraterConstruct(i));
+  for (int64_t i = 1; i <= n; ++i) log.Insert(bench::BenchCraterConstruct(kA, i));
   for (auto _ : state) {
     PrefixHashes p;
     p.Extend(log);
@@ -210,7 +200,7 @@ void BM_PrefixHashesGrowing(benchmark::State& state) {
   const int64_t step = state.range(1);
   std::vector<Change> changes;
   changes.reserve(static_cast<size_t>(n));
-  for (int64_t i = 1; i <= n; ++i) changes.push_back(CraterConstruct(i));
+  for (int64_t i = 1; i <= n; ++i) changes.push_back(bench::BenchCraterConstruct(kA, i));
   int64_t extend_ns = 0;
   for (auto _ : state) {
     ChangeLog log;

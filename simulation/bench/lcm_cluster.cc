@@ -45,15 +45,17 @@ PduBusConfig BenchBusConfig(NodeAddress address, const HeightGrid& ground) {
   return bc;
 }
 
-std::vector<uint8_t> BenchConstructBytes(NodeAddress origin) {
+Change BenchCraterConstruct(NodeAddress origin, int64_t n) {
   Change c;
   c.kind = ChangeKind::kConstruct;
-  c.id = {origin.site, origin.host, 1};
-  c.params = BenchCrater(0);
-  c.stamp.changed_by = origin;
-  c.stamp.change_seq = 1;
-  c.stamp.lamport = 1;
-  return EncodePdu(ToConstruct(ToFeaturePdu(c)));
+  c.id = {origin.site, origin.host, static_cast<uint32_t>(n)};
+  c.params = BenchCrater(n);
+  c.stamp = {origin, static_cast<uint32_t>(n), static_cast<uint64_t>(n)};
+  return c;
+}
+
+std::vector<uint8_t> BenchConstructBytes(NodeAddress origin) {
+  return EncodePdu(ToConstruct(ToFeaturePdu(BenchCraterConstruct(origin, 1))));
 }
 
 // One LcmTransport("memq://"); each endpoint is a Transport whose handlers see every message.

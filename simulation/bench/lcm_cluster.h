@@ -38,8 +38,11 @@ inline FeatureParams BenchCrater(int64_t n) {
                                100 + static_cast<double>((n / 980) % 980) * 10.0, 2);
 }
 
-// The bytes of a Construct of BenchCrater(0) from `origin`, as its replica publishes it: every
-// field but the vertex edits has a fixed size, so this is the size of every bench crater's.
+// `origin`'s change n (1, 2, ...): the Construct of its feature n, BenchCrater(n), at Lamport n.
+Change BenchCraterConstruct(NodeAddress origin, int64_t n);
+
+// The bytes of BenchCraterConstruct(origin, 1), as its replica publishes it: every field but the
+// vertex edits has a fixed size, so this is the size of every bench crater's.
 std::vector<uint8_t> BenchConstructBytes(NodeAddress origin);
 
 // memq:// is one LCM queue per lcm_t, so every member's PduBus sits on an endpoint of one shared
